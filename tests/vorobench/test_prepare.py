@@ -1,0 +1,47 @@
+"""prepare(): clear errors on bad input, deduplication with an inverse map."""
+
+import numpy as np
+import pytest
+
+from vorobench import prepare
+
+
+@pytest.mark.parametrize(
+    "bad, words",
+    [
+        ([[1.0, np.nan]], ["finite", "row 0"]),
+        ([[0.0, 0.0], [1.0, 2.0], [np.inf, 3.0]], ["finite", "row 2"]),
+        ([1.0, 2.0, 3.0], ["shape (n, 2)", "(3,)"]),
+        (np.zeros((4, 3)), ["shape (n, 2)", "(4, 3)"]),
+        ([["a", "b"]], ["real numbers", "string"]),
+        ("hello", ["string"]),
+        (np.array([[1 + 2j, 0]]), ["complex"]),
+        ([[1.0, 2.0], [3.0]], ["(n, 2)"]),
+    ],
+)
+def test_bad_input_names_the_problem(bad, words):
+    with pytest.raises(ValueError) as info:
+        prepare(bad)
+    for w in words:
+        assert w in str(info.value)
+
+
+def test_empty_input_is_allowed():
+    sites, inverse = prepare(np.zeros((0, 2)))
+    assert sites.shape == (0, 2) and inverse.shape == (0,)
+    sites, _ = prepare([])
+    assert sites.shape == (0, 2)
+
+
+def test_duplicates_are_removed_in_order_of_first_appearance():
+    pts = [[2, 2], [0, 0], [2, 2], [1, 1], [0, 0], [-0.0, 0.0]]
+    sites, inverse = prepare(pts)
+    assert sites.tolist() == [[2, 2], [0, 0], [1, 1]]
+    assert inverse.tolist() == [0, 1, 0, 2, 1, 1]
+    assert np.array_equal(sites[inverse], np.asarray(pts, dtype=float) + 0.0)
+
+
+def test_output_is_contiguous_float64_and_integers_accepted():
+    sites, inverse = prepare(np.arange(10, dtype=np.int32).reshape(5, 2))
+    assert sites.dtype == np.float64 and sites.flags.c_contiguous
+    assert inverse.tolist() == list(range(5))

@@ -1,0 +1,176 @@
+"""The ``vorobench`` command line: impls, datasets, build, validate, bench, report, compare, demo."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+from typing import Callable, Optional, Sequence
+
+__all__ = ["main", "parse_list", "parse_sizes"]
+
+
+def parse_list(text: str) -> list[str]:
+    """Comma-separated names; empty items dropped."""
+    return [t.strip() for t in text.split(",") if t.strip()]
+
+
+def parse_sizes(text: str) -> list[int]:
+    """Comma-separated sizes; accepts 1e4, 10k, 1M."""
+    out = []
+    for item in parse_list(text):
+        mult = 1
+        low = item.lower()
+        if low[-1] in "km":
+            mult = 1000 if low[-1] == "k" else 1_000_000
+            low = low[:-1]
+        try:
+            value = float(low) * mult
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"not a size: {item!r}") from None
+        if value < 0 or value != int(value):
+            raise argparse.ArgumentTypeError(f"size must be a non-negative integer: {item!r}")
+        out.append(int(value))
+    return out
+
+
+def _console():
+    from rich.console import Console
+
+    return Console()
+
+
+def cmd_impls(args: argparse.Namespace) -> int:
+    """Table of the implementations that can run here."""
+    from rich.table import Table
+
+    import impls
+
+    table = Table(title="implementations")
+    for col in ("name", "exact", "complexity", "from", "description"):
+        table.add_column(col)
+    for name in impls.available():
+        try:
+            impl = impls.get(name)
+        except Exception as exc:  # an outside plugin that fails to load is listed, not fatal
+            table.add_row(name, "?", "?", "?", f"[red]failed to load: {exc}[/red]")
+            continue
+        table.add_row(impl.name, "yes" if impl.exact else "no", impl.complexity, impl.origin, impl.description)
+    _console().print(table)
+    return 0
+
+
+def cmd_datasets(args: argparse.Namespace) -> int:
+    """Table of the dataset families."""
+    from rich.table import Table
+
+    import datasets_gen
+
+    table = Table(title="datasets")
+    for col in ("name", "family", "exact n", "description"):
+        table.add_column(col)
+    for name in datasets_gen.available():
+        ds = datasets_gen.DATASETS[name]
+        exact = "yes" if ds.exact_n else f"no: {ds.note}" if ds.note else "no"
+        table.add_row(name, ds.family, exact, ds.description)
+    _console().print(table)
+    return 0
+
+
+def load_points(dataset: Optional[str], n: int, seed: int, points_file: Optional[str]):
+    """Points from a named dataset or from a file, with the label to show for them."""
+    import datasets_gen
+
+    if points_file:
+        return datasets_gen.load(points_file), Path(points_file).name
+    return datasets_gen.generate(dataset, n, seed=seed), f"{dataset} n={n} seed={seed}"
+
+
+def cmd_build(args: argparse.Namespace) -> int:
+    """Build one diagram, print its counts, optionally plot and save it."""
+    import impls
+    from vorobench.prepare import prepare
+
+    points, label = load_points(args.dataset, args.n, args.seed, args.points)
+    sites, _ = prepare(points)
+    impl = impls.get(args.impl)
+    if impl.warmup is not None:
+        impl.warmup()
+    stats: dict = {}
+    t0 = time.perf_counter_ns()
+    diagram = impl.build(sites, stats)
+    elapsed = (time.perf_counter_ns() - t0) / 1e9
+    diagram.validate()
+    c = diagram.counts()
+    print(f"{args.impl} on {label}: {points.shape[0]} points, {c['n']} distinct sites")
+    print(f"V = {c['V']}  E = {c['E']}  H = {c['H']}  ({elapsed:.4f} s, structure valid)")
+    if stats:
+        print("stats: " + ", ".join(f"{k}={v}" for k, v in stats.items()))
+    if args.save:
+        diagram.save(args.save)
+        print(f"saved {args.save}")
+    if args.plot:
+        from vorobench.plotting import save_plot
+
+        save_plot(diagram, args.plot, title=f"{args.impl}: {label}")
+        print(f"wrote {args.plot}")
+    return 0
+
+
+# Commands that live in their own modules register here: name -> (module, help).
+_EXTRA_COMMANDS: dict[str, tuple[str, str]] = {
+    "validate": ("vorobench.validate_cmd", "cross-validate implementations against a reference"),
+    "bench": ("vorobench.bench_cmd", "time implementations on datasets (worker per case)"),
+    "report": ("vorobench.report", "figures + Markdown/HTML report from a results file"),
+    "compare": ("vorobench.regress", "compare two result files and flag regressions"),
+    "demo": ("vorobench.demo", "the main job: default benchmark + cross-validation + report"),
+}
+
+
+def _add_dataset_args(p: argparse.ArgumentParser, default: str = "uniform") -> None:
+    p.add_argument("--dataset", default=default, help=f"dataset name (default {default}); see `vorobench datasets`")
+    p.add_argument("--n", type=int, default=1000, help="number of points (default 1000)")
+    p.add_argument("--seed", type=int, default=0, help="dataset seed (default 0)")
+    p.add_argument("--points", help="read points from a .npy/.csv/.txt file instead of a dataset")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    import importlib
+    import importlib.util
+
+    parser = argparse.ArgumentParser(prog="vorobench", description=__doc__)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.add_parser("impls", help="list implementations").set_defaults(func=cmd_impls)
+    sub.add_parser("datasets", help="list dataset families").set_defaults(func=cmd_datasets)
+    p = sub.add_parser("build", help="build one diagram, print counts, plot/save it")
+    p.add_argument("--impl", default="qhull", help="implementation name (default qhull)")
+    _add_dataset_args(p)
+    p.add_argument("--plot", help="write a picture (PNG/SVG/PDF) of the diagram")
+    p.add_argument("--save", help="save the diagram as .npz")
+    p.set_defaults(func=cmd_build)
+    for name, (module, help_text) in _EXTRA_COMMANDS.items():
+        if importlib.util.find_spec(module) is None:
+            continue
+        mod = importlib.import_module(module)
+        p = sub.add_parser(name, help=help_text, description=mod.__doc__)
+        mod.add_arguments(p)
+        p.set_defaults(func=mod.run)
+    return parser
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 0
+    try:
+        return int(args.func(args) or 0)
+    except (ValueError, KeyError, FileNotFoundError) as exc:
+        msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+        print(f"vorobench {args.command}: error: {msg}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
