@@ -1,0 +1,849 @@
+"""Exact 2-D geometric predicates (orient2d, incircle) and expansion arithmetic, numba-compiled.
+
+Sign conventions
+----------------
+``orient2d(ax, ay, bx, by, cx, cy)`` is the sign of
+
+    | ax-cx  ay-cy |
+    | bx-cx  by-cy |  = (ax-cx)*(by-cy) - (ay-cy)*(bx-cx)
+
+(twice the signed area of triangle abc): +1 if a, b, c are in counter-clockwise
+order, -1 if clockwise, 0 if collinear (including coincident points).
+
+``incircle(ax, ay, bx, by, cx, cy, dx, dy)`` is the sign of the lifted determinant
+
+    | ax-dx  ay-dy  (ax-dx)**2 + (ay-dy)**2 |
+    | bx-dx  by-dy  (bx-dx)**2 + (by-dy)**2 |
+    | cx-dx  cy-dy  (cx-dx)**2 + (cy-dy)**2 |
+
+(equal to the 4x4 determinant with rows ``(px, py, px**2+py**2, 1)`` for
+p = a, b, c, d).  When a, b, c are counter-clockwise it is +1 if d lies strictly
+inside their circumcircle, -1 if strictly outside and 0 if the four points are
+cocircular.  When a, b, c are clockwise every non-zero sign is flipped (+1 means
+*outside*).  When a, b, c are collinear the result is the sign of a
+degenerate "circle" (a line) test and rarely meaningful; it is still exact.
+In general ``incircle(a, b, c, d) * orient2d(a, b, c)`` is +1 for "d inside".
+
+Exactness guarantee and input range
+-----------------------------------
+Every result is the exact sign of the determinant evaluated in real
+arithmetic on the given float64 values (the differences such as ``ax - cx`` are
+*not* assumed to be exact: the exact stage expands the determinants in the
+original coordinates with error-free transformations).  Exactness is
+guaranteed for finite inputs as long as no intermediate product overflows or
+underflows, which holds when every coordinate is 0 or has magnitude in
+
+* orient2d: [1e-100, 1e100]  (sufficient: [2**-400, 2**400])
+* incircle: [1e-50, 1e50]    (sufficient: [2**-180, 2**180])
+
+e.g. coordinates around 1e9 differing by a single ulp (1.2e-7) are fine.
+Outside those ranges the results may be wrong; NaN/inf inputs give
+unspecified results.
+
+Evaluation strategy: a floating-point filter with Shewchuk's rigorous a-priori
+error bounds decides almost all calls without allocating anything; if it cannot
+decide, an exact evaluation with floating-point expansions (Shewchuk, "Adaptive
+Precision Floating-Point Arithmetic and Fast Robust Geometric Predicates",
+1997) is run.  The expansion arithmetic building blocks are public so that
+further exact predicates can be built on them (see ``two_sum`` ... ``estimate``).
+
+Expansions
+----------
+An *expansion* is a float64 array ``e`` plus a length ``elen``; its value is
+the exact (real) sum ``e[0] + ... + e[elen-1]``.  All functions here produce
+(and expect) expansions whose components are *strongly nonoverlapping* and
+sorted by increasing magnitude, with zero components eliminated (an expansion
+of value 0 is ``[0.0]`` with length 1), so the sign of an expansion is the sign
+of its last component.  Outputs are written into a caller-supplied array ``h``
+(which must be large enough: see each function) and the new length is returned.
+Unless a docstring says otherwise, ``h`` must not overlap the inputs.
+
+Each expansion operation is exact provided nothing overflows and every
+``two_product`` error term is representable (``ulp(a) * ulp(b) >= 2**-1074``);
+for a polynomial of degree k in coordinates that are 0 or of magnitude in
+[2**-m, 2**M], k * (m + 52) <= 1074 and k * M < ~1000 suffice.
+
+The counting variants count calls and exact fallbacks into an int64 array,
+indexed by ORIENT_CALLS, ORIENT_EXACT, INCIRCLE_CALLS, INCIRCLE_EXACT.
+
+Compilation: the scalar predicates (``orient2d``, ``incircle``, their
+``_counted`` and ``_fast`` siblings) have explicit float64 signatures, so they
+are compiled (or loaded from numba's on-disk cache) when this module is
+imported, and integer arguments are converted to float64.  The expansion
+functions are compiled lazily for the array types they are called with.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, types
+
+__all__ = [
+    # constants
+    "EPSILON",
+    "SPLITTER",
+    "CCW_ERRBOUND_A",
+    "ICC_ERRBOUND_A",
+    "ORIENT_CALLS",
+    "ORIENT_EXACT",
+    "INCIRCLE_CALLS",
+    "INCIRCLE_EXACT",
+    "ORIENT2D_EXPANSION_MAX",
+    "INCIRCLE_EXPANSION_MAX",
+    # error-free transformations
+    "two_sum",
+    "fast_two_sum",
+    "two_diff",
+    "split",
+    "two_product",
+    # expansion arithmetic
+    "grow_expansion",
+    "expansion_sum",
+    "expansion_diff",
+    "scale_expansion",
+    "expansion_product",
+    "expansion_negate",
+    "compress_expansion",
+    "expansion_sign",
+    "estimate",
+    "float_expansion",
+    "diff_expansion",
+    "product_expansion",
+    "det2_expansion",
+    "diff_product_expansion",
+    "orient2d_expansion",
+    "incircle_expansion",
+    # predicates
+    "orient2d",
+    "orient2d_counted",
+    "orient2d_fast",
+    "incircle",
+    "incircle_counted",
+    "incircle_fast",
+    "orient2d_many",
+    "incircle_many",
+]
+
+# --------------------------------------------------------------------------
+# Constants (Shewchuk's exactinit(), derived for IEEE-754 binary64 with
+# round-to-nearest-even).
+# --------------------------------------------------------------------------
+
+#: Half an ulp of 1.0: the unit roundoff of float64.
+EPSILON = 2.0**-53
+#: Veltkamp splitter 2**ceil(53/2) + 1 used by :func:`split`.
+SPLITTER = 2.0**27 + 1.0
+#: Relative error bound of the orient2d float filter (Shewchuk's ccwerrboundA).
+CCW_ERRBOUND_A = (3.0 + 16.0 * EPSILON) * EPSILON
+#: Relative error bound of the incircle float filter (Shewchuk's iccerrboundA).
+ICC_ERRBOUND_A = (10.0 + 96.0 * EPSILON) * EPSILON
+
+#: Indices into the counters array of the ``*_counted`` predicates.
+ORIENT_CALLS = 0
+ORIENT_EXACT = 1
+INCIRCLE_CALLS = 2
+INCIRCLE_EXACT = 3
+
+#: Capacity needed for the output of :func:`orient2d_expansion`.
+ORIENT2D_EXPANSION_MAX = 12
+#: Capacity needed for the output of :func:`incircle_expansion`.
+INCIRCLE_EXPANSION_MAX = 384
+
+_UNDECIDED = 2  # internal: returned by the float filters when they cannot decide
+
+_F64 = types.float64
+_I64 = types.int64
+_COUNTERS = types.int64[:]
+
+
+# --------------------------------------------------------------------------
+# Error-free transformations
+# --------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def two_sum(a, b):
+    """Return ``(x, y)`` with ``x = fl(a + b)`` and ``x + y == a + b`` exactly (Knuth)."""
+    x = a + b
+    bvirt = x - a
+    avirt = x - bvirt
+    bround = b - bvirt
+    around = a - avirt
+    return x, around + bround
+
+
+@njit(cache=True)
+def fast_two_sum(a, b):
+    """Return ``(x, y)`` with ``x = fl(a + b)``, ``x + y == a + b``; requires ``|a| >= |b|`` (or a == 0)."""
+    x = a + b
+    bvirt = x - a
+    return x, b - bvirt
+
+
+@njit(cache=True)
+def two_diff(a, b):
+    """Return ``(x, y)`` with ``x = fl(a - b)`` and ``x + y == a - b`` exactly."""
+    x = a - b
+    bvirt = a - x
+    avirt = x + bvirt
+    bround = bvirt - b
+    around = a - avirt
+    return x, around + bround
+
+
+@njit(cache=True)
+def split(a):
+    """Veltkamp split: return ``(hi, lo)`` with ``hi + lo == a``, each with at most 26 significant bits.
+
+    Requires ``|a| < 2**996`` (no overflow of ``SPLITTER * a``).
+    """
+    c = SPLITTER * a
+    abig = c - a
+    ahi = c - abig
+    return ahi, a - ahi
+
+
+@njit(cache=True)
+def two_product(a, b):
+    """Return ``(x, y)`` with ``x = fl(a * b)`` and ``x + y == a * b`` exactly (Dekker/Veltkamp).
+
+    Exact unless ``a*b`` overflows or the rounding error is below the subnormal
+    range (i.e. needs ``ulp(a) * ulp(b) >= 2**-1074``).
+    (``math.fma`` is not available in numba for Python < 3.13, hence the split.)
+    """
+    x = a * b
+    ahi, alo = split(a)
+    bhi, blo = split(b)
+    err1 = x - ahi * bhi
+    err2 = err1 - alo * bhi
+    err3 = err2 - ahi * blo
+    return x, alo * blo - err3
+
+
+# --------------------------------------------------------------------------
+# Expansion arithmetic
+# --------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def grow_expansion(e, elen, b, h):
+    """``h = e + b`` (expansion plus a float), zero-eliminating; returns the length (<= elen + 1).
+
+    ``h`` may be the same array as ``e`` (in-place growth is safe).
+    """
+    q = b
+    hindex = 0
+    for i in range(elen):
+        q, hh = two_sum(q, e[i])
+        if hh != 0.0:
+            h[hindex] = hh
+            hindex += 1
+    if q != 0.0 or hindex == 0:
+        h[hindex] = q
+        hindex += 1
+    return hindex
+
+
+@njit(cache=True)
+def _expansion_sum_signed(e, elen, f, flen, fsign, h):
+    # Shewchuk's fast_expansion_sum_zeroelim on e + fsign*f (fsign = +-1, exact).
+    # Two_Sum is used throughout (it equals Fast_Two_Sum wherever the latter's
+    # precondition holds and is exact regardless), and reads never pass the end.
+    eindex = 0
+    findex = 0
+    hindex = 0
+    enow = e[0]
+    fnow = fsign * f[0]
+    if abs(enow) < abs(fnow):
+        q = enow
+        eindex = 1
+        if eindex < elen:
+            enow = e[eindex]
+    else:
+        q = fnow
+        findex = 1
+        if findex < flen:
+            fnow = fsign * f[findex]
+    while eindex < elen and findex < flen:
+        if abs(enow) < abs(fnow):
+            q, hh = two_sum(q, enow)
+            eindex += 1
+            if eindex < elen:
+                enow = e[eindex]
+        else:
+            q, hh = two_sum(q, fnow)
+            findex += 1
+            if findex < flen:
+                fnow = fsign * f[findex]
+        if hh != 0.0:
+            h[hindex] = hh
+            hindex += 1
+    while eindex < elen:
+        q, hh = two_sum(q, e[eindex])
+        eindex += 1
+        if hh != 0.0:
+            h[hindex] = hh
+            hindex += 1
+    while findex < flen:
+        q, hh = two_sum(q, fsign * f[findex])
+        findex += 1
+        if hh != 0.0:
+            h[hindex] = hh
+            hindex += 1
+    if q != 0.0 or hindex == 0:
+        h[hindex] = q
+        hindex += 1
+    return hindex
+
+
+@njit(cache=True)
+def expansion_sum(e, elen, f, flen, h):
+    """``h = e + f`` (fast_expansion_sum_zeroelim); returns the length (<= elen + flen).
+
+    Inputs must be strongly nonoverlapping, increasing-magnitude expansions
+    (all outputs of this module are); the output is too.
+    """
+    return _expansion_sum_signed(e, elen, f, flen, 1.0, h)
+
+
+@njit(cache=True)
+def expansion_diff(e, elen, f, flen, h):
+    """``h = e - f``; returns the length (<= elen + flen).  Same rules as :func:`expansion_sum`."""
+    return _expansion_sum_signed(e, elen, f, flen, -1.0, h)
+
+
+@njit(cache=True)
+def scale_expansion(e, elen, b, h):
+    """``h = e * b`` for a float ``b`` (scale_expansion_zeroelim); returns the length (<= 2 * elen)."""
+    q, hh = two_product(e[0], b)
+    hindex = 0
+    if hh != 0.0:
+        h[hindex] = hh
+        hindex += 1
+    for i in range(1, elen):
+        p1, p0 = two_product(e[i], b)
+        s, hh = two_sum(q, p0)
+        if hh != 0.0:
+            h[hindex] = hh
+            hindex += 1
+        q, hh = two_sum(p1, s)
+        if hh != 0.0:
+            h[hindex] = hh
+            hindex += 1
+    if q != 0.0 or hindex == 0:
+        h[hindex] = q
+        hindex += 1
+    return hindex
+
+
+@njit(cache=True)
+def _expansion_product_ordered(e, elen, f, flen, h):
+    # h = e * f, iterating over the components of f (the shorter factor).
+    cap = 2 * elen * flen
+    t = np.empty(2 * elen)
+    acc = np.empty(cap)
+    nxt = np.empty(cap)
+    alen = scale_expansion(e, elen, f[0], acc)
+    for i in range(1, flen):
+        tlen = scale_expansion(e, elen, f[i], t)
+        alen = expansion_sum(acc, alen, t, tlen, nxt)
+        acc, nxt = nxt, acc
+    for i in range(alen):
+        h[i] = acc[i]
+    return alen
+
+
+@njit(cache=True)
+def expansion_product(e, elen, f, flen, h):
+    """``h = e * f`` (product of two expansions); returns the length (<= 2 * elen * flen).
+
+    Computed as the sum, over the components of the shorter factor, of the
+    longer factor scaled by that component.  Allocates scratch arrays
+    (O(elen * flen) floats); ``h`` may not overlap ``e`` or ``f``.
+    """
+    if flen > elen:
+        return _expansion_product_ordered(f, flen, e, elen, h)
+    return _expansion_product_ordered(e, elen, f, flen, h)
+
+
+@njit(cache=True)
+def expansion_negate(e, elen, h):
+    """``h = -e``; returns elen.  ``h`` may be ``e``."""
+    for i in range(elen):
+        h[i] = -e[i]
+    return elen
+
+
+@njit(cache=True)
+def compress_expansion(e, elen, h):
+    """Shewchuk's compress: same value, usually far fewer components; returns the new length.
+
+    The largest output component approximates the value to within an ulp.
+    ``h`` may be ``e``.  Useful to keep repeated products short.
+    """
+    bottom = elen - 1
+    q = e[bottom]
+    for i in range(elen - 2, -1, -1):
+        qnew, qq = two_sum(q, e[i])
+        if qq != 0.0:
+            h[bottom] = qnew
+            bottom -= 1
+            q = qq
+        else:
+            q = qnew
+    top = 0
+    for i in range(bottom + 1, elen):
+        qnew, qq = two_sum(h[i], q)
+        if qq != 0.0:
+            h[top] = qq
+            top += 1
+        q = qnew
+    h[top] = q
+    return top + 1
+
+
+@njit(cache=True)
+def expansion_sign(e, elen):
+    """Exact sign (-1, 0, +1) of the expansion's value: sign of its most significant non-zero component."""
+    for i in range(elen - 1, -1, -1):
+        if e[i] > 0.0:
+            return 1
+        if e[i] < 0.0:
+            return -1
+    return 0
+
+
+@njit(cache=True)
+def estimate(e, elen):
+    """Float approximation of the expansion's value (sum of the components, smallest first)."""
+    s = 0.0
+    for i in range(elen):
+        s += e[i]
+    return s
+
+
+@njit(cache=True)
+def float_expansion(a, h):
+    """Write the float ``a`` as a one-component expansion into ``h``; returns 1."""
+    h[0] = a
+    return 1
+
+
+@njit(cache=True)
+def diff_expansion(a, b, h):
+    """Exact ``a - b`` of two floats as an expansion in ``h`` (<= 2 components); returns the length."""
+    x, y = two_diff(a, b)
+    if y != 0.0:
+        h[0] = y
+        h[1] = x
+        return 2
+    h[0] = x
+    return 1
+
+
+@njit(cache=True)
+def product_expansion(a, b, h):
+    """Exact ``a * b`` of two floats as an expansion in ``h`` (<= 2 components); returns the length."""
+    x, y = two_product(a, b)
+    if y != 0.0:
+        h[0] = y
+        h[1] = x
+        return 2
+    h[0] = x
+    return 1
+
+
+@njit(cache=True)
+def det2_expansion(a, b, c, d, h):
+    """Exact ``a*b - c*d`` as an expansion in ``h`` (<= 4 components); returns the length.  No allocation."""
+    n = product_expansion(a, b, h)
+    x, y = two_product(c, d)
+    n = grow_expansion(h, n, -y, h)
+    return grow_expansion(h, n, -x, h)
+
+
+@njit(cache=True)
+def diff_product_expansion(a, b, c, d, h):
+    """Exact ``(a - b) * (c - d)`` as an expansion in ``h`` (<= 8 components); returns the length.
+
+    Neither difference is assumed exact.  No allocation.
+    """
+    d1, t1 = two_diff(a, b)
+    d2, t2 = two_diff(c, d)
+    n = product_expansion(t1, t2, h)
+    x, y = two_product(t1, d2)
+    n = grow_expansion(h, n, y, h)
+    n = grow_expansion(h, n, x, h)
+    x, y = two_product(d1, t2)
+    n = grow_expansion(h, n, y, h)
+    n = grow_expansion(h, n, x, h)
+    x, y = two_product(d1, d2)
+    n = grow_expansion(h, n, y, h)
+    return grow_expansion(h, n, x, h)
+
+
+@njit(cache=True)
+def orient2d_expansion(ax, ay, bx, by, cx, cy, h):
+    """Exact value of the orient2d determinant as an expansion in ``h``; returns the length.
+
+    ``h`` needs ORIENT2D_EXPANSION_MAX (12) entries.  Expanded in the original
+    coordinates: ax*by - ax*cy + bx*cy - bx*ay + cx*ay - cx*by.  No allocation.
+    """
+    n = product_expansion(ax, by, h)
+    x, y = two_product(ax, cy)
+    n = grow_expansion(h, n, -y, h)
+    n = grow_expansion(h, n, -x, h)
+    x, y = two_product(bx, cy)
+    n = grow_expansion(h, n, y, h)
+    n = grow_expansion(h, n, x, h)
+    x, y = two_product(bx, ay)
+    n = grow_expansion(h, n, -y, h)
+    n = grow_expansion(h, n, -x, h)
+    x, y = two_product(cx, ay)
+    n = grow_expansion(h, n, y, h)
+    n = grow_expansion(h, n, x, h)
+    x, y = two_product(cx, by)
+    n = grow_expansion(h, n, -y, h)
+    return grow_expansion(h, n, -x, h)
+
+
+@njit(cache=True)
+def _lifted(m, mlen, px, py, out, w):
+    # out = (px**2 + py**2) * m, length <= 8 * mlen; w is scratch of >= 12 * mlen floats.
+    t = w[: 2 * mlen]
+    tt = w[2 * mlen : 6 * mlen]
+    u = w[6 * mlen : 8 * mlen]
+    uu = w[8 * mlen : 12 * mlen]
+    tlen = scale_expansion(m, mlen, px, t)
+    ttlen = scale_expansion(t, tlen, px, tt)
+    ulen = scale_expansion(m, mlen, py, u)
+    uulen = scale_expansion(u, ulen, py, uu)
+    return expansion_sum(tt, ttlen, uu, uulen, out)
+
+
+@njit(cache=True)
+def _incircle_expansion_work(ax, ay, bx, by, cx, cy, dx, dy, h, w):
+    # w: scratch of >= 1024 floats.
+    # With pq := px*qy - qx*py, the 4x4 determinant with rows (x, y, x^2+y^2, 1) is
+    #   |a|^2 (bc + cd - bd) - |b|^2 (ac + cd + da) + |c|^2 (ab + bd + da) - |d|^2 (ab + bc - ac)
+    # (cofactor expansion along the lifted column).
+    ab = w[0:4]
+    bc = w[4:8]
+    cd = w[8:12]
+    da = w[12:16]
+    ac = w[16:20]
+    bd = w[20:24]
+    s8 = w[24:32]
+    m = w[32:44]
+    la = w[44:140]
+    lb = w[140:236]
+    lc = w[236:332]
+    ld = w[332:428]
+    s1 = w[428:620]
+    s2 = w[620:812]
+    lw = w[812:1024]  # 12 * 12 = 144 needed by _lifted
+    abn = det2_expansion(ax, by, bx, ay, ab)
+    bcn = det2_expansion(bx, cy, cx, by, bc)
+    cdn = det2_expansion(cx, dy, dx, cy, cd)
+    dan = det2_expansion(dx, ay, ax, dy, da)
+    acn = det2_expansion(ax, cy, cx, ay, ac)
+    bdn = det2_expansion(bx, dy, dx, by, bd)
+
+    n8 = expansion_sum(bc, bcn, cd, cdn, s8)
+    mn = expansion_diff(s8, n8, bd, bdn, m)
+    lan = _lifted(m, mn, ax, ay, la, lw)
+
+    n8 = expansion_sum(ac, acn, cd, cdn, s8)
+    mn = expansion_sum(s8, n8, da, dan, m)
+    lbn = _lifted(m, mn, bx, by, lb, lw)
+
+    n8 = expansion_sum(ab, abn, bd, bdn, s8)
+    mn = expansion_sum(s8, n8, da, dan, m)
+    lcn = _lifted(m, mn, cx, cy, lc, lw)
+
+    n8 = expansion_sum(ab, abn, bc, bcn, s8)
+    mn = expansion_diff(s8, n8, ac, acn, m)
+    ldn = _lifted(m, mn, dx, dy, ld, lw)
+
+    s1n = expansion_diff(la, lan, lb, lbn, s1)
+    s2n = expansion_diff(lc, lcn, ld, ldn, s2)
+    return expansion_sum(s1, s1n, s2, s2n, h)
+
+
+@njit(cache=True)
+def incircle_expansion(ax, ay, bx, by, cx, cy, dx, dy, h):
+    """Exact value of the incircle determinant as an expansion in ``h``; returns the length.
+
+    ``h`` needs INCIRCLE_EXPANSION_MAX (384) entries.  Expanded in the
+    original coordinates (degree 4).  Allocates a scratch array.
+    """
+    w = np.empty(1024)
+    return _incircle_expansion_work(ax, ay, bx, by, cx, cy, dx, dy, h, w)
+
+
+# --------------------------------------------------------------------------
+# Predicates
+# --------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _sign(x):
+    # branch-free sign of a float: -1, 0 or +1
+    return (x > 0.0) - (x < 0.0)
+
+
+@njit(cache=True)
+def _orient2d_filter(ax, ay, bx, by, cx, cy):
+    # Shewchuk's orient2d stage A: returns the sign if the float evaluation
+    # provably has the right sign, else _UNDECIDED.  Allocates nothing.
+    #
+    # The common case is tested first with a single, well-predicted branch:
+    # |det| > ccwerrboundA * (|detleft| + |detright|).  If detleft and detright
+    # have the same sign (or one is 0) this is exactly Shewchuk's test (his
+    # detsum is the same float); if they have opposite signs the sign of det
+    # is certain anyway.  Only when the test fails do we look at the cases.
+    detleft = (ax - cx) * (by - cy)
+    detright = (ay - cy) * (bx - cx)
+    det = detleft - detright
+    errbound = CCW_ERRBOUND_A * (abs(detleft) + abs(detright))
+    if abs(det) > errbound:
+        return _sign(det)
+    if detleft > 0.0:
+        if detright <= 0.0:
+            return 1
+    elif detleft < 0.0:
+        if detright >= 0.0:
+            return -1
+    else:
+        # detleft == 0 exactly (a factor difference is exactly 0, because a
+        # float difference rounds to 0 only if it is 0), so det = -detright
+        # and detright has the sign of the exact product.
+        return -_sign(detright)
+    return _UNDECIDED
+
+
+@njit(cache=True)
+def _orient2d_exact(ax, ay, bx, by, cx, cy):
+    h = np.empty(ORIENT2D_EXPANSION_MAX)
+    n = orient2d_expansion(ax, ay, bx, by, cx, cy, h)
+    return expansion_sign(h, n)
+
+
+@njit(cache=True)
+def _incircle_filter(ax, ay, bx, by, cx, cy, dx, dy):
+    # Shewchuk's incircle stage A.  Allocates nothing.
+    adx = ax - dx
+    bdx = bx - dx
+    cdx = cx - dx
+    ady = ay - dy
+    bdy = by - dy
+    cdy = cy - dy
+
+    bdxcdy = bdx * cdy
+    cdxbdy = cdx * bdy
+    alift = adx * adx + ady * ady
+
+    cdxady = cdx * ady
+    adxcdy = adx * cdy
+    blift = bdx * bdx + bdy * bdy
+
+    adxbdy = adx * bdy
+    bdxady = bdx * ady
+    clift = cdx * cdx + cdy * cdy
+
+    det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady)
+    permanent = (
+        (abs(bdxcdy) + abs(cdxbdy)) * alift
+        + (abs(cdxady) + abs(adxcdy)) * blift
+        + (abs(adxbdy) + abs(bdxady)) * clift
+    )
+    errbound = ICC_ERRBOUND_A * permanent
+    if abs(det) > errbound:
+        return _sign(det)
+    if permanent == 0.0:
+        # every product is exactly 0 (no underflow in the supported range)
+        return 0
+    return _UNDECIDED
+
+
+@njit(cache=True)
+def _incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
+    buf = np.empty(1024 + INCIRCLE_EXPANSION_MAX)
+    h = buf[:INCIRCLE_EXPANSION_MAX]
+    w = buf[INCIRCLE_EXPANSION_MAX:]
+    n = _incircle_expansion_work(ax, ay, bx, by, cx, cy, dx, dy, h, w)
+    return expansion_sign(h, n)
+
+
+_SIG6 = _I64(_F64, _F64, _F64, _F64, _F64, _F64)
+_SIG8 = _I64(_F64, _F64, _F64, _F64, _F64, _F64, _F64, _F64)
+
+
+@njit(_SIG6, cache=True)
+def orient2d(ax, ay, bx, by, cx, cy):
+    """Exact orientation of (a, b, c): +1 counter-clockwise, -1 clockwise, 0 collinear.
+
+    Sign of (ax-cx)*(by-cy) - (ay-cy)*(bx-cx), exact for coordinates that are 0
+    or within [1e-100, 1e100] in magnitude.  Float filter first (no allocation),
+    exact expansion arithmetic only when the filter cannot decide.
+    """
+    s = _orient2d_filter(ax, ay, bx, by, cx, cy)
+    if s != _UNDECIDED:
+        return s
+    return _orient2d_exact(ax, ay, bx, by, cx, cy)
+
+
+@njit(_I64(_F64, _F64, _F64, _F64, _F64, _F64, _COUNTERS), cache=True)
+def orient2d_counted(ax, ay, bx, by, cx, cy, counters):
+    """:func:`orient2d` that also does ``counters[ORIENT_CALLS] += 1`` and, when the exact stage runs, ``counters[ORIENT_EXACT] += 1``."""
+    counters[ORIENT_CALLS] += 1
+    s = _orient2d_filter(ax, ay, bx, by, cx, cy)
+    if s != _UNDECIDED:
+        return s
+    counters[ORIENT_EXACT] += 1
+    return _orient2d_exact(ax, ay, bx, by, cx, cy)
+
+
+@njit(_F64(_F64, _F64, _F64, _F64, _F64, _F64), cache=True)
+def orient2d_fast(ax, ay, bx, by, cx, cy):
+    """NOT EXACT: plain float evaluation of the orient2d determinant (returns the float value).
+
+    For measuring the cost of robustness only; its sign can be wrong (even
+    inconsistent) for nearly collinear points.
+    """
+    return (ax - cx) * (by - cy) - (ay - cy) * (bx - cx)
+
+
+@njit(_SIG8, cache=True)
+def incircle(ax, ay, bx, by, cx, cy, dx, dy):
+    """Exact incircle sign: for counter-clockwise a, b, c, +1 if d is strictly inside their circle, -1 outside, 0 cocircular.
+
+    For clockwise a, b, c the sign is flipped.  It is the sign of the 3x3
+    determinant with rows (px-dx, py-dy, (px-dx)**2 + (py-dy)**2), p = a, b, c;
+    exact for coordinates that are 0 or within [1e-50, 1e50] in magnitude.
+    """
+    s = _incircle_filter(ax, ay, bx, by, cx, cy, dx, dy)
+    if s != _UNDECIDED:
+        return s
+    return _incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
+
+
+@njit(_I64(_F64, _F64, _F64, _F64, _F64, _F64, _F64, _F64, _COUNTERS), cache=True)
+def incircle_counted(ax, ay, bx, by, cx, cy, dx, dy, counters):
+    """:func:`incircle` that also does ``counters[INCIRCLE_CALLS] += 1`` and, when the exact stage runs, ``counters[INCIRCLE_EXACT] += 1``."""
+    counters[INCIRCLE_CALLS] += 1
+    s = _incircle_filter(ax, ay, bx, by, cx, cy, dx, dy)
+    if s != _UNDECIDED:
+        return s
+    counters[INCIRCLE_EXACT] += 1
+    return _incircle_exact(ax, ay, bx, by, cx, cy, dx, dy)
+
+
+@njit(_F64(_F64, _F64, _F64, _F64, _F64, _F64, _F64, _F64), cache=True)
+def incircle_fast(ax, ay, bx, by, cx, cy, dx, dy):
+    """NOT EXACT: plain float evaluation of the incircle determinant (returns the float value).
+
+    For measuring the cost of robustness only; its sign can be wrong for
+    nearly cocircular points.
+    """
+    adx = ax - dx
+    bdx = bx - dx
+    cdx = cx - dx
+    ady = ay - dy
+    bdy = by - dy
+    cdy = cy - dy
+    alift = adx * adx + ady * ady
+    blift = bdx * bdx + bdy * bdy
+    clift = cdx * cdx + cdy * cdy
+    return (
+        alift * (bdx * cdy - cdx * bdy)
+        + blift * (cdx * ady - adx * cdy)
+        + clift * (adx * bdy - bdx * ady)
+    )
+
+
+# --------------------------------------------------------------------------
+# Vectorised versions
+# --------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _orient2d_many_kernel(a, b, c, out, counters):
+    sa = a.shape[0] > 1
+    sb = b.shape[0] > 1
+    sc = c.shape[0] > 1
+    for i in range(out.shape[0]):
+        ia = i if sa else 0
+        ib = i if sb else 0
+        ic = i if sc else 0
+        out[i] = orient2d_counted(a[ia, 0], a[ia, 1], b[ib, 0], b[ib, 1], c[ic, 0], c[ic, 1], counters)
+
+
+@njit(cache=True)
+def _incircle_many_kernel(a, b, c, d, out, counters):
+    sa = a.shape[0] > 1
+    sb = b.shape[0] > 1
+    sc = c.shape[0] > 1
+    sd = d.shape[0] > 1
+    for i in range(out.shape[0]):
+        ia = i if sa else 0
+        ib = i if sb else 0
+        ic = i if sc else 0
+        idd = i if sd else 0
+        out[i] = incircle_counted(
+            a[ia, 0], a[ia, 1], b[ib, 0], b[ib, 1], c[ic, 0], c[ic, 1], d[idd, 0], d[idd, 1], counters
+        )
+
+
+def _points(p, name):
+    arr = np.ascontiguousarray(p, dtype=np.float64)
+    if arr.ndim == 1:
+        arr = arr.reshape(1, -1)
+    if arr.ndim != 2 or arr.shape[1] != 2:
+        raise ValueError(f"{name} must have shape (k, 2) or (2,), got {np.shape(p)}")
+    return arr
+
+
+def _common_length(arrays):
+    n = 1
+    for arr in arrays:
+        if arr.shape[0] != 1:
+            if n != 1 and arr.shape[0] != n:
+                raise ValueError("point arrays have incompatible lengths " + str([x.shape[0] for x in arrays]))
+            n = arr.shape[0]
+    if any(arr.shape[0] == 0 for arr in arrays):
+        n = 0
+    return n
+
+
+def _counters(counters):
+    if counters is None:
+        return np.zeros(4, dtype=np.int64)
+    if not isinstance(counters, np.ndarray) or counters.dtype != np.int64 or counters.ndim != 1 or counters.shape[0] < 4:
+        raise ValueError("counters must be a 1-D int64 numpy array of length >= 4")
+    return counters
+
+
+def orient2d_many(a, b, c, counters=None):
+    """Vectorised :func:`orient2d`: int8 array of exact signs for point rows a[i], b[i], c[i].
+
+    Each argument is a (k, 2) float64 array or a single point of shape (2,)
+    or (1, 2), which is broadcast.  If ``counters`` (int64 array, length >= 4)
+    is given, calls and exact fallbacks are added to it as in
+    :func:`orient2d_counted`.
+    """
+    pts = [_points(a, "a"), _points(b, "b"), _points(c, "c")]
+    out = np.empty(_common_length(pts), dtype=np.int8)
+    _orient2d_many_kernel(pts[0], pts[1], pts[2], out, _counters(counters))
+    return out
+
+
+def incircle_many(a, b, c, d, counters=None):
+    """Vectorised :func:`incircle`: int8 array of exact signs for rows a[i], b[i], c[i], d[i].
+
+    Broadcasting and ``counters`` as in :func:`orient2d_many`.
+    """
+    pts = [_points(a, "a"), _points(b, "b"), _points(c, "c"), _points(d, "d")]
+    out = np.empty(_common_length(pts), dtype=np.int8)
+    _incircle_many_kernel(pts[0], pts[1], pts[2], pts[3], out, _counters(counters))
+    return out
