@@ -847,3 +847,361 @@ def incircle_many(a, b, c, d, counters=None):
     out = np.empty(_common_length(pts), dtype=np.int8)
     _incircle_many_kernel(pts[0], pts[1], pts[2], pts[3], out, _counters(counters))
     return out
+
+
+# ==========================================================================
+# Sweep-line predicates (Fortune's algorithm, impls/fortune)
+# --------------------------------------------------------------------------
+# The sweep line y = L moves upward; processed sites lie on or below it.  Site
+# p's parabola (points equidistant from p and the sweep line) has height
+# L - d_p**2 / (2 h_p) above abscissa x, where d_p = |(x, L) - p| and
+# h_p = L - p_y, so at a site event (L = s_y) the arc above s belongs to the
+# p minimising d_p**2 / h_p.  A circle event of consecutive arcs (a, b, c)
+# happens when L reaches the top of their circumcircle, c_y + r.  Each
+# predicate below has a float filter with an a-priori error bound and an exact
+# fallback on expansions; the exact path allocates, the filters do not.
+# ==========================================================================
+
+__all__ += [
+    "UNDECIDED",
+    "BREAKPOINT_ERRBOUND",
+    "breakpoint_side_filter",
+    "breakpoint_side_exact",
+    "breakpoint_side",
+    "circle_top",
+    "circle_event_vs_site_exact",
+    "circle_event_vs_site",
+    "circle_events_order_exact",
+    "circle_events_order",
+]
+
+#: Returned by the ``*_filter`` functions of this section when the float evaluation cannot decide.
+UNDECIDED = _UNDECIDED
+#: Relative error bound of the float evaluation of the breakpoint polynomial (7 roundings
+#: on the longest path, see :func:`breakpoint_side_filter`), rounded up.
+BREAKPOINT_ERRBOUND = (8.0 + 64.0 * EPSILON) * EPSILON
+# Safety factor applied to the running error bound of circle_top (covers the O(eps**2)
+# terms dropped in its derivation and the rounding of the bound itself).
+_CIRCLE_TOP_SAFETY = 2.0
+
+
+@njit(cache=True)
+def _xd(a, b):
+    # exact a - b of two floats as a (<= 2 component) expansion array
+    h = np.empty(2)
+    n = diff_expansion(a, b, h)
+    return h[:n]
+
+
+@njit(cache=True)
+def _xmul(e, f):
+    # exact product of two expansion arrays, compressed
+    h = np.empty(2 * e.shape[0] * f.shape[0])
+    n = expansion_product(e, e.shape[0], f, f.shape[0], h)
+    n = compress_expansion(h, n, h)
+    return h[:n]
+
+
+@njit(cache=True)
+def _xadd(e, f):
+    h = np.empty(e.shape[0] + f.shape[0])
+    n = expansion_sum(e, e.shape[0], f, f.shape[0], h)
+    n = compress_expansion(h, n, h)
+    return h[:n]
+
+
+@njit(cache=True)
+def _xsub(e, f):
+    h = np.empty(e.shape[0] + f.shape[0])
+    n = expansion_diff(e, e.shape[0], f, f.shape[0], h)
+    n = compress_expansion(h, n, h)
+    return h[:n]
+
+
+@njit(cache=True)
+def _xscale(e, b):
+    h = np.empty(2 * e.shape[0])
+    n = scale_expansion(e, e.shape[0], b, h)
+    n = compress_expansion(h, n, h)
+    return h[:n]
+
+
+@njit(cache=True)
+def _xsign(e):
+    return expansion_sign(e, e.shape[0])
+
+
+@njit(cache=True)
+def _xneg(e):
+    h = np.empty(e.shape[0])
+    expansion_negate(e, e.shape[0], h)
+    return h
+
+
+# ---------------------------------------------------------------- breakpoints
+
+
+@njit(cache=True)
+def _midpoint_side(px, qx, sx):
+    # sign of 2 sx - (px + qx), exact: (px + qx) as a two-term expansion, minus 2 sx
+    # (2 sx is exact in the supported range).
+    x, y = two_sum(px, qx)
+    h = np.empty(3)
+    if y != 0.0:
+        h[0] = y
+        h[1] = x
+        n = 2
+    else:
+        h[0] = x
+        n = 1
+    m = np.empty(4)
+    k = grow_expansion(h, n, -2.0 * sx, m)
+    return -expansion_sign(m, k)
+
+
+@njit(cache=True)
+def _breakpoint_poly_exact(px, py, qx, qy, sx, sy):
+    # exact sign of f = (sx-px)**2 (sy-qy) - (sx-qx)**2 (sy-py) + (sy-py)(sy-qy)(qy-py)
+    dxp = _xd(sx, px)
+    dxq = _xd(sx, qx)
+    hp = _xd(sy, py)
+    hq = _xd(sy, qy)
+    dh = _xd(qy, py)
+    t1 = _xmul(_xmul(dxp, dxp), hq)
+    t2 = _xmul(_xmul(dxq, dxq), hp)
+    t3 = _xmul(_xmul(hp, hq), dh)
+    return _xsign(_xadd(_xsub(t1, t2), t3))
+
+
+@njit(cache=True)
+def _breakpoint_poly_filter(px, py, qx, qy, sx, sy):
+    # float sign of the same f, or UNDECIDED.  Every factor is one rounded difference
+    # (relative error <= eps), each product of three adds 2 roundings and each of the
+    # two sums one more: |f - fl(f)| <= 7 eps * permanent + O(eps**2).
+    dxp = sx - px
+    dxq = sx - qx
+    hp = sy - py
+    hq = sy - qy
+    dh = qy - py
+    t1 = dxp * dxp * hq
+    t2 = dxq * dxq * hp
+    t3 = hp * hq * dh
+    f = (t1 - t2) + t3
+    permanent = abs(t1) + abs(t2) + abs(t3)
+    bound = BREAKPOINT_ERRBOUND * permanent
+    if f > bound:
+        return 1
+    if -f > bound:
+        return -1
+    if permanent == 0.0:
+        return 0
+    return _UNDECIDED
+
+
+@njit(cache=True)
+def _breakpoint_case(px, py, qx, qy, sx, sy):
+    # The parts of the breakpoint test decided by plain comparisons of coordinates
+    # (exact).  Returns -1 / 0 / +1 (s left of / on / right of the breakpoint), or 3 if
+    # the sign of the breakpoint polynomial f decides it (s left iff f < 0, p higher).
+    if py == qy:
+        # equal heights: the parabolas are translates meeting once, at x = (px + qx) / 2
+        # (also the vertical bisector of two sites on the first sweep position)
+        return _midpoint_side(px, qx, sx)
+    if py == sy:
+        # p lies on the sweep line: its arc is the vertical ray x = px
+        return -1 if sx < px else (1 if sx > px else 0)
+    if qy == sy:
+        return -1 if sx < qx else (1 if sx > qx else 0)
+    if py < qy:
+        # h_p > h_q: (p, q) is the left intersection; q_x lies between the two roots
+        if sx >= qx:
+            return 1
+        return 3
+    # h_p < h_q: (p, q) is the right intersection; p_x lies between the two roots
+    if sx <= px:
+        return -1
+    return 3
+
+
+@njit(cache=True)
+def breakpoint_side_filter(px, py, qx, qy, sx, sy):
+    """Float-filtered :func:`breakpoint_side`: the exact sign, or ``UNDECIDED`` (2). Allocates nothing
+    unless p and q have equal y (then it is exact and cheap)."""
+    c = _breakpoint_case(px, py, qx, qy, sx, sy)
+    if c != 3:
+        return c
+    return _breakpoint_poly_filter(px, py, qx, qy, sx, sy)
+
+
+@njit(cache=True)
+def breakpoint_side_exact(px, py, qx, qy, sx, sy):
+    """:func:`breakpoint_side` evaluated in exact arithmetic only (no filter)."""
+    c = _breakpoint_case(px, py, qx, qy, sx, sy)
+    if c != 3:
+        return c
+    return _breakpoint_poly_exact(px, py, qx, qy, sx, sy)
+
+
+@njit(cache=True)
+def breakpoint_side(px, py, qx, qy, sx, sy):
+    """Exact side of a new site s relative to the beach-line breakpoint of arcs p (left), q (right).
+
+    Upward sweep at y = s_y, with p_y <= s_y and q_y <= s_y, p != q, and not both on the
+    sweep line with equal x. Returns -1 if s_x is left of the breakpoint, +1 if right, 0 if
+    s lies exactly below it (a circle event coincides with this site event). Sites on the
+    sweep line (h = 0) have a vertical-ray arc, so the breakpoint is at their x.
+    """
+    s = breakpoint_side_filter(px, py, qx, qy, sx, sy)
+    if s != _UNDECIDED:
+        return s
+    return _breakpoint_poly_exact(px, py, qx, qy, sx, sy)
+
+
+# ---------------------------------------------------------------- circle events
+
+
+@njit(cache=True)
+def circle_top(ax, ay, bx, by, cx, cy):
+    """Float circumcircle of a, b, c: ``(y_top, err, vx, vy)``.
+
+    ``y_top`` approximates the top of the circle (the circle event's sweep position), with
+    ``|y_top - exact| <= err`` (a running error bound, times a safety factor 2); ``err`` is
+    ``inf`` when the float orientation cannot be trusted (nearly collinear). ``(vx, vy)`` is the
+    circumcentre, computed relative to a (not exact). Not exact; the comparisons below are.
+    """
+    u = EPSILON
+    bx_ = bx - ax
+    by_ = by - ay
+    cx_ = cx - ax
+    cy_ = cy - ay
+    t1 = bx_ * cy_
+    t2 = by_ * cx_
+    d = t1 - t2
+    err_d = 4.1 * u * (abs(t1) + abs(t2))
+    b2 = bx_ * bx_ + by_ * by_
+    c2 = cx_ * cx_ + cy_ * cy_
+    p1 = cy_ * b2
+    p2 = by_ * c2
+    nx = p1 - p2
+    err_nx = 7.4 * u * (abs(p1) + abs(p2))
+    q1 = bx_ * c2
+    q2 = cx_ * b2
+    ny = q1 - q2
+    err_ny = 7.4 * u * (abs(q1) + abs(q2))
+    e = 2.0 * d
+    vx = ax + nx / e if e != 0.0 else np.inf
+    vy = ay + ny / e if e != 0.0 else np.inf
+    ae = abs(e)
+    err_e = 2.0 * err_d
+    if not ae > err_e:
+        return np.inf, np.inf, vx, vy
+    r = np.sqrt(nx * nx + ny * ny)
+    err_r = err_nx + err_ny + 2.1 * u * r
+    m = (ny if e > 0.0 else -ny) + r
+    err_m = err_ny + err_r + u * abs(m)
+    q = m / ae
+    err_q = (abs(m) * err_e + ae * err_m) / (ae * (ae - err_e)) + u * abs(q)
+    y = ay + q
+    err = _CIRCLE_TOP_SAFETY * (err_q + u * abs(y))
+    return y, err, vx, vy
+
+
+@njit(cache=True)
+def _circle_parts(ax, ay, bx, by, cx, cy):
+    # Exact expansions (e, nys, s) with y_top = a_y + (nys + sqrt(s)) / e, e > 0:
+    # e = 2 |D|, D = orient of (b - a, c - a), nys = sign(D) * Ny, s = Nx**2 + Ny**2.
+    bx_ = _xd(bx, ax)
+    by_ = _xd(by, ay)
+    cx_ = _xd(cx, ax)
+    cy_ = _xd(cy, ay)
+    dd = _xsub(_xmul(bx_, cy_), _xmul(by_, cx_))
+    b2 = _xadd(_xmul(bx_, bx_), _xmul(by_, by_))
+    c2 = _xadd(_xmul(cx_, cx_), _xmul(cy_, cy_))
+    nx = _xsub(_xmul(cy_, b2), _xmul(by_, c2))
+    ny = _xsub(_xmul(bx_, c2), _xmul(cx_, b2))
+    s = _xadd(_xmul(nx, nx), _xmul(ny, ny))
+    if _xsign(dd) < 0:
+        dd = _xneg(dd)
+        ny = _xneg(ny)
+    e = _xscale(dd, 2.0)
+    return e, ny, s
+
+
+@njit(cache=True)
+def circle_event_vs_site_exact(ax, ay, bx, by, cx, cy, sy):
+    """Exact sign of (top of the circumcircle of a, b, c) - sy; a, b, c must not be collinear."""
+    e, nys, s = _circle_parts(ax, ay, bx, by, cx, cy)
+    # y_top - sy = (nys + sqrt(s) - w') / e with w' = e (sy - ay); sign(sqrt(s) - w), w = w' - nys
+    w = _xsub(_xmul(e, _xd(sy, ay)), nys)
+    if _xsign(w) < 0:
+        return 1
+    return _xsign(_xsub(s, _xmul(w, w)))
+
+
+@njit(cache=True)
+def circle_event_vs_site(ax, ay, bx, by, cx, cy, sy):
+    """Exact sign of (c_y + r) - sy for the circumcircle (centre c, radius r) of non-collinear a, b, c.
+
+    +1: the circle event comes after a site at height sy (upward sweep), 0: at the same time.
+    """
+    y, err, vx, vy = circle_top(ax, ay, bx, by, cx, cy)
+    d = y - sy
+    if d > err:
+        return 1
+    if -d > err:
+        return -1
+    return circle_event_vs_site_exact(ax, ay, bx, by, cx, cy, sy)
+
+
+@njit(cache=True)
+def _sqrt_sum_sign(p, u, v):
+    # exact sign of p + sqrt(u) - sqrt(v) for expansions p and u, v >= 0 (u, v > 0 when
+    # the sign of p and of u - v disagree), by squaring with case analysis
+    sp = _xsign(p)
+    suv = _xsign(_xsub(u, v))
+    if sp == 0:
+        return suv
+    if suv == 0 or suv == sp:
+        return sp
+    p2 = _xmul(p, p)
+    if sp > 0:
+        # p > 0 > sqrt(u) - sqrt(v): compare (p + sqrt u)**2 = p**2 + u + 2 p sqrt(u) with v
+        q = _xsub(_xadd(p2, u), v)
+        if _xsign(q) >= 0:
+            return 1
+        return _xsign(_xsub(_xscale(_xmul(p2, u), 4.0), _xmul(q, q)))
+    # p < 0 < sqrt(u) - sqrt(v): compare u with (|p| + sqrt v)**2 = p**2 + v + 2 |p| sqrt(v)
+    q = _xsub(_xsub(u, v), p2)
+    if _xsign(q) <= 0:
+        return -1
+    return _xsign(_xsub(_xmul(q, q), _xscale(_xmul(p2, v), 4.0)))
+
+
+@njit(cache=True)
+def circle_events_order_exact(ax, ay, bx, by, cx, cy, dx, dy, ex, ey, fx, fy):
+    """Exact sign of y_top(a, b, c) - y_top(d, e, f) (tops of two circumcircles); no filter."""
+    e1, n1, s1 = _circle_parts(ax, ay, bx, by, cx, cy)
+    e2, n2, s2 = _circle_parts(dx, dy, ex, ey, fx, fy)
+    # e2 e1 (y1 - y2) = p + e2 sqrt(s1) - e1 sqrt(s2)
+    e12 = _xmul(e1, e2)
+    p = _xadd(_xmul(e12, _xd(ay, dy)), _xsub(_xmul(e2, n1), _xmul(e1, n2)))
+    u = _xmul(_xmul(e2, e2), s1)
+    v = _xmul(_xmul(e1, e1), s2)
+    return _sqrt_sum_sign(p, u, v)
+
+
+@njit(cache=True)
+def circle_events_order(ax, ay, bx, by, cx, cy, dx, dy, ex, ey, fx, fy):
+    """Exact sign of (top of circle abc) - (top of circle def): which circle event comes first.
+
+    -1: circle a, b, c reaches its top earlier (lower y), 0: both at the same sweep position.
+    Both triples must be non-collinear.
+    """
+    y1, err1, vx1, vy1 = circle_top(ax, ay, bx, by, cx, cy)
+    y2, err2, vx2, vy2 = circle_top(dx, dy, ex, ey, fx, fy)
+    d = y1 - y2
+    if d > err1 + err2:
+        return 1
+    if -d > err1 + err2:
+        return -1
+    return circle_events_order_exact(ax, ay, bx, by, cx, cy, dx, dy, ex, ey, fx, fy)

@@ -1,0 +1,248 @@
+"""Sweep-line predicates (breakpoint side, circle-event order) against exact rational references."""
+
+from decimal import Decimal, localcontext
+from fractions import Fraction as F
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from vorobench.predicates import (
+    UNDECIDED,
+    breakpoint_side,
+    breakpoint_side_exact,
+    breakpoint_side_filter,
+    circle_event_vs_site,
+    circle_event_vs_site_exact,
+    circle_events_order,
+    circle_events_order_exact,
+    circle_top,
+    orient2d,
+)
+
+_DIGITS = 400
+
+
+def _sign(x) -> int:
+    return (x > 0) - (x < 0)
+
+
+def _sign_x_minus_root(x0: F, a: F, b: F, c: F, sigma: int) -> int:
+    """Exact sign of x0 - (-b + sigma*sqrt(b^2 - 4ac)) / (2a), a != 0, discriminant >= 0."""
+    disc = b * b - 4 * a * c
+    assert disc >= 0
+    x = 2 * a * x0 + b                      # 2a (x0 - root) = x - sigma sqrt(disc)
+    if sigma > 0:
+        s = -1 if x < 0 else _sign(x * x - disc)
+    else:
+        s = 1 if x > 0 else _sign(disc - x * x)
+    return s * _sign(a)
+
+
+def reference_breakpoint_side(p, q, s) -> int:
+    """Which side of the (p, q) breakpoint s lies, from the roots of the parabolas' difference."""
+    px, py, qx, qy, sx, sy = map(F, (*p, *q, *s))
+    hp, hq = sy - py, sy - qy
+    if hp == hq:
+        return _sign(2 * sx - px - qx)
+    if hp == 0:
+        return _sign(sx - px)
+    if hq == 0:
+        return _sign(sx - qx)
+    # p above q at x  <=>  d_p^2 / h_p < d_q^2 / h_q  <=>  g(x) = d_p^2 h_q - d_q^2 h_p < 0
+    a = hq - hp
+    b = -2 * px * hq + 2 * qx * hp
+    c = px * px * hq - qx * qx * hp + hp * hq * (hp - hq)
+    # p's arc is left of the breakpoint and q's right: g goes from < 0 to > 0 there, which is
+    # the root where g is increasing: the right root if a > 0, the left root if a < 0.
+    # For a > 0 the larger root is (-b + sqrt)/(2a); for a < 0 the smaller one is. Both: sigma = +1.
+    return _sign_x_minus_root(sx, a, b, c, 1)
+
+
+def reference_circle_top(a, b, c) -> Decimal:
+    """Top of the circumcircle, to 400 digits (rational centre, Decimal square root)."""
+    ax, ay, bx, by, cx, cy = map(F, (*a, *b, *c))
+    d = 2 * (ax * (by - cy) + bx * (cy - ay) + cx * (ay - by))
+    ux = ((ax * ax + ay * ay) * (by - cy) + (bx * bx + by * by) * (cy - ay) + (cx * cx + cy * cy) * (ay - by)) / d
+    uy = ((ax * ax + ay * ay) * (cx - bx) + (bx * bx + by * by) * (ax - cx) + (cx * cx + cy * cy) * (bx - ax)) / d
+    r2 = (ax - ux) ** 2 + (ay - uy) ** 2
+    with localcontext() as ctx:
+        ctx.prec = _DIGITS
+        dec = lambda f: Decimal(f.numerator) / Decimal(f.denominator)
+        return dec(uy) + dec(r2).sqrt()
+
+
+def _dsign(x: Decimal) -> int:
+    return 0 if abs(x) < Decimal(10) ** (-_DIGITS + 60) else (1 if x > 0 else -1)
+
+
+def test_breakpoint_reference_agrees_with_brute_force_envelope():
+    # The reference itself, checked by sampling the parabolas on a fine grid of x.
+    rng = np.random.default_rng(0)
+    for _ in range(200):
+        p, q = rng.random(2), rng.random(2)
+        s = np.array([rng.random(), max(p[1], q[1]) + rng.random()])
+        xs = np.linspace(-3, 4, 20001)
+        L = s[1]
+        hp, hq = L - p[1], L - q[1]
+        gp = ((xs - p[0]) ** 2 + hp * hp) / hp
+        gq = ((xs - q[0]) ** 2 + hq * hq) / hq
+        p_higher = gp < gq
+        # the (p, q) breakpoint: p higher on its left, q higher on its right
+        crossings = np.flatnonzero(p_higher[:-1] & ~p_higher[1:])
+        if crossings.size != 1:
+            continue
+        bp = xs[crossings[0]]
+        if abs(bp - s[0]) < 1e-3:
+            continue
+        assert reference_breakpoint_side(p, q, s) == (-1 if s[0] < bp else 1)
+
+
+def _random_breakpoint_cases(rng, k, scale=1.0, offset=0.0):
+    for _ in range(k):
+        p, q = rng.random(2) * scale + offset, rng.random(2) * scale + offset
+        sy = max(p[1], q[1]) + rng.random() * scale
+        yield p, q, np.array([rng.random() * scale + offset, sy])
+
+
+def test_breakpoint_side_random():
+    rng = np.random.default_rng(1)
+    for p, q, s in _random_breakpoint_cases(rng, 2000):
+        args = (*p, *q, *s)
+        want = reference_breakpoint_side(p, q, s)
+        assert breakpoint_side(*args) == want
+        assert breakpoint_side_exact(*args) == want
+
+
+def test_breakpoint_side_exactly_on_the_breakpoint():
+    # p, q and s cocircular with s on the sweep line: s lies exactly below the breakpoint.
+    # Circle centred (0, 0), radius 5: p = (-3, -4), q = (4, -3), sweep at y = 5, s = (0, 5).
+    assert breakpoint_side(-3.0, -4.0, 4.0, -3.0, 0.0, 5.0) == 0
+    assert breakpoint_side(4.0, -3.0, -3.0, -4.0, 0.0, 5.0) != 0   # the other intersection
+    assert breakpoint_side(-3.0, -4.0, 4.0, -3.0, np.nextafter(0.0, 1.0), 5.0) == 1
+    assert breakpoint_side(-3.0, -4.0, 4.0, -3.0, np.nextafter(0.0, -1.0), 5.0) == -1
+    # equal heights: the breakpoint is the midpoint
+    assert breakpoint_side(0.0, 0.0, 2.0, 0.0, 1.0, 3.0) == 0
+    assert breakpoint_side(0.0, 0.0, 2.0, 0.0, np.nextafter(1.0, 2.0), 3.0) == 1
+    # a site on the sweep line has a vertical-ray arc
+    assert breakpoint_side(0.0, 3.0, 2.0, 0.0, 0.5, 3.0) == 1
+    assert breakpoint_side(0.0, 0.0, 2.0, 3.0, 1.5, 3.0) == -1
+
+
+def test_breakpoint_side_near_degenerate_needs_the_exact_stage():
+    # s nudged by one ulp around an exact breakpoint at 1e9 offsets
+    off = 1e9
+    p, q = (off - 3.0, off - 4.0), (off + 4.0, off - 3.0)
+    undecided = 0
+    for dx in (-2, -1, 0, 1, 2):
+        sx = off
+        for _ in range(abs(dx)):
+            sx = np.nextafter(sx, np.inf if dx > 0 else -np.inf)
+        args = (*p, *q, sx, off + 5.0)
+        want = reference_breakpoint_side(p, q, (sx, off + 5.0))
+        assert want == _sign(dx)
+        assert breakpoint_side(*args) == want
+        undecided += breakpoint_side_filter(*args) == UNDECIDED
+    assert undecided >= 1
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.tuples(st.integers(-6, 6), st.integers(-6, 6)), min_size=3, max_size=3, unique=True))
+def test_breakpoint_side_small_integers(pts):
+    p, q, s = pts[0], pts[1], pts[2]
+    if s[1] < max(p[1], q[1]):
+        return
+    if p[1] == q[1] == s[1]:
+        return
+    if p[1] == q[1] and p[0] >= q[0]:
+        return      # equal heights: the breakpoint (p, q) exists only with p left of q
+    args = tuple(float(v) for v in (*p, *q, *s))
+    assert breakpoint_side(*args) == reference_breakpoint_side(p, q, s)
+
+
+def _triples(rng, k, scale=1.0, offset=0.0):
+    out = []
+    while len(out) < k:
+        t = rng.random((3, 2)) * scale + offset
+        if orient2d(*t.ravel()) != 0:
+            out.append(t)
+    return out
+
+
+def test_circle_top_error_bound_holds():
+    rng = np.random.default_rng(2)
+    for t in _triples(rng, 300) + _triples(rng, 100, 1e-3, 1e9):
+        y, err, _, _ = circle_top(*t.ravel())
+        exact = reference_circle_top(*t)
+        assert abs(Decimal(y) - exact) <= Decimal(err)
+    # nearly collinear: the bound must still hold (or be infinite)
+    for eps in (1e-10, 1e-14, 1e-16):
+        t = np.array([[0.0, 0.0], [0.5, eps], [1.0, 0.0]])
+        y, err, _, _ = circle_top(*t.ravel())
+        assert err == np.inf or abs(Decimal(y) - reference_circle_top(*t)) <= Decimal(err)
+
+
+def test_circle_event_vs_site_random_and_ties():
+    rng = np.random.default_rng(3)
+    for t in _triples(rng, 300):
+        top = reference_circle_top(*t)
+        for sy in (float(top), np.nextafter(float(top), np.inf), np.nextafter(float(top), -np.inf), rng.random()):
+            with localcontext() as ctx:
+                ctx.prec = _DIGITS
+                want = _dsign(top - Decimal(sy))
+            assert circle_event_vs_site(*t.ravel(), sy) == want
+            assert circle_event_vs_site_exact(*t.ravel(), sy) == want
+    # exact ties: circle centred (1, 2) with radius 5 has its top at y = 7
+    assert circle_event_vs_site(-2.0, -2.0, 6.0, 2.0, 1.0, 7.0, 7.0) == 0
+    assert circle_event_vs_site(-2.0, -2.0, 6.0, 2.0, 4.0, 6.0, 7.0) == 0
+    assert circle_event_vs_site(-2.0, -2.0, 4.0, 6.0, 6.0, 2.0, 7.0) == 0   # clockwise order too
+    assert circle_event_vs_site(-2.0, -2.0, 6.0, 2.0, 4.0, 6.0, np.nextafter(7.0, 8.0)) == -1
+
+
+def test_circle_events_order_random():
+    rng = np.random.default_rng(4)
+    ts = _triples(rng, 200)
+    tops = [reference_circle_top(*t) for t in ts]
+    for i in range(0, 200, 2):
+        with localcontext() as ctx:
+            ctx.prec = _DIGITS
+            want = _dsign(tops[i] - tops[i + 1])
+        args = (*ts[i].ravel(), *ts[i + 1].ravel())
+        assert circle_events_order(*args) == want
+        assert circle_events_order_exact(*args) == want
+
+
+def test_circle_events_order_ties_and_near_ties():
+    # circles through a 3-4-5 triangle's vertices: same top at y = 7 with different centres
+    a = (-2.0, -2.0, 6.0, 2.0, 4.0, 6.0)       # centre (1, 2), r = 5
+    assert circle_events_order_exact(*a, *a) == 0
+    shifted = (a[0] + 100, a[1], a[2] + 100, a[3], a[4] + 100, a[5])
+    assert circle_events_order(*a, *shifted) == 0
+    # same circle, different triple of its points (cocircular sites)
+    other = (1.0, 7.0, -4.0, 2.0, 1.0, -3.0)
+    assert circle_events_order(*a, *other) == 0
+    # same top, different radius: centre (0, 0) r = 5 vs centre (0, 2) r = 3 -> both top 5
+    c1 = (-3.0, -4.0, 4.0, -3.0, 5.0, 0.0)
+    c2 = (-3.0, 2.0, 3.0, 2.0, 0.0, -1.0)
+    assert circle_events_order(*c1, *c2) == 0
+    # lowering the bottom point by d moves the top to about 5 - d, raising it to 5 + d
+    down = (-3.0, 2.0, 3.0, 2.0, 0.0, np.nextafter(-1.0, -2.0))
+    up = (-3.0, 2.0, 3.0, 2.0, 0.0, np.nextafter(-1.0, 0.0))
+    assert circle_events_order(*c1, *down) == 1
+    assert circle_events_order(*down, *c1) == -1
+    assert circle_events_order(*c1, *up) == -1
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.tuples(st.integers(-5, 5), st.integers(-5, 5)), min_size=6, max_size=6, unique=True))
+def test_circle_events_order_small_integers(pts):
+    t1, t2 = np.array(pts[:3], float), np.array(pts[3:], float)
+    if orient2d(*t1.ravel()) == 0 or orient2d(*t2.ravel()) == 0:
+        return
+    with localcontext() as ctx:
+        ctx.prec = _DIGITS
+        want = _dsign(reference_circle_top(*t1) - reference_circle_top(*t2))
+        sy = float(pts[0][1])
+        want_site = _dsign(reference_circle_top(*t1) - Decimal(sy))
+    assert circle_events_order(*t1.ravel(), *t2.ravel()) == want
+    assert circle_event_vs_site(*t1.ravel(), sy) == want_site
