@@ -1,0 +1,75 @@
+"""Test-only implementations that misbehave on purpose, loaded into workers with ``--plugin``.
+
+Each wraps Qhull's build (a correct diagram) with one fault: a hard exit, a segfault, a hang,
+an impossible allocation, a Python exception, a refusal, or a sleep. ``steady`` sleeps for
+``VOROBENCH_TEST_SLEEP`` seconds (default 0.02) before building and reports counters scaled by
+``VOROBENCH_TEST_COUNTER_SCALE`` (default 1): the environment variables let a test slow it
+down or change its counters between two runs without renaming it.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import os
+import time
+
+import numpy as np
+
+from impls.base import Implementation
+from impls.qhull import build as qhull_build
+
+__all__ = ["IMPLEMENTATIONS"]
+
+
+def _crash_exit(sites, stats=None):
+    os._exit(3)                                  # no exception, no cleanup: the process is gone
+
+
+def _crash_segfault(sites, stats=None):
+    ctypes.string_at(0)                          # reads address 0: SIGSEGV
+
+
+def _hang(sites, stats=None):
+    time.sleep(3600)
+
+
+def _hog(sites, stats=None):
+    return np.empty((1 << 50,), dtype=np.float64)    # 8 PiB: numpy raises MemoryError
+
+
+def _fail(sites, stats=None):
+    raise RuntimeError("deliberate failure")
+
+
+def _steady(sites, stats=None):
+    time.sleep(float(os.environ.get("VOROBENCH_TEST_SLEEP", "0.02")))
+    if stats is not None:
+        stats["sites_seen"] = int(sites.shape[0]) * int(os.environ.get("VOROBENCH_TEST_COUNTER_SCALE", "1"))
+    return qhull_build(sites, stats)
+
+
+def _hang_after_warmup(sites, stats=None):
+    if sites.shape[0] > 64:                      # the warm-up build is small; the timed one hangs
+        time.sleep(3600)
+    return qhull_build(sites, stats)
+
+
+def _refuse(sites):
+    return "refuses every input (test double)"
+
+
+def _double(name: str, build, **kw) -> Implementation:
+    return Implementation(name=name, description=f"test double: {name}", complexity="n/a",
+                          build=build, exact=False, origin="tests", **kw)
+
+
+IMPLEMENTATIONS = [
+    _double("crash_exit", _crash_exit),
+    _double("crash_segfault", _crash_segfault),
+    _double("hang", _hang),
+    _double("hang_after_warmup", _hang_after_warmup),
+    _double("hog", _hog),
+    _double("fail", _fail),
+    _double("steady", _steady),
+    _double("refuse", qhull_build, supports=_refuse),
+]

@@ -1,0 +1,149 @@
+"""Summaries of a results table: per case, per size, fitted growth exponents, ratios, verdicts.
+
+Pure pandas/numpy, shared by the report (figures and text) and the regression compare.
+Sizes are measured in distinct sites (``n_sites``), the input the build actually receives
+(grids round n up, duplicates shrink it).
+"""
+
+from __future__ import annotations
+
+from typing import Optional
+
+import numpy as np
+import pandas as pd
+
+__all__ = [
+    "VERDICT_RANK",
+    "verdict_rank",
+    "worst_verdict",
+    "case_table",
+    "size_table",
+    "fit_exponents",
+    "speed_ratios",
+    "correctness_matrix",
+    "failures",
+]
+
+#: Verdicts from best to worst; None = says nothing about correctness (not checked or not run).
+VERDICT_RANK: dict[str, Optional[int]] = {
+    "exact": 0,
+    "within_tolerance": 1,
+    "no_reference": 1,
+    "differs": 2,
+    "not_certified": 3,
+    "check_error": 3,
+    "timeout": 4,
+    "crashed": 5,
+    "skipped": None,
+    "unsupported": None,
+}
+
+#: Fits of log time against log n use sizes from here up (smaller ones measure overheads).
+FIT_MIN_SITES = 1000
+
+
+def verdict_rank(verdict: object) -> Optional[int]:
+    """Rank of a verdict (0 = exact); unknown verdicts rank as failures of the check."""
+    if verdict is None or (isinstance(verdict, float) and np.isnan(verdict)) or verdict == "":
+        return None
+    return VERDICT_RANK.get(str(verdict), VERDICT_RANK["check_error"])
+
+
+def worst_verdict(verdicts) -> Optional[str]:
+    """The worst ranked verdict of a collection (None if none of them says anything)."""
+    ranked = [(verdict_rank(v), str(v)) for v in verdicts if verdict_rank(v) is not None]
+    if not ranked:
+        present = [str(v) for v in verdicts if isinstance(v, str) and v]
+        return present[0] if present else None
+    return max(ranked)[1]
+
+
+def case_table(df: pd.DataFrame) -> pd.DataFrame:
+    """One row per case (impl, dataset, n, seed): status, verdict, median time and memory."""
+    keys = ["impl", "dataset", "n", "seed"]
+    grouped = df.groupby(keys, sort=True, dropna=False)
+    out = grouped.agg(
+        status=("status", "first"),
+        verdict=("verdict", "first"),
+        time_s=("time_s", "median"),
+        time_min_s=("time_s", "min"),
+        repeats=("time_s", "count"),
+        n_sites=("n_sites", "first"),
+        mem_mb=("mem_mb", "median"),
+        peak_rss_mb=("peak_rss_mb", "max"),
+        warmup_s=("warmup_s", "first"),
+        error=("error", "first"),
+        phase=("phase", "first"),
+    ).reset_index()
+    return out
+
+
+def size_table(df: pd.DataFrame) -> pd.DataFrame:
+    """One row per (impl, dataset, n) over the successful repeats of every seed."""
+    ok = df[df["status"] == "ok"]
+    if ok.empty:
+        return pd.DataFrame(columns=["impl", "dataset", "n", "n_sites", "time_s", "time_q1_s",
+                                     "time_q3_s", "mem_mb", "peak_rss_mb", "repeats"])
+    grouped = ok.groupby(["impl", "dataset", "n"], sort=True)
+    out = grouped.agg(
+        n_sites=("n_sites", "median"),
+        time_s=("time_s", "median"),
+        time_q1_s=("time_s", lambda s: s.quantile(0.25)),
+        time_q3_s=("time_s", lambda s: s.quantile(0.75)),
+        mem_mb=("mem_mb", "median"),
+        peak_rss_mb=("peak_rss_mb", "max"),
+        repeats=("time_s", "count"),
+    ).reset_index()
+    out["ns_per_nlogn"] = out["time_s"] * 1e9 / (out["n_sites"] * np.log2(np.maximum(out["n_sites"], 2)))
+    return out
+
+
+def fit_exponents(sizes: pd.DataFrame, min_sites: int = FIT_MIN_SITES) -> pd.DataFrame:
+    """Slope of log(time) against log(n) per (impl, dataset), with R^2 and the n range used.
+
+    Sizes below ``min_sites`` are left out when at least three larger ones remain, since
+    there start-up overheads, not growth, dominate.
+    """
+    rows = []
+    for (impl, dataset), g in sizes.groupby(["impl", "dataset"], sort=True):
+        g = g[(g["n_sites"] > 1) & (g["time_s"] > 0)].sort_values("n_sites")
+        if (g["n_sites"] >= min_sites).sum() >= 3:
+            g = g[g["n_sites"] >= min_sites]
+        if g["n_sites"].nunique() < 2:
+            continue
+        x, y = np.log(g["n_sites"].to_numpy(float)), np.log(g["time_s"].to_numpy(float))
+        slope, intercept = np.polyfit(x, y, 1)
+        resid = y - (slope * x + intercept)
+        total = float(np.sum((y - y.mean()) ** 2))
+        r2 = 1.0 - float(np.sum(resid ** 2)) / total if total > 0 else float("nan")
+        rows.append({"impl": impl, "dataset": dataset, "exponent": float(slope), "r2": r2,
+                     "n_min": int(g["n_sites"].min()), "n_max": int(g["n_sites"].max()),
+                     "points": int(len(g))})
+    return pd.DataFrame(rows, columns=["impl", "dataset", "exponent", "r2", "n_min", "n_max", "points"])
+
+
+def speed_ratios(sizes: pd.DataFrame, reference: str) -> pd.DataFrame:
+    """time(impl) / time(reference) per (impl, dataset, n): above 1 = slower than the reference."""
+    ref = sizes[sizes["impl"] == reference][["dataset", "n", "time_s"]].rename(columns={"time_s": "ref_time_s"})
+    merged = sizes[sizes["impl"] != reference].merge(ref, on=["dataset", "n"], how="inner")
+    merged["ratio"] = merged["time_s"] / merged["ref_time_s"]
+    return merged[["impl", "dataset", "n", "n_sites", "time_s", "ref_time_s", "ratio"]]
+
+
+def correctness_matrix(cases: pd.DataFrame) -> pd.DataFrame:
+    """Worst verdict and counts per (impl, dataset): columns worst, cases, good (exact or within tolerance)."""
+    rows = []
+    for (impl, dataset), g in cases.groupby(["impl", "dataset"], sort=True):
+        verdicts = g["verdict"].tolist()
+        good = sum(1 for v in verdicts if verdict_rank(v) in (0, 1))
+        checked = sum(1 for v in verdicts if verdict_rank(v) is not None)
+        rows.append({"impl": impl, "dataset": dataset, "worst": worst_verdict(verdicts),
+                     "cases": len(g), "checked": checked, "good": good})
+    return pd.DataFrame(rows, columns=["impl", "dataset", "worst", "cases", "checked", "good"])
+
+
+def failures(cases: pd.DataFrame) -> pd.DataFrame:
+    """Cases that did not run to completion (crashed, timeout, oom, error) or were not certified."""
+    bad_status = ~cases["status"].isin(["ok", "unsupported", "skipped"])
+    bad_verdict = cases["verdict"].map(lambda v: (verdict_rank(v) or 0) >= 2)
+    return cases[bad_status | bad_verdict]

@@ -1,0 +1,142 @@
+"""Time implementations on datasets, one worker process per case; results go to a tidy CSV.
+
+Each (implementation, dataset, n, seed) runs in a fresh process: a crash, a hang past
+--timeout or running out of memory is recorded as that case's status and the run goes on.
+Every finished case is appended to --out at once; --resume skips cases already there.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as _dt
+import sys
+from pathlib import Path
+from typing import Optional, Sequence
+
+__all__ = ["add_arguments", "run", "execute"]
+
+DEFAULT_SIZES = "1000,10000,100000"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    from vorobench.cli import parse_list, parse_sizes
+
+    p.add_argument("--impls", type=parse_list, default=None,
+                   help="comma-separated implementations (default: all available)")
+    p.add_argument("--datasets", type=parse_list, default=["uniform"],
+                   help="comma-separated datasets (default uniform); see `vorobench datasets`")
+    p.add_argument("--sizes", type=parse_sizes, default=parse_sizes(DEFAULT_SIZES),
+                   help=f"comma-separated sizes, 1e4/10k accepted (default {DEFAULT_SIZES})")
+    p.add_argument("--seeds", type=lambda s: [int(x) for x in parse_list(s)], default=[0],
+                   help="comma-separated dataset seeds (default 0)")
+    p.add_argument("--repeat", type=int, default=3, help="timed builds per case (default 3)")
+    p.add_argument("--timeout", type=float, default=60.0,
+                   help="seconds allowed for each timed build and for the check (default 60)")
+    p.add_argument("--warmup-timeout", type=float, default=300.0,
+                   help="seconds allowed for the warm-up, JIT compilation included (default 300)")
+    p.add_argument("--budget", type=float, default=None,
+                   help="skip a case whose build time, extrapolated from smaller n, exceeds this many seconds")
+    p.add_argument("--memory-limit", type=float, default=None, metavar="MB",
+                   help="address space a worker may add after start-up (MemoryError instead of the OOM killer)")
+    p.add_argument("--out", default=None,
+                   help="results CSV (default results/bench-<date>.csv); metadata goes to <stem>.meta.json")
+    p.add_argument("--resume", action="store_true", help="skip cases already in --out and append the rest")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing --out")
+    p.add_argument("--reference", default="qhull", help="reference implementation for the check (default qhull)")
+    p.add_argument("--no-check", action="store_true", help="skip certification and comparison with the reference")
+    p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
+                   help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
+    p.add_argument("--parquet", action="store_true", help="also write <stem>.parquet at the end")
+    p.add_argument("--quiet", action="store_true", help="no progress bar and no line per case")
+
+
+def default_out(now: Optional[_dt.datetime] = None) -> Path:
+    now = now or _dt.datetime.now()
+    return Path("results") / f"bench-{now:%Y%m%d-%H%M%S}.csv"
+
+
+def _validate_names(impl_names: Sequence[str], datasets: Sequence[str], reference: Optional[str]) -> None:
+    import datasets_gen
+    import impls
+
+    known = impls.available()
+    for name in list(impl_names) + ([reference] if reference else []):
+        if name not in known:
+            raise ValueError(f"unknown implementation {name!r}; available: {', '.join(known)}")
+    for name in datasets:
+        if name not in datasets_gen.available() and not name.startswith("file:"):
+            raise ValueError(f"unknown dataset {name!r}; available: {', '.join(datasets_gen.available())}")
+
+
+def execute(impl_names: Optional[Sequence[str]], datasets: Sequence[str], sizes: Sequence[int],
+            seeds: Sequence[int], out: Path, config, resume: bool = False, overwrite: bool = False,
+            progress: bool = True, verbose: bool = True, console=None) -> tuple[int, list]:
+    """Run a benchmark into ``out``; returns (exit code, outcomes). Shared by bench and demo."""
+    import impls
+    from rich.console import Console
+
+    from vorobench import results, runner, sysinfo
+    from vorobench.worker import load_plugin
+
+    console = console or Console(stderr=True)
+    for spec in config.plugins:
+        load_plugin(spec)
+    impl_names = list(impl_names) if impl_names else impls.available()
+    _validate_names(impl_names, datasets, config.reference if config.check else None)
+    store = results.ResultsFile(out)
+    if store.exists() and not (resume or overwrite):
+        raise ValueError(f"{out} exists; pass --resume to continue it or --overwrite to replace it")
+    if store.exists() and overwrite and not resume:
+        out.unlink()
+        results.metadata_path(out).unlink(missing_ok=True)
+    previous = store.rows() if resume else []
+    done = {results.case_key(r) for r in previous}
+    cases = runner.plan_cases(impl_names, datasets, sizes, seeds)
+    todo = [c for c in cases if c.key not in done]
+    meta = sysinfo.run_metadata()
+    meta.update(run_id=config.run_id, argv=sys.argv[1:], impls=impl_names, datasets=list(datasets),
+                sizes=list(sizes), seeds=list(seeds), repeat=config.repeat, timeout=config.timeout,
+                reference=config.reference, check=config.check, cases_planned=len(cases),
+                cases_to_run=len(todo))
+    out.parent.mkdir(parents=True, exist_ok=True)
+    results.append_run_metadata(out, meta)
+    if resume and done:
+        console.print(f"resuming {out}: {len(cases) - len(todo)} of {len(cases)} cases already done")
+    try:
+        outcomes = runner.run_cases(cases, config, store.append, done=done, previous_rows=previous,
+                                    progress=progress, console=console, verbose=verbose)
+    except KeyboardInterrupt:
+        saved = len(store.done_keys())
+        console.print(f"[yellow]interrupted[/yellow]: {saved} cases are saved in {out}; "
+                      "rerun with --resume to finish")
+        return 130, []
+    counts = runner.exit_status(outcomes)
+    summary = ", ".join(f"{v} {k}" for k, v in sorted(counts.items())) or "nothing to run"
+    console.print(f"{len(outcomes)} cases run ({summary}); results in {out}")
+    return 0, outcomes
+
+
+def config_from_args(args: argparse.Namespace):
+    from vorobench.runner import RunConfig
+
+    if args.repeat < 1:
+        raise ValueError("--repeat must be at least 1")
+    if args.timeout <= 0:
+        raise ValueError("--timeout must be positive")
+    out = Path(args.out) if args.out else default_out()
+    return RunConfig(repeat=args.repeat, timeout=args.timeout, warmup_timeout=args.warmup_timeout,
+                     reference=args.reference, check=not args.no_check, plugins=tuple(args.plugin),
+                     reference_cache=str(out.with_name(out.stem + ".reference")),
+                     memory_limit_mb=args.memory_limit, budget=args.budget), out
+
+
+def run(args: argparse.Namespace) -> int:
+    from vorobench import results
+
+    config, out = config_from_args(args)
+    code, _ = execute(args.impls, args.datasets, args.sizes, args.seeds, out, config,
+                      resume=args.resume, overwrite=args.overwrite,
+                      progress=not args.quiet, verbose=not args.quiet)
+    if args.parquet and out.exists():
+        print(f"wrote {results.to_parquet(out)}")
+    return code

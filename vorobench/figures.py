@@ -1,0 +1,178 @@
+"""The report's matplotlib figures (Agg): one panel per dataset, one line per implementation.
+
+Every figure takes the summary tables of :mod:`vorobench.analysis` and a path, writes a PNG
+and returns its path. Colours and markers are fixed per implementation across figures.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Optional, Sequence
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+from matplotlib.colors import to_rgba  # noqa: E402
+from matplotlib.patches import Patch  # noqa: E402
+
+__all__ = ["impl_styles", "plot_metric_panels", "plot_time", "plot_time_per_nlogn", "plot_ratio",
+           "plot_memory", "plot_correctness", "VERDICT_COLOURS"]
+
+_MARKERS = "osD^vP*Xh<>"
+
+#: Colour of each verdict in the correctness matrix (good = greens, bad = oranges/reds).
+VERDICT_COLOURS = {
+    "exact": "#1a9850",
+    "within_tolerance": "#91cf60",
+    "no_reference": "#d9ef8b",
+    "differs": "#fdae61",
+    "not_certified": "#f46d43",
+    "check_error": "#9e7bb5",
+    "timeout": "#d73027",
+    "crashed": "#a50026",
+    "unsupported": "#d9d9d9",
+    "skipped": "#f0f0f0",
+}
+
+
+def impl_styles(impls: Sequence[str]) -> dict[str, dict]:
+    """A stable colour and marker for each implementation (sorted order)."""
+    cmap = plt.get_cmap("tab10")
+    return {name: {"color": cmap(i % 10), "marker": _MARKERS[i % len(_MARKERS)]}
+            for i, name in enumerate(sorted(impls))}
+
+
+def _grid(n_panels: int, title: str):
+    ncols = min(3, max(1, n_panels))
+    nrows = math.ceil(n_panels / ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(4.6 * ncols, 3.6 * nrows + 0.8),
+                             squeeze=False, layout="constrained")
+    fig.suptitle(title, fontsize=13)
+    for ax in axes.flat[n_panels:]:
+        ax.set_visible(False)
+    return fig, axes.flat
+
+
+def _finish(fig, axes, path: Path, handles, labels) -> Path:
+    if handles:
+        fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 6), fontsize=10,
+                   frameon=False)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def plot_metric_panels(table: pd.DataFrame, column: str, path: Path, title: str, ylabel: str,
+                       styles: dict, logy: bool = True, hline: Optional[float] = None,
+                       band: Optional[tuple[str, str]] = None, positive_only: bool = False,
+                       order: Optional[Sequence[str]] = None) -> Path:
+    """One panel per dataset (in ``order``): ``column`` against n (log x) for every implementation."""
+    present = set(table["dataset"]) if not table.empty else set()
+    datasets = [d for d in (order or sorted(present)) if d in present]
+    fig, axes = _grid(max(1, len(datasets)), title)
+    handles: dict[str, object] = {}
+    for ax, dataset in zip(axes, datasets):
+        part = table[table["dataset"] == dataset]
+        for impl, g in part.groupby("impl", sort=True):
+            g = g.sort_values("n_sites")
+            if positive_only:
+                g = g[g[column] > 0]
+            if g.empty:
+                continue
+            style = styles[impl]
+            (line,) = ax.plot(g["n_sites"], g[column], label=impl, color=style["color"],
+                              marker=style["marker"], markersize=5, linewidth=1.6)
+            if band:
+                ax.fill_between(g["n_sites"], g[band[0]], g[band[1]], color=style["color"], alpha=0.15,
+                                linewidth=0)
+            handles.setdefault(impl, line)
+        if hline is not None:
+            ax.axhline(hline, color="0.3", linestyle="--", linewidth=1)
+        ax.set_xscale("log")
+        if logy:
+            ax.set_yscale("log")
+        ax.set_title(dataset, fontsize=11)
+        ax.set_xlabel("n (distinct sites)")
+        ax.set_ylabel(ylabel)
+        ax.grid(True, which="major", alpha=0.35)
+        ax.grid(True, which="minor", alpha=0.12)
+    if not datasets:
+        axes[0].text(0.5, 0.5, "no successful cases", ha="center", va="center", transform=axes[0].transAxes)
+    names = sorted(handles)
+    return _finish(fig, axes, path, [handles[k] for k in names], names)
+
+
+def plot_time(sizes: pd.DataFrame, path: Path, styles: dict,
+              order: Optional[Sequence[str]] = None) -> Path:
+    """Median build time against n, log-log, interquartile band over repeats and seeds."""
+    return plot_metric_panels(sizes, "time_s", path, "Build time vs n (median; band = interquartile range)",
+                              "time (s)", styles, band=("time_q1_s", "time_q3_s"), order=order)
+
+
+def plot_time_per_nlogn(sizes: pd.DataFrame, path: Path, styles: dict,
+                        order: Optional[Sequence[str]] = None) -> Path:
+    """Time divided by n log2 n: flat for an O(n log n) method, rising for anything worse."""
+    return plot_metric_panels(sizes, "ns_per_nlogn", path, "Time / (n log2 n): flat = O(n log n)",
+                              "ns per n·log2(n)", styles, order=order)
+
+
+def plot_ratio(ratios: pd.DataFrame, reference: str, path: Path, styles: dict,
+               order: Optional[Sequence[str]] = None) -> Path:
+    """Time relative to the reference: 1 = as fast, below = faster."""
+    return plot_metric_panels(ratios, "ratio", path,
+                              f"Speed relative to {reference}: time / time({reference}), below 1 = faster",
+                              f"time / time({reference})", styles, hline=1.0, order=order)
+
+
+def plot_memory(sizes: pd.DataFrame, path: Path, styles: dict,
+                order: Optional[Sequence[str]] = None) -> Path:
+    """Peak memory of the build itself (rise of the worker's resident peak during the build)."""
+    return plot_metric_panels(sizes, "mem_mb", path,
+                              "Peak memory of the build (rise above the worker's resident size)",
+                              "peak memory (MiB)", styles, positive_only=True, order=order)
+
+
+def plot_correctness(matrix: pd.DataFrame, path: Path, order: Optional[Sequence[str]] = None) -> Path:
+    """Implementation x dataset grid coloured by the worst verdict, with good/checked counts."""
+    impls = sorted(matrix["impl"].unique()) if not matrix.empty else []
+    present = set(matrix["dataset"]) if not matrix.empty else set()
+    datasets = [d for d in (order or sorted(present)) if d in present]
+    fig, ax = plt.subplots(figsize=(1.25 * max(3, len(datasets)) + 2.4, 0.62 * max(2, len(impls)) + 2.2),
+                           layout="constrained")
+    rgba = np.ones((max(1, len(impls)), max(1, len(datasets)), 4))
+    for _, r in matrix.iterrows():
+        i, j = impls.index(r["impl"]), datasets.index(r["dataset"])
+        rgba[i, j] = to_rgba(VERDICT_COLOURS.get(str(r["worst"]), "#9e7bb5"))
+        label = "not checked" if r["worst"] == "skipped" else str(r["worst"]).replace("_", " ")
+        counts = f"{r['good']}/{r['checked']} good" if r["checked"] else f"{r['cases']} case(s)"
+        dark = str(r["worst"]) in ("exact", "crashed", "timeout")
+        ax.text(j, i, f"{label}\n{counts}", ha="center", va="center", fontsize=8,
+                color="white" if dark else "black")
+    ax.imshow(rgba, aspect="auto")
+    ax.set_xticks(range(len(datasets)), datasets, rotation=30, ha="right")
+    ax.set_yticks(range(len(impls)), impls)
+    ax.set_xticks(np.arange(-0.5, len(datasets), 1), minor=True)
+    ax.set_yticks(np.arange(-0.5, len(impls), 1), minor=True)
+    ax.grid(which="minor", color="white", linewidth=2)
+    ax.tick_params(which="minor", length=0)
+    ax.set_xlabel("dataset")
+    ax.set_ylabel("implementation")
+    ax.set_title("Correctness: worst verdict over sizes and seeds\n(k/m good = exact or within tolerance, of checked)",
+                 fontsize=11)
+    present = [v for v in VERDICT_COLOURS if v in set(matrix["worst"].astype(str))]
+    ax.legend(handles=[Patch(facecolor=VERDICT_COLOURS[v], edgecolor="0.5",
+                             label="not checked" if v == "skipped" else v.replace("_", " "))
+                       for v in present], loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8,
+              frameon=False)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path

@@ -1,0 +1,345 @@
+"""Figures plus a Markdown report and a self-contained HTML page from a results file.
+
+    vorobench report results/bench.csv -o reports/NAME
+
+writes ``README.md`` (Markdown; GitHub shows it for the folder), ``report.html`` (one file,
+images embedded), the PNG figures and a copy of the results with their metadata.
+"""
+
+from __future__ import annotations
+
+import argparse
+import base64
+import html
+import math
+import re
+import shutil
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Optional
+
+__all__ = ["add_arguments", "run", "write_report", "Report", "reading"]
+
+FIGURES = {
+    "time": "time_vs_n.png",
+    "nlogn": "time_per_nlogn.png",
+    "ratio": "speed_ratio.png",
+    "memory": "memory_vs_n.png",
+    "correctness": "correctness.png",
+}
+
+
+@dataclass
+class Report:
+    """Where a written report is."""
+
+    folder: Path
+    markdown: Path
+    html: Path
+    figures: dict[str, Path] = field(default_factory=dict)
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("results", help="results file from `vorobench bench` (.csv or .parquet)")
+    p.add_argument("-o", "--out", default=None, help="report folder (default reports/<results stem>)")
+    p.add_argument("--title", default=None, help="report title (default: the folder name)")
+    p.add_argument("--reference", default=None,
+                   help="implementation the speed ratios are relative to (default: the run's reference, else qhull)")
+
+
+def run(args: argparse.Namespace) -> int:
+    results = Path(args.results)
+    if not results.exists():
+        raise FileNotFoundError(f"no such results file: {results}")
+    out = Path(args.out) if args.out else Path("reports") / results.stem
+    rep = write_report(results, out, title=args.title, reference=args.reference)
+    print(f"wrote {rep.markdown} and {rep.html} ({len(rep.figures)} figures)")
+    return 0
+
+
+# ------------------------------------------------------------------------------ formatting
+
+def _fmt_time(seconds: float) -> str:
+    if seconds is None or not math.isfinite(seconds):
+        return "-"
+    if seconds < 1e-3:
+        return f"{seconds * 1e6:.3g} µs"
+    if seconds < 1:
+        return f"{seconds * 1e3:.3g} ms"
+    return f"{seconds:.3g} s"
+
+
+def _fmt_n(n: float) -> str:
+    n = int(n)
+    if n >= 1_000_000:
+        return f"{n / 1e6:.3g}M"
+    if n >= 1000:
+        return f"{n / 1e3:.3g}k"
+    return str(n)
+
+
+def _md_table(header: list[str], rows: list[list[object]], align: Optional[str] = None) -> str:
+    align = align or "l" * len(header)
+    marks = {"l": "---", "r": "--:", "c": ":-:"}
+    lines = ["| " + " | ".join(header) + " |", "|" + "|".join(marks[a] for a in align) + "|"]
+    for r in rows:
+        lines.append("| " + " | ".join(str(c).replace("|", "\\|") for c in r) + " |")
+    return "\n".join(lines)
+
+
+def _complexity(name: str) -> str:
+    try:
+        import impls
+
+        return impls.get(name).complexity
+    except Exception:  # an implementation that is not installed here is still reported
+        return "?"
+
+
+# ------------------------------------------------------------------------------ reading
+
+def reading(cases, sizes, exponents, ratios, reference: str) -> list[str]:
+    """Bullet points that say what the numbers mean: who is fastest, how things grow, what failed."""
+    import numpy as np
+
+    from vorobench.analysis import failures, verdict_rank
+
+    points: list[str] = []
+    # Fastest implementation per dataset at the largest n that several implementations reached.
+    wins: dict[str, list[str]] = {}
+    for dataset, g in sizes.groupby("dataset", sort=False):
+        counts = g.groupby("n")["impl"].nunique()
+        shared = counts[counts >= 2]
+        if shared.empty:
+            continue
+        n_top = shared.index.max()
+        at = g[g["n"] == n_top].sort_values("time_s")
+        best, second = at.iloc[0], at.iloc[1]
+        wins.setdefault(best["impl"], []).append(
+            f"{dataset} ({_fmt_time(best['time_s'])} at n={_fmt_n(best['n_sites'])}, "
+            f"{second['time_s'] / best['time_s']:.2g}x ahead of {second['impl']})")
+    for impl, where in sorted(wins.items(), key=lambda kv: -len(kv[1])):
+        points.append(f"**Fastest at the largest common size**: `{impl}` on {len(where)} dataset(s): "
+                      + "; ".join(where) + ".")
+    # Speed against the reference, geometric mean over datasets and sizes.
+    if not ratios.empty:
+        from vorobench.analysis import FIT_MIN_SITES
+
+        for impl, g in ratios.groupby("impl", sort=True):
+            big = g[g["n_sites"] >= FIT_MIN_SITES]
+            g = big if not big.empty else g
+            gm = float(np.exp(np.mean(np.log(g["ratio"]))))
+            word = "slower" if gm > 1 else "faster"
+            factor = gm if gm > 1 else 1 / gm
+            points.append(f"`{impl}` is {factor:.2g}x {word} than `{reference}` (geometric mean of "
+                          f"time ratios over {len(g)} dataset/size pairs, range "
+                          f"{g['ratio'].min():.2g}-{g['ratio'].max():.2g}).")
+    # Growth.
+    for impl, g in exponents.groupby("impl", sort=True):
+        lo, hi, med = g["exponent"].min(), g["exponent"].max(), g["exponent"].median()
+        r2 = g["r2"].min()
+        points.append(f"`{impl}` grows like n^{med:.2f} (fitted exponent, range {lo:.2f}-{hi:.2f} over "
+                      f"{len(g)} dataset(s), worst R² {r2:.3f}); declared {_complexity(impl)}. "
+                      "For reference, n log n over n = 10^3..10^5 fits as about n^1.1.")
+    # Correctness.
+    ran = cases[cases["status"] == "ok"]
+    if not ran.empty:
+        tally = ran["verdict"].fillna("none").replace({"skipped": "not checked"}).value_counts()
+        parts = ", ".join(f"{v} {k.replace('_', ' ')}" for k, v in tally.items())
+        points.append(f"**Correctness** of the {len(ran)} cases that ran: {parts}.")
+    bad = failures(cases)
+    if bad.empty:
+        points.append("**No failures**: no case crashed, hung, ran out of memory or was refuted.")
+    else:
+        listed = [f"`{r.impl}` {r.dataset} n={_fmt_n(r.n)}: {r.status}"
+                  + (f" / {r.verdict}" if r.status == "ok" else "") for r in bad.head(8).itertuples()]
+        more = f" and {len(bad) - 8} more" if len(bad) > 8 else ""
+        points.append(f"**{len(bad)} case(s) failed or were not verified**: " + "; ".join(listed) + more
+                      + " (details in the table below).")
+    skipped = cases[cases["status"] == "skipped"]
+    if not skipped.empty:
+        points.append(f"{len(skipped)} case(s) were skipped (a smaller size timed out, or the extrapolated "
+                      "time exceeded the run's budget).")
+    return points
+
+
+# ------------------------------------------------------------------------------ writing
+
+def _meta_rows(meta: dict) -> list[list[object]]:
+    runs = meta.get("runs", [])
+    if not runs:
+        return [["metadata", "none (no .meta.json next to the results)"]]
+    r = runs[-1]
+    v = r.get("versions", {})
+    commit = (r.get("commit") or "?")[:12] + (" (uncommitted changes)" if r.get("dirty") else "")
+    rows = [
+        ["date", r.get("date", "?")],
+        ["commit", commit],
+        ["machine", f"{r.get('cpu', '?')}, {r.get('cores', '?')} cores, {r.get('hostname', '?')}"],
+        ["software", f"Python {r.get('python', '?')}, numpy {v.get('numpy')}, scipy {v.get('scipy')}, "
+                     f"numba {v.get('numba')}"],
+        ["cases", f"repeat {r.get('repeat')}, timeout {r.get('timeout')} s per build, reference "
+                  f"{r.get('reference')}, check {'on' if r.get('check') else 'off'}"],
+    ]
+    if len(runs) > 1:
+        rows.append(["runs", f"{len(runs)} (resumed); ids {', '.join(str(x.get('run_id')) for x in runs)}"])
+    return rows
+
+
+def write_report(results_path: str | Path, out: str | Path, title: Optional[str] = None,
+                 reference: Optional[str] = None, copy_results: bool = True) -> Report:
+    """Write figures, README.md and report.html for a results file into folder ``out``."""
+    from vorobench import analysis, figures
+    from vorobench.results import load, metadata_path, read_metadata
+
+    results_path, out = Path(results_path), Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    df = load(results_path)
+    meta = read_metadata(results_path)
+    runs = meta.get("runs", [])
+    reference = reference or (runs[-1].get("reference") if runs else None) or "qhull"
+    title = title or out.name
+
+    cases = analysis.case_table(df)
+    sizes = analysis.size_table(df)
+    exps = analysis.fit_exponents(sizes)
+    ratios = analysis.speed_ratios(sizes, reference)
+    matrix = analysis.correctness_matrix(cases)
+    styles = figures.impl_styles(sorted(df["impl"].unique()))
+    order = list(dict.fromkeys(df["dataset"]))
+
+    figs = {
+        "time": figures.plot_time(sizes, out / FIGURES["time"], styles, order),
+        "nlogn": figures.plot_time_per_nlogn(sizes, out / FIGURES["nlogn"], styles, order),
+        "ratio": figures.plot_ratio(ratios, reference, out / FIGURES["ratio"], styles, order),
+        "memory": figures.plot_memory(sizes, out / FIGURES["memory"], styles, order),
+        "correctness": figures.plot_correctness(matrix, out / FIGURES["correctness"], order),
+    }
+    if copy_results:
+        for src in (results_path, metadata_path(results_path)):
+            dst = out / ("results" + src.name[len(results_path.stem):])
+            if src.exists() and src.resolve() != dst.resolve():
+                shutil.copyfile(src, dst)
+
+    md = _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, results_path)
+    md_path = out / "README.md"
+    md_path.write_text(md)
+    html_path = out / "report.html"
+    html_path.write_text(_html(title, md, out))
+    return Report(out, md_path, html_path, figs)
+
+
+def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, results_path) -> str:
+    from vorobench.analysis import failures
+
+    impl_names = sorted(df["impl"].unique())
+    datasets = list(dict.fromkeys(df["dataset"]))
+    ns = sorted(df["n"].unique())
+    parts = [f"# vorobench report: {title}", ""]
+    parts.append(f"{len(cases)} cases: {len(impl_names)} implementation(s) ({', '.join(impl_names)}) x "
+                 f"{len(datasets)} dataset(s) ({', '.join(datasets)}) x sizes "
+                 f"{', '.join(_fmt_n(n) for n in ns)}; {len(df)} result rows.")
+    parts += ["", "## Reading", ""]
+    parts += [f"* {p}" for p in reading(cases, sizes, exps, ratios, reference)]
+    parts += ["", "## Run", "", _md_table(["", ""], _meta_rows(meta)), ""]
+
+    parts += ["## Build time", "",
+              "Median wall time of one build (inputs generated and JIT warm-up done beforehand), "
+              "log-log; the band is the interquartile range over repeats and seeds.", "",
+              f"![build time vs n]({FIGURES['time']})", ""]
+    parts += ["## Time per n log2 n", "",
+              "A flat line is O(n log n); a line rising to the right grows faster than that.", "",
+              f"![time / (n log2 n)]({FIGURES['nlogn']})", ""]
+    parts += [f"## Speed relative to {reference}", "",
+              f"time / time({reference}) at the same dataset and size: below the dashed line is faster.", "",
+              f"![speed ratio]({FIGURES['ratio']})", ""]
+    parts += ["## Peak memory", "",
+              "Rise of the worker's resident peak during one build (the input and the imported "
+              "libraries excluded); values below a page are not shown.", "",
+              f"![peak memory vs n]({FIGURES['memory']})", ""]
+    parts += ["## Correctness", "",
+              "Every built diagram is certified (empty circles, bisectors, Euler, hull, nearest-site "
+              f"probes) and compared with {reference}'s. Colour = worst verdict over sizes and seeds.", "",
+              f"![correctness matrix]({FIGURES['correctness']})", ""]
+
+    parts += ["## Fitted growth exponents", "",
+              "Least-squares slope of log(time) against log(n); R² near 1 means a clean power law. "
+              "Sizes under 1,000 sites are left out when three larger ones exist.", ""]
+    if exps.empty:
+        parts += ["(too few sizes to fit)", ""]
+    else:
+        rows = [[f"`{r.impl}`", r.dataset, f"{r.exponent:.2f}", f"{r.r2:.3f}",
+                 f"{_fmt_n(r.n_min)}-{_fmt_n(r.n_max)} ({r.points})", _complexity(r.impl)]
+                for r in exps.itertuples()]
+        parts += [_md_table(["impl", "dataset", "exponent", "R²", "n range (sizes)", "declared"], rows,
+                            "llrrll"), ""]
+
+    parts += ["## Median build time", ""]
+    if sizes.empty:
+        parts += ["(no successful cases)", ""]
+    else:
+        cols = sorted(sizes["n"].unique())
+        rows = []
+        for (dataset, impl), g in sizes.groupby(["dataset", "impl"], sort=False):
+            by_n = dict(zip(g["n"], g["time_s"]))
+            rows.append([dataset, f"`{impl}`"] + [_fmt_time(by_n.get(n, float("nan"))) for n in cols])
+        parts += [_md_table(["dataset", "impl"] + [f"n={_fmt_n(n)}" for n in cols], rows,
+                            "ll" + "r" * len(cols)), ""]
+        warm = cases[cases["status"] == "ok"].groupby("impl")["warmup_s"].median()
+        if not warm.empty:
+            parts += ["Warm-up per worker (JIT compilation or cache load, plus one small build), median: "
+                      + ", ".join(f"`{k}` {_fmt_time(v)}" for k, v in warm.items()) + ".", ""]
+
+    bad = failures(cases)
+    parts += ["## Failures", ""]
+    if bad.empty:
+        parts += ["None.", ""]
+    else:
+        rows = [[f"`{r.impl}`", r.dataset, _fmt_n(r.n), r.seed, r.status, r.verdict if isinstance(r.verdict, str) else "",
+                 r.phase if isinstance(r.phase, str) else "", (r.error if isinstance(r.error, str) else "")[:120]]
+                for r in bad.itertuples()]
+        parts += [_md_table(["impl", "dataset", "n", "seed", "status", "verdict", "step", "error"], rows), ""]
+    skipped = cases[cases["status"] == "skipped"]
+    if not skipped.empty:
+        parts += ["Skipped: " + "; ".join(f"`{r.impl}` {r.dataset} n={_fmt_n(r.n)} ({r.error})"
+                                          for r in skipped.itertuples()) + ".", ""]
+
+    argv = (meta.get("runs") or [{}])[-1].get("argv")
+    parts += ["## Data", "",
+              "Raw rows: [`results.csv`](results.csv) (one row per case and repeat; "
+              "`pandas.read_csv`), metadata: [`results.meta.json`](results.meta.json)."]
+    if argv:
+        parts += ["", "Produced by:", "", "```", "vorobench " + " ".join(argv), "```"]
+    return "\n".join(parts) + "\n"
+
+
+_CSS = """
+body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; max-width: 1100px; margin: 2em auto;
+       padding: 0 1em; color: #222; line-height: 1.45; }
+img { max-width: 100%; height: auto; border: 1px solid #ddd; }
+table { border-collapse: collapse; margin: 0.6em 0; font-size: 0.92em; }
+th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; }
+th { background: #f3f3f3; }
+code { background: #f5f5f5; padding: 0 0.2em; }
+pre { background: #f5f5f5; padding: 0.6em; overflow-x: auto; }
+"""
+
+
+def _html(title: str, markdown: str, folder: Path) -> str:
+    """Render the Markdown (markdown-it) and inline every local PNG as a base64 data URI."""
+    from markdown_it import MarkdownIt
+
+    body = MarkdownIt("commonmark").enable("table").render(markdown)
+
+    def inline(match: re.Match) -> str:
+        src = html.unescape(match.group(1))
+        path = folder / src
+        if not src.endswith(".png") or not path.exists():
+            return match.group(0)
+        data = base64.b64encode(path.read_bytes()).decode("ascii")
+        return f'src="data:image/png;base64,{data}"'
+
+    body = re.sub(r'src="([^"]+)"', inline, body)
+    return (f"<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+            f"<title>vorobench report: {html.escape(title)}</title>\n<style>{_CSS}</style>\n</head>\n"
+            f"<body>\n{body}</body>\n</html>\n")

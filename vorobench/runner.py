@@ -1,0 +1,312 @@
+"""Run benchmark cases, each in its own worker process, and turn every outcome into rows.
+
+A case is one (implementation, dataset, n, seed). Its worker (:mod:`vorobench.worker`) is a
+fresh ``spawn`` process, so a hard crash (segfault, ``os._exit``), a hang or running out of
+memory ends that case only: the parent records the status and goes on. ``timeout`` bounds each
+step the implementation runs (every repeat, and the check); the warm-up, which may include JIT
+compilation, has its own allowance. Rows of each finished case go to ``sink`` before the next
+case starts.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import math
+import multiprocessing as mp
+import signal
+import time
+from dataclasses import asdict, dataclass, field
+from typing import Callable, Iterable, Optional, Sequence
+
+from vorobench.results import case_key
+
+__all__ = ["Case", "RunConfig", "CaseOutcome", "plan_cases", "run_case", "run_cases", "exit_status"]
+
+#: Allowance for starting the worker, importing, and generating the input (not the impl's time).
+STARTUP_TIMEOUT = 180.0
+
+
+@dataclass(frozen=True)
+class Case:
+    """One benchmark case."""
+
+    impl: str
+    dataset: str
+    n: int
+    seed: int = 0
+
+    @property
+    def key(self) -> tuple[str, str, int, int]:
+        return (self.impl, self.dataset, self.n, self.seed)
+
+    def __str__(self) -> str:
+        return f"{self.impl} {self.dataset} n={self.n} seed={self.seed}"
+
+
+@dataclass(frozen=True)
+class RunConfig:
+    """How every case of a run is measured."""
+
+    repeat: int = 3
+    timeout: float = 60.0               # seconds per repeat and for the check
+    warmup_timeout: float = 300.0       # seconds for the warm-up (JIT compilation included)
+    reference: Optional[str] = "qhull"
+    check: bool = True
+    plugins: tuple[str, ...] = ()
+    reference_cache: Optional[str] = None
+    memory_limit_mb: Optional[float] = None
+    budget: Optional[float] = None      # skip a case whose extrapolated build time exceeds this
+    run_id: str = field(default_factory=lambda: _dt.datetime.now().strftime("%Y%m%dT%H%M%S"))
+
+    def for_worker(self) -> dict:
+        return {k: v for k, v in asdict(self).items() if k not in ("budget", "run_id")}
+
+    def allowance(self, step: str) -> float:
+        """Seconds the worker may spend in ``step`` before the case counts as hung."""
+        if step in ("startup", "generate"):
+            return max(STARTUP_TIMEOUT, self.timeout)
+        if step == "warmup":
+            return max(self.warmup_timeout, self.timeout)
+        return self.timeout
+
+
+@dataclass
+class CaseOutcome:
+    """What a finished case produced: its status and its rows (one per repeat, or one)."""
+
+    case: Case
+    status: str
+    rows: list[dict]
+    seconds: float
+
+    @property
+    def median_time(self) -> Optional[float]:
+        times = sorted(r["time_s"] for r in self.rows if r.get("time_s") is not None)
+        if not times:
+            return None
+        mid = len(times) // 2
+        return times[mid] if len(times) % 2 else 0.5 * (times[mid - 1] + times[mid])
+
+    @property
+    def verdict(self) -> Optional[str]:
+        return self.rows[0].get("verdict") if self.rows else None
+
+    @property
+    def error(self) -> Optional[str]:
+        return self.rows[0].get("error") if self.rows else None
+
+
+def plan_cases(impls: Sequence[str], datasets: Sequence[str], sizes: Sequence[int],
+               seeds: Sequence[int]) -> list[Case]:
+    """All combinations, smallest n first: an interrupted run has covered every pair early,
+    and a size is only reached after the smaller ones it is extrapolated from."""
+    return [Case(i, d, n, s) for n in sorted(set(sizes)) for d in datasets for i in impls for s in seeds]
+
+
+def _describe_exit(exitcode: Optional[int]) -> tuple[str, str]:
+    """(status, message) for a worker that ended without reporting."""
+    if exitcode is None:
+        return "crashed", "worker ended without a result"
+    if exitcode < 0:
+        try:
+            name = signal.Signals(-exitcode).name
+        except ValueError:
+            name = f"signal {-exitcode}"
+        if -exitcode == signal.SIGKILL:
+            return "oom", f"worker killed by {name} (most likely the out-of-memory killer)"
+        return "crashed", f"worker killed by {name}"
+    return "crashed", f"worker exited with code {exitcode} without a result"
+
+
+def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], None]] = None) -> CaseOutcome:
+    """Run one case in a fresh worker process and return its rows, whatever happens to it."""
+    from vorobench.worker import worker_main
+
+    started = time.perf_counter()
+    ctx = mp.get_context("spawn")
+    receiver, sender = ctx.Pipe(duplex=False)
+    proc = ctx.Process(target=worker_main, args=(sender, asdict(case), config.for_worker()),
+                       name=f"vorobench-{case.impl}", daemon=True)
+    info: dict = {}
+    repeats: list[dict] = []
+    step = "startup"
+    status: Optional[str] = None
+    try:
+        proc.start()
+        sender.close()
+        deadline = time.monotonic() + config.allowance(step)
+        while status is None:
+            if receiver.poll(max(0.0, deadline - time.monotonic())):
+                try:
+                    kind, payload = receiver.recv()
+                except (EOFError, OSError):
+                    proc.join(10)
+                    status, info["error"] = _describe_exit(proc.exitcode)
+                    break
+                if kind == "step":
+                    step = payload
+                    deadline = time.monotonic() + config.allowance(step)
+                    if on_step:
+                        on_step(step)
+                elif kind == "data":
+                    info.update(payload)
+                elif kind == "repeat":
+                    repeats.append(payload)
+                elif kind == "done":
+                    status = "ok"
+                elif kind == "failed":
+                    info.update(payload)
+                    status = payload["status"]
+            elif proc.is_alive():
+                status = "timeout"
+                info["error"] = f"no result within {config.allowance(step):g} s during {step}"
+            else:
+                proc.join(10)
+                status, info["error"] = _describe_exit(proc.exitcode)
+    finally:
+        if proc.is_alive():
+            proc.kill()
+        proc.join(10)
+        receiver.close()
+    seconds = time.perf_counter() - started
+    return CaseOutcome(case, status, _rows(case, config, status, step, info, repeats), seconds)
+
+
+def _rows(case: Case, config: RunConfig, status: str, step: str, info: dict, repeats: list[dict]) -> list[dict]:
+    common = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "n": case.n,
+              "seed": case.seed, "status": status,
+              "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
+    common.update({k: v for k, v in info.items() if k not in ("status",)})
+    if status == "ok":
+        counters = repeats[0] if repeats else {}
+        rows = []
+        for i, rep in enumerate(repeats):
+            row = dict(common)
+            # Structure sizes and counters are measured once (they do not depend on the repeat).
+            row.update({k: v for k, v in counters.items() if k not in ("time_s", "peak_rss_mb", "mem_mb")})
+            row.update(repeat=i, time_s=rep["time_s"], peak_rss_mb=rep["peak_rss_mb"], mem_mb=rep["mem_mb"])
+            rows.append(row)
+        return rows
+    row = dict(common)
+    row["phase"] = step
+    if status in ("crashed", "timeout", "oom", "error"):
+        row["verdict"] = "crashed" if status != "timeout" else "timeout"
+    elif status in ("unsupported", "skipped"):
+        row["verdict"] = status
+    return [row]
+
+
+# ---------------------------------------------------------------------------- a whole run
+
+def _skip_reason(case: Case, history: dict, config: RunConfig) -> Optional[str]:
+    """Why ``case`` need not run, judging from smaller n of the same impl/dataset/seed."""
+    done = sorted(history.get((case.impl, case.dataset, case.seed), []))
+    smaller = [(n, st, t) for n, st, t in done if n < case.n]
+    if not smaller:
+        return None
+    n_last, st_last, t_last = smaller[-1]
+    if st_last in ("timeout", "oom"):
+        return f"n={n_last} already ended in {st_last}"
+    if st_last == "skipped":
+        return f"n={n_last} was skipped"
+    if config.budget and t_last:
+        timed = [(n, t) for n, st, t in smaller if st == "ok" and t]
+        exponent = 1.0
+        if len(timed) >= 2 and timed[-1][0] > timed[-2][0]:
+            (n0, t0), (n1, t1) = timed[-2], timed[-1]
+            exponent = min(3.0, max(1.0, math.log(t1 / t0) / math.log(n1 / n0)))
+        predicted = t_last * (case.n / n_last) ** exponent
+        if predicted > config.budget:
+            return (f"extrapolated build time {predicted:.3g} s (from n={n_last}, exponent "
+                    f"{exponent:.2f}) exceeds the budget of {config.budget:g} s")
+    return None
+
+
+def _skipped(case: Case, config: RunConfig, reason: str) -> CaseOutcome:
+    row = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "n": case.n,
+           "seed": case.seed, "status": "skipped", "verdict": "skipped", "error": reason,
+           "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
+    return CaseOutcome(case, "skipped", [row], 0.0)
+
+
+def history_from_rows(rows: Iterable[dict]) -> dict:
+    """(impl, dataset, seed) -> [(n, status, median time)] from rows already on file."""
+    by_case: dict = {}
+    for r in rows:
+        key = case_key(r)
+        entry = by_case.setdefault(key, {"status": r.get("status", ""), "times": []})
+        t = r.get("time_s")
+        if t not in (None, ""):
+            entry["times"].append(float(t))
+    history: dict = {}
+    for (impl, ds, n, seed), entry in by_case.items():
+        times = sorted(entry["times"])
+        median = times[len(times) // 2] if times else None
+        history.setdefault((impl, ds, seed), []).append((n, entry["status"], median))
+    return history
+
+
+def _case_weight(case: Case, config: RunConfig) -> float:
+    """Rough relative cost of a case, for the progress bar's ETA (worker start-up ~ 1 unit)."""
+    return 1.0 + config.repeat * case.n * math.log2(case.n + 2) / 2e6
+
+
+def run_cases(cases: Sequence[Case], config: RunConfig, sink: Callable[[list[dict]], None],
+              done: Iterable[tuple] = (), previous_rows: Iterable[dict] = (), progress: bool = True,
+              console=None, verbose: bool = True) -> list[CaseOutcome]:
+    """Run ``cases`` one worker at a time; ``sink(rows)`` receives each finished case's rows.
+
+    Cases whose key is in ``done`` are skipped (resume). ``previous_rows`` (rows already on
+    file) seed the extrapolation that skips hopeless larger sizes. Ctrl-C stops after killing
+    the running worker; everything already passed to ``sink`` is kept.
+    """
+    from rich.console import Console
+    from rich.progress import (BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn,
+                               TimeRemainingColumn)
+
+    console = console or Console(stderr=True)
+    done = set(done)
+    todo = [c for c in cases if c.key not in done]
+    history = history_from_rows(previous_rows)
+    outcomes: list[CaseOutcome] = []
+    columns = [SpinnerColumn(), TextColumn("[progress.description]{task.description}"), BarColumn(),
+               TextColumn("{task.fields[count]}"), TextColumn("elapsed"), TimeElapsedColumn(),
+               TextColumn("ETA"), TimeRemainingColumn()]
+    with Progress(*columns, console=console, disable=not progress, transient=False) as bar:
+        total = sum(_case_weight(c, config) for c in todo)
+        task = bar.add_task("starting", total=total, count=f"0/{len(todo)} cases")
+        for k, case in enumerate(todo):
+            bar.update(task, description=f"{case}")
+            reason = _skip_reason(case, history, config)
+            if reason:
+                outcome = _skipped(case, config, reason)
+            else:
+                outcome = run_case(case, config,
+                                   on_step=lambda step, c=case: bar.update(task, description=f"{c}: {step}"))
+            sink(outcome.rows)
+            outcomes.append(outcome)
+            history.setdefault((case.impl, case.dataset, case.seed), []).append(
+                (case.n, outcome.status, outcome.median_time))
+            bar.update(task, advance=_case_weight(case, config), count=f"{k + 1}/{len(todo)} cases")
+            if verbose:
+                console.print(_one_line(outcome))
+    return outcomes
+
+
+def _one_line(outcome: CaseOutcome) -> str:
+    c = outcome.case
+    if outcome.status == "ok":
+        t = outcome.median_time
+        verdict = outcome.verdict or ""
+        colour = "green" if verdict in ("exact", "within_tolerance", "skipped", "no_reference") else "yellow"
+        return f"[green]ok[/green] {c}: median {t:.4g} s  [{colour}]{verdict}[/{colour}]"
+    colour = "yellow" if outcome.status in ("unsupported", "skipped") else "red"
+    return f"[{colour}]{outcome.status}[/{colour}] {c}: {outcome.error or ''}"
+
+
+def exit_status(outcomes: Sequence[CaseOutcome]) -> dict[str, int]:
+    """How many cases ended in each status."""
+    counts: dict[str, int] = {}
+    for o in outcomes:
+        counts[o.status] = counts.get(o.status, 0) + 1
+    return counts
