@@ -44,30 +44,33 @@ def _all_collinear(sites: NDArray[np.float64]) -> bool:
     return not np.any(signs)
 
 
-def _third_sites(n: int, ridge_points: NDArray[np.int64], ridge_vertices: NDArray[np.int64],
-                 V: int) -> NDArray[np.int64]:
-    """For each finite ridge end, a site of that vertex other than the ridge's two sites."""
-    p, q = ridge_points[:, 0], ridge_points[:, 1]
-    # Incidences (vertex, site) from every finite ridge end, deduplicated and grouped by vertex.
-    v_all = np.concatenate([ridge_vertices[:, 0], ridge_vertices[:, 0], ridge_vertices[:, 1], ridge_vertices[:, 1]])
-    s_all = np.concatenate([p, q, p, q])
-    keep = v_all >= 0
-    inc = np.unique(v_all[keep] * n + s_all[keep])
-    inc_v, inc_s = inc // n, inc % n
-    start = np.searchsorted(inc_v, np.arange(V))
-    count = np.searchsorted(inc_v, np.arange(V), side="right") - start
-    if V and count.min() < 3:
-        raise RuntimeError(f"Qhull vertex {int(np.argmin(count))} touches fewer than 3 sites")
-    third = np.full(ridge_vertices.shape, -1, dtype=np.int64)
-    for end in (0, 1):
-        v = ridge_vertices[:, end]
-        ok = v >= 0
-        base = start[np.maximum(v, 0)]
-        cand = [inc_s[np.minimum(base + k, inc_s.size - 1)] for k in range(3)]
-        pick = np.where((cand[0] != p) & (cand[0] != q), cand[0],
-                        np.where((cand[1] != p) & (cand[1] != q), cand[1], cand[2]))
-        third[:, end] = np.where(ok, pick, -1)
-    return third
+def _third_sites(ridge_points: NDArray[np.int64], ridge_vertices: NDArray[np.int64]) -> NDArray[np.int64]:
+    """For each finite ridge end, a site of that vertex other than the ridge's two sites.
+
+    Any other ridge meeting at the same vertex separates a different pair of the vertex's
+    sites, so one of its two sites is the third site we need.
+    """
+    E = ridge_points.shape[0]
+    v = ridge_vertices.reshape(-1)                     # incidence k = 2 * ridge + end
+    finite = np.flatnonzero(v >= 0)
+    order = finite[np.argsort(v[finite], kind="stable")]
+    sorted_v = v[order]
+    # Pair each incidence with its neighbour in vertex order (the previous one for the last).
+    partner = np.empty_like(order)
+    partner[:-1] = order[1:]
+    partner[-1:] = order[-2:-1] if order.size > 1 else order[-1:]
+    last = np.ones(order.size, dtype=bool)
+    last[:-1] = sorted_v[1:] != sorted_v[:-1]
+    partner[last] = np.concatenate([order[:1], order[:-1]])[last]
+    if np.any(v[partner] != sorted_v):
+        bad = int(sorted_v[np.flatnonzero(v[partner] != sorted_v)[0]])
+        raise RuntimeError(f"Qhull vertex {bad} lies on a single ridge")
+    ridge, other = order // 2, partner // 2
+    p, q = ridge_points[ridge, 0], ridge_points[ridge, 1]
+    r0, r1 = ridge_points[other, 0], ridge_points[other, 1]
+    third = np.full(2 * E, -1, dtype=np.int64)
+    third[order] = np.where((r0 != p) & (r0 != q), r0, r1)
+    return third.reshape(E, 2)
 
 
 def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
@@ -89,7 +92,7 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     rv = np.asarray(vor.ridge_vertices, dtype=np.int64).reshape(-1, 2)
     keep = rv[:, 0] != rv[:, 1]                    # a ridge collapsed to one vertex is no edge
     rp, rv = rp[keep], rv[keep]
-    third = _third_sites(n, rp, rv, vertices.shape[0])
+    third = _third_sites(rp, rv)
     p, q = rp[:, 0], rp[:, 1]
     side = np.zeros(rv.shape, dtype=np.int8)       # orient2d(p, q, third site of each end)
     for end in (0, 1):
