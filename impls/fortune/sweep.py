@@ -1,0 +1,233 @@
+"""Fortune's sweep in one compiled pass: site events, circle events, edges recorded as they close.
+
+The sweep line moves upward (increasing y, ties by x). Output, for :func:`vorobench.dcel.assemble`:
+``edge_sites`` (a, b) and ``edge_vertices`` (start, end) of a's half-edge, which runs along
+perp(b - a), -1 = infinity; ``vertices`` are circumcentres. A breakpoint between a left arc p
+and a right arc q moves along perp(q - p) (the decided region is below the beach line and p's
+cell is on its left), so it traces the *end* of an edge whose first site is p, and the
+*start* of an edge whose first site is q.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from impls.fortune import beach_line as bl
+from impls.fortune import event_queue as eq
+from vorobench.predicates import circle_top, orient2d_counted
+
+__all__ = [
+    "sweep", "COUNTER_NAMES", "N_COUNTERS",
+    "OK", "ERR_LOCATE", "ERR_CAPACITY", "ERR_ITERATIONS",
+]
+
+# counters layout: 0-3 as in vorobench.predicates (orient2d calls / exact, incircle unused),
+# 4-5 breakpoint tests (beach_line), 6-7 event comparisons (event_queue), then the sweep's own.
+SITE_EVENTS = 8
+CIRCLE_EVENTS = 9
+FALSE_ALARMS = 10
+VERTICES = 11
+MAX_BEACH = 12
+N_COUNTERS = 13
+COUNTER_NAMES = (
+    "orient2d_calls", "orient2d_exact", "incircle_calls", "incircle_exact",
+    "breakpoint_tests", "breakpoint_exact", "event_comparisons", "event_comparisons_exact",
+    "site_events", "circle_events", "false_alarms", "vertices", "max_beach_line",
+)
+
+OK = 0
+ERR_LOCATE = 1
+ERR_CAPACITY = 2
+ERR_ITERATIONS = 3
+
+
+@njit(cache=True)
+def _xorshift(state):
+    # 32-bit xorshift: deterministic treap priorities (machine-independent counts)
+    state ^= (state << np.uint32(13))
+    state ^= (state >> np.uint32(17))
+    state ^= (state << np.uint32(5))
+    return state
+
+
+@njit(cache=True)
+def _close(edge_sites, edge_vertices, e, left_site, v):
+    # the breakpoint with left arc `left_site` that traced edge e stops at vertex v
+    if edge_sites[e, 0] == left_site:
+        edge_vertices[e, 1] = v
+    else:
+        edge_vertices[e, 0] = v
+
+
+@njit(cache=True)
+def sweep(sites, order, counters):
+    """Run the sweep over ``sites`` visited in ``order`` (sorted by y, then x).
+
+    Returns (status, edge_sites, edge_vertices, vertices); status OK or an ERR_* code.
+    ``counters`` (int64, N_COUNTERS) receives the operation counts.
+    """
+    n = order.shape[0]
+    arc_cap = 2 * n + 2
+    arcs = bl.new_arcs(arc_cap)
+    ev_i, ev_f, heap, free = eq.new_queue(arc_cap)
+    nfree = free.shape[0]
+    edge_cap = 3 * n + 2
+    edge_sites = np.empty((edge_cap, 2), dtype=np.int32)
+    edge_vertices = np.full((edge_cap, 2), -1, dtype=np.int32)
+    vertices = np.empty((2 * n + 2, 2), dtype=np.float64)
+    ne = 0
+    nv = 0
+    na = 0
+    hsize = 0
+    seq = 0
+    beach = 0
+    rng = np.uint32(2463534242)
+    root = -1
+    status = OK
+
+    # First sweep position: every site with the lowest y is an arc; consecutive ones are
+    # separated by vertical bisectors coming up from infinity.
+    y0 = sites[order[0], 1]
+    k = 0
+    last = -1
+    while k < n and sites[order[k], 1] == y0:
+        rng = _xorshift(rng)
+        x = bl.add_arc(arcs, na, order[k], np.int32(rng >> np.uint32(1)))
+        na += 1
+        root = bl.insert_after(arcs, root, last, x)
+        if last != -1:
+            edge_sites[ne, 0] = arcs[last, bl.SITE]
+            edge_sites[ne, 1] = order[k]
+            arcs[last, bl.EDGE] = ne
+            ne += 1
+        last = x
+        k += 1
+    beach = k
+    counters[SITE_EVENTS] += k
+    counters[MAX_BEACH] = beach
+
+    i = k
+    iterations = 0
+    max_iterations = 4 * n + 16
+    touched = np.empty(2, dtype=np.int64)
+    while True:
+        iterations += 1
+        if iterations > max_iterations:
+            status = ERR_ITERATIONS
+            break
+        if hsize > 0 and (i >= n or eq.before_site(sites, ev_i, ev_f, heap[0], sites[order[i], 1], counters)):
+            # ---------------- circle event: arc b vanishes at the circumcentre of (a, b, c)
+            e, hsize = eq.pop(sites, ev_i, ev_f, heap, hsize, counters)
+            b = ev_i[e, eq.ARC]
+            a = arcs[b, bl.PREV]
+            c = arcs[b, bl.NEXT]
+            v = nv
+            vertices[v, 0] = ev_f[e, eq.VX]
+            vertices[v, 1] = ev_f[e, eq.VY]
+            nv += 1
+            counters[VERTICES] += 1
+            nfree = eq.release(ev_i, free, nfree, e)
+            arcs[b, bl.EVENT] = -1
+            _close(edge_sites, edge_vertices, arcs[a, bl.EDGE], arcs[a, bl.SITE], v)
+            _close(edge_sites, edge_vertices, arcs[b, bl.EDGE], arcs[b, bl.SITE], v)
+            # the new breakpoint (a, c) starts at v and moves along perp(c - a): a's half-edge
+            edge_sites[ne, 0] = arcs[a, bl.SITE]
+            edge_sites[ne, 1] = arcs[c, bl.SITE]
+            edge_vertices[ne, 0] = v
+            arcs[a, bl.EDGE] = ne
+            ne += 1
+            root = bl.remove(arcs, root, b)
+            beach -= 1
+            touched[0] = a
+            touched[1] = c
+        elif i < n:
+            # ---------------- site event: split the arc above s into (q, s, q)
+            s = order[i]
+            i += 1
+            counters[SITE_EVENTS] += 1
+            sx = sites[s, 0]
+            sy = sites[s, 1]
+            x = bl.locate(arcs, root, sites, sx, sy, counters)
+            if x < 0:
+                status = ERR_LOCATE
+                break
+            if na + 2 > arc_cap or ne + 1 > edge_cap:
+                status = ERR_CAPACITY
+                break
+            g = arcs[x, bl.EVENT]
+            if g != -1:
+                hsize = eq.discard(sites, ev_i, ev_f, heap, hsize, g, counters)
+                nfree = eq.release(ev_i, free, nfree, g)
+                arcs[x, bl.EVENT] = -1
+                counters[FALSE_ALARMS] += 1
+            q = arcs[x, bl.SITE]
+            rng = _xorshift(rng)
+            xs = bl.add_arc(arcs, na, s, np.int32(rng >> np.uint32(1)))
+            na += 1
+            rng = _xorshift(rng)
+            x2 = bl.add_arc(arcs, na, q, np.int32(rng >> np.uint32(1)))
+            na += 1
+            root = bl.insert_after(arcs, root, x, xs)
+            root = bl.insert_after(arcs, root, xs, x2)
+            edge_sites[ne, 0] = q
+            edge_sites[ne, 1] = s
+            arcs[x2, bl.EDGE] = arcs[x, bl.EDGE]
+            arcs[x, bl.EDGE] = ne
+            arcs[xs, bl.EDGE] = ne
+            ne += 1
+            beach += 2
+            if beach > counters[MAX_BEACH]:
+                counters[MAX_BEACH] = beach
+            touched[0] = x
+            touched[1] = x2
+        else:
+            break
+        # ---------------- (re)schedule the circle events of the two arcs whose neighbours changed
+        for t in range(2):
+            x = touched[t]
+            g = arcs[x, bl.EVENT]
+            if g != -1:
+                hsize = eq.discard(sites, ev_i, ev_f, heap, hsize, g, counters)
+                nfree = eq.release(ev_i, free, nfree, g)
+                arcs[x, bl.EVENT] = -1
+                counters[FALSE_ALARMS] += 1
+            p = arcs[x, bl.PREV]
+            r = arcs[x, bl.NEXT]
+            if p == -1 or r == -1:
+                continue
+            sa = arcs[p, bl.SITE]
+            sb = arcs[x, bl.SITE]
+            sc = arcs[r, bl.SITE]
+            if sa == sc:
+                continue
+            ax = sites[sa, 0]
+            ay = sites[sa, 1]
+            bx = sites[sb, 0]
+            by = sites[sb, 1]
+            cx = sites[sc, 0]
+            cy = sites[sc, 1]
+            # the breakpoints (a, b) and (b, c) converge iff a, b, c turn counter-clockwise
+            if orient2d_counted(ax, ay, bx, by, cx, cy, counters) <= 0:
+                continue
+            g, nfree = eq.allocate(ev_i, free, nfree)
+            if g < 0:
+                status = ERR_CAPACITY
+                break
+            yt, err, vx, vy = circle_top(ax, ay, bx, by, cx, cy)
+            ev_i[g, eq.A] = sa
+            ev_i[g, eq.B] = sb
+            ev_i[g, eq.C] = sc
+            ev_i[g, eq.ARC] = x
+            ev_i[g, eq.SEQ] = seq
+            seq += 1
+            ev_f[g, eq.Y] = yt
+            ev_f[g, eq.ERR] = err
+            ev_f[g, eq.VX] = vx
+            ev_f[g, eq.VY] = vy
+            arcs[x, bl.EVENT] = g
+            hsize = eq.push(sites, ev_i, ev_f, heap, hsize, g, counters)
+            counters[CIRCLE_EVENTS] += 1
+        if status != OK:
+            break
+    return status, edge_sites[:ne], edge_vertices[:ne], vertices[:nv]
