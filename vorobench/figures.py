@@ -147,6 +147,11 @@ def plot_correctness(matrix: pd.DataFrame, path: Path, order: Optional[Sequence[
     fig, ax = plt.subplots(figsize=(1.25 * max(3, len(datasets)) + 2.4, 0.62 * max(2, len(impls)) + 2.2),
                            layout="constrained")
     rgba = np.ones((max(1, len(impls)), max(1, len(datasets)), 4))
+    seen = {(r["impl"], r["dataset"]) for _, r in matrix.iterrows()}
+    for i, impl in enumerate(impls):
+        for j, dataset in enumerate(datasets):
+            if (impl, dataset) not in seen:
+                ax.text(j, i, "not run", ha="center", va="center", fontsize=8, color="0.5")
     for _, r in matrix.iterrows():
         i, j = impls.index(r["impl"]), datasets.index(r["dataset"])
         rgba[i, j] = to_rgba(VERDICT_COLOURS.get(str(r["worst"]), "#9e7bb5"))

@@ -137,10 +137,13 @@ def reading(cases, sizes, exponents, ratios, reference: str) -> list[str]:
     # Growth.
     for impl, g in exponents.groupby("impl", sort=True):
         lo, hi, med = g["exponent"].min(), g["exponent"].max(), g["exponent"].median()
-        r2 = g["r2"].min()
-        points.append(f"`{impl}` grows like n^{med:.2f} (fitted exponent, range {lo:.2f}-{hi:.2f} over "
-                      f"{len(g)} dataset(s), worst R² {r2:.3f}); declared {_complexity(impl)}. "
-                      "For reference, n log n over n = 10^3..10^5 fits as about n^1.1.")
+        spread = f"range {lo:.2f}-{hi:.2f} over {len(g)} datasets, " if len(g) > 1 else ""
+        declared = _complexity(impl)
+        points.append(f"`{impl}` grows like n^{med:.2f} (fitted exponent, {spread}worst R² {g['r2'].min():.3f})"
+                      + (f"; declared {declared}." if declared != "?" else "."))
+    if not exponents.empty:
+        points.append("For comparison: n log n fits as about n^1.1 over n = 10^3..10^5, "
+                      "n^1.5 and n^2 would show as such.")
     # Correctness.
     ran = cases[cases["status"] == "ok"]
     if not ran.empty:

@@ -42,6 +42,8 @@ COLUMNS = (
     "phase", "error", "verdict_detail", "finished_at",
 )
 
+_TEXT = {"run_id", "impl", "dataset", "status", "verdict", "phase", "error", "verdict_detail", "finished_at"}
+
 #: The columns that identify a case.
 KEY = ("impl", "dataset", "n", "seed")
 
@@ -123,13 +125,18 @@ class ResultsFile:
 
 
 def load(path: str | os.PathLike):
-    """The results as a pandas DataFrame (CSV or Parquet), failed cases included."""
+    """The results as a pandas DataFrame (CSV or Parquet), failed cases included.
+
+    Standard columns missing from the file (e.g. no case ever succeeded) are added, empty.
+    """
     import pandas as pd
 
     path = Path(path)
-    if path.suffix == ".parquet":
-        return pd.read_parquet(path)
-    return pd.read_csv(path, keep_default_na=True)
+    df = pd.read_parquet(path) if path.suffix == ".parquet" else pd.read_csv(path)
+    for column in COLUMNS:
+        if column not in df.columns:
+            df[column] = pd.Series(float("nan"), index=df.index, dtype=object if column in _TEXT else float)
+    return df
 
 
 def to_parquet(csv_path: str | os.PathLike, parquet_path: Optional[str | os.PathLike] = None) -> Path:

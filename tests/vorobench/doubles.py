@@ -1,7 +1,7 @@
 """Test-only implementations that misbehave on purpose, loaded into workers with ``--plugin``.
 
 Each wraps Qhull's build (a correct diagram) with one fault: a hard exit, a segfault, a hang,
-an impossible allocation, a Python exception, a refusal, or a sleep. ``steady`` sleeps for
+an impossible allocation, a Python exception, a refusal, a sleep, or a large allocation. ``steady`` sleeps for
 ``VOROBENCH_TEST_SLEEP`` seconds (default 0.02) before building and reports counters scaled by
 ``VOROBENCH_TEST_COUNTER_SCALE`` (default 1): the environment variables let a test slow it
 down or change its counters between two runs without renaming it.
@@ -18,7 +18,10 @@ import numpy as np
 from impls.base import Implementation
 from impls.qhull import build as qhull_build
 
-__all__ = ["IMPLEMENTATIONS"]
+__all__ = ["IMPLEMENTATIONS", "HUNGRY_MB"]
+
+#: What the ``hungry`` double allocates (and frees) during each build, in MiB.
+HUNGRY_MB = 200
 
 
 def _crash_exit(sites, stats=None):
@@ -54,6 +57,12 @@ def _hang_after_warmup(sites, stats=None):
     return qhull_build(sites, stats)
 
 
+def _hungry(sites, stats=None):
+    block = np.ones(HUNGRY_MB * (1 << 20) // 8)  # touched, so resident: the peak must show it
+    block[-1] = 2.0
+    return qhull_build(sites, stats)
+
+
 def _refuse(sites):
     return "refuses every input (test double)"
 
@@ -71,5 +80,6 @@ IMPLEMENTATIONS = [
     _double("hog", _hog),
     _double("fail", _fail),
     _double("steady", _steady),
+    _double("hungry", _hungry),
     _double("refuse", qhull_build, supports=_refuse),
 ]

@@ -1,0 +1,123 @@
+"""`vorobench compare`: flags a slowed implementation, counter changes and lost correctness;
+passes two runs of the same code."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from vorobench import regress
+from vorobench.cli import main
+
+DOUBLES = str(Path(__file__).with_name("doubles.py"))
+
+
+def _bench(out: Path, monkeypatch, sleep: float, counter_scale: int = 1) -> Path:
+    # The `steady` double sleeps this long per build and scales its counter: same name, other behaviour.
+    monkeypatch.setenv("VOROBENCH_TEST_SLEEP", str(sleep))
+    monkeypatch.setenv("VOROBENCH_TEST_COUNTER_SCALE", str(counter_scale))
+    code = main(["bench", "--plugin", DOUBLES, "--impls", "steady", "--datasets", "uniform", "--sizes", "20",
+                 "--repeat", "5", "--no-check", "--quiet", "--out", str(out)])
+    assert code == 0
+    return out
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    """Two runs of the same code, one with the build slowed down, one with changed counters."""
+    mp = pytest.MonkeyPatch()
+    folder = tmp_path_factory.mktemp("regress")
+    try:
+        return {
+            "base": _bench(folder / "base.csv", mp, 0.05),
+            "same": _bench(folder / "same.csv", mp, 0.05),
+            "slow": _bench(folder / "slow.csv", mp, 0.10),
+            "counters": _bench(folder / "counters.csv", mp, 0.05, counter_scale=3),
+        }
+    finally:
+        mp.undo()
+
+
+def test_two_runs_of_the_same_code_pass(runs, capsys):
+    assert main(["compare", str(runs["base"]), str(runs["same"])]) == 0
+    assert "no regression" in capsys.readouterr().out
+
+
+def test_slowed_implementation_is_flagged(runs, capsys, tmp_path):
+    report = tmp_path / "cmp.json"
+    assert main(["compare", str(runs["base"]), str(runs["slow"]), "--json", str(report)]) == 1
+    out = capsys.readouterr().out
+    assert "slower" in out and "1 of 1 compared case(s) flagged" in out
+    change = regress.compare_files(runs["base"], runs["slow"])[0]
+    assert change.ratio > 1.5 and change.ci_low > 1.1 and change.p_value < 0.05
+    assert not change.counters                    # the code got slower, it did not do more work
+    assert '"flagged": true' in report.read_text()
+
+
+def test_changed_counters_are_flagged_even_when_time_is_equal(runs):
+    change = regress.compare_files(runs["base"], runs["counters"])[0]
+    assert change.counters == {"sites_seen": (20, 60)}
+    assert any("counters changed" in f for f in change.flags)
+
+
+# ------------------------------------------------------------------ without worker processes
+
+def _frame(impl_times: dict, verdict="exact", status="ok", stats=None) -> pd.DataFrame:
+    rows = []
+    for impl, times in impl_times.items():
+        for i, t in enumerate(times):
+            row = {"impl": impl, "dataset": "uniform", "n": 100, "seed": 0, "repeat": i, "status": status,
+                   "verdict": verdict, "time_s": t}
+            row.update(stats or {})
+            rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def test_noise_inside_the_threshold_is_not_flagged():
+    rng = np.random.default_rng(1)
+    base = _frame({"a": 1.0 + 0.02 * rng.standard_normal(9)})
+    new = _frame({"a": 1.05 + 0.02 * rng.standard_normal(9)})     # 5 % slower: under 10 %
+    (change,) = regress.compare_frames(base, new)
+    assert change.change == "same" and not change.flagged
+    (change,) = regress.compare_frames(base, new, threshold=0.02)
+    assert change.change == "slower" and change.flagged
+
+
+def test_a_large_but_unclear_change_is_not_flagged():
+    base = _frame({"a": [1.0, 1.0, 3.0, 1.0, 3.0]})
+    new = _frame({"a": [1.0, 3.0, 3.0, 1.0, 3.0]})    # median 1 -> 3, but the samples overlap entirely
+    (change,) = regress.compare_frames(base, new)
+    assert change.ratio == pytest.approx(3.0)
+    assert not change.flagged
+
+
+def test_correctness_and_status_regressions_are_flagged():
+    base = _frame({"a": [1.0, 1.0]}, verdict="exact")
+    (worse,) = regress.compare_frames(base, _frame({"a": [1.0, 1.0]}, verdict="differs"))
+    assert worse.flags == ["verdict exact -> differs"]
+    (same,) = regress.compare_frames(base, _frame({"a": [1.0, 1.0]}, verdict="exact"))
+    assert not same.flagged
+    crashed = _frame({"a": [np.nan]}, verdict="crashed", status="crashed")
+    (gone,) = regress.compare_frames(base, crashed)
+    assert "status ok -> crashed" in gone.flags
+
+
+def test_bootstrap_interval_is_seeded_and_brackets_the_ratio():
+    rng = np.random.default_rng(3)
+    base, new = 1.0 + 0.05 * rng.random(20), 2.0 + 0.1 * rng.random(20)
+    a = regress.bootstrap_ratio_ci(base, new, np.random.default_rng(0))
+    b = regress.bootstrap_ratio_ci(base, new, np.random.default_rng(0))
+    assert a == b
+    assert a[0] < np.median(new) / np.median(base) < a[1]
+    assert 1.8 < a[0] and a[1] < 2.2
+
+
+def test_cases_only_on_one_side_are_listed_not_flagged():
+    base = _frame({"a": [1.0, 1.0]})
+    new = _frame({"b": [1.0, 1.0]})
+    changes = regress.compare_frames(base, new)
+    assert [(c.impl, c.base_status, c.new_status) for c in changes] == [("a", "ok", None), ("b", None, "ok")]
+    assert not any(c.flagged for c in changes)

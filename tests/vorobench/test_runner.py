@@ -1,0 +1,167 @@
+"""The benchmark runner: a worker per case survives crashes, hangs and MemoryError; resume; Ctrl-C."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from vorobench import runner
+from vorobench.cli import main
+from vorobench.runner import Case, CaseOutcome, RunConfig
+
+DOUBLES = str(Path(__file__).with_name("doubles.py"))
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _bench(out: Path, impls: str, *extra: str) -> int:
+    return main(["bench", "--plugin", DOUBLES, "--impls", impls, "--datasets", "uniform", "--quiet",
+                 "--out", str(out), *extra])
+
+
+@pytest.fixture(scope="module")
+def faulty_run(tmp_path_factory) -> pd.DataFrame:
+    """One run mixing healthy implementations with every kind of failure."""
+    out = tmp_path_factory.mktemp("faulty") / "results.csv"
+    impls = "qhull,crash_exit,crash_segfault,hang_after_warmup,hog,fail,refuse,steady,hungry"
+    code = _bench(out, impls, "--sizes", "80", "--repeat", "2", "--timeout", "2", "--no-check")
+    assert code == 0
+    return pd.read_csv(out)
+
+
+def _rows(df: pd.DataFrame, impl: str) -> pd.DataFrame:
+    return df[df["impl"] == impl]
+
+
+def test_every_case_is_recorded_and_healthy_rows_kept(faulty_run):
+    assert set(faulty_run["impl"]) == {"qhull", "crash_exit", "crash_segfault", "hang_after_warmup", "hog",
+                                       "fail", "refuse", "steady", "hungry"}
+    for healthy in ("qhull", "steady", "hungry"):
+        rows = _rows(faulty_run, healthy)
+        assert list(rows["status"]) == ["ok", "ok"]
+        assert sorted(rows["repeat"]) == [0, 1]
+        assert (rows["time_s"] > 0).all()
+        assert (rows["warmup_s"] > 0).all()
+        assert (rows["n_sites"] == 80).all()
+        assert (rows["V"] > 0).all() and (rows["E"] > 0).all()
+
+
+def test_hard_crashes_are_recorded(faulty_run):
+    exit_row = _rows(faulty_run, "crash_exit").iloc[0]
+    assert exit_row["status"] == "crashed"
+    assert "code 3" in exit_row["error"]
+    segv = _rows(faulty_run, "crash_segfault").iloc[0]
+    assert segv["status"] == "crashed"
+    assert "SIGSEGV" in segv["error"]
+    assert len(_rows(faulty_run, "crash_exit")) == 1 and pd.isna(exit_row["time_s"])
+
+
+def test_hang_past_timeout_is_recorded_with_its_step(faulty_run):
+    row = _rows(faulty_run, "hang_after_warmup").iloc[0]
+    assert row["status"] == "timeout"
+    assert row["phase"].startswith("repeat 1")
+    assert row["warmup_s"] > 0               # the warm-up finished before the timed build hung
+
+
+def test_memory_error_exception_and_refusal(faulty_run):
+    assert _rows(faulty_run, "hog").iloc[0]["status"] == "oom"
+    fail = _rows(faulty_run, "fail").iloc[0]
+    assert fail["status"] == "error" and "deliberate failure" in fail["error"]
+    refuse = _rows(faulty_run, "refuse").iloc[0]
+    assert refuse["status"] == "unsupported" and "refuses" in refuse["error"]
+
+
+def test_counters_and_peak_memory_are_measured(faulty_run):
+    from doubles import HUNGRY_MB
+
+    steady = _rows(faulty_run, "steady")
+    assert (steady["stat_sites_seen"] == 80).all()
+    hungry = _rows(faulty_run, "hungry")
+    assert (hungry["mem_mb"] > 0.8 * HUNGRY_MB).all()
+    assert (_rows(faulty_run, "qhull")["mem_mb"] < 0.5 * HUNGRY_MB).all()
+
+
+def test_check_gives_a_verdict_against_the_reference(tmp_path):
+    out = tmp_path / "r.csv"
+    assert _bench(out, "qhull,steady", "--sizes", "60", "--repeat", "1", "--timeout", "60") == 0
+    df = pd.read_csv(out)
+    # steady returns Qhull's own diagram, so both must certify and agree with the reference exactly.
+    assert list(df["verdict"]) == ["exact", "exact"], df["verdict_detail"].tolist()
+    assert (df["check_s"] > 0).all()
+
+
+def test_resume_skips_finished_cases(tmp_path):
+    out = tmp_path / "r.csv"
+    assert _bench(out, "qhull", "--sizes", "30", "--repeat", "1", "--no-check") == 0
+    # Without --resume (or --overwrite) an existing file is not touched.
+    assert _bench(out, "qhull", "--sizes", "30,40", "--repeat", "1", "--no-check") == 2
+    assert _bench(out, "qhull", "--sizes", "30,40", "--repeat", "1", "--no-check", "--resume") == 0
+    df = pd.read_csv(out)
+    assert sorted(df["n"]) == [30, 40]
+    assert df["run_id"].nunique() <= 2
+    from vorobench.results import read_metadata
+
+    assert [r["cases_to_run"] for r in read_metadata(out)["runs"]] == [1, 1]
+
+
+def test_skip_after_timeout_and_budget_extrapolation():
+    history = {("a", "uniform", 0): [(1000, "timeout", None)],
+               ("b", "uniform", 0): [(1000, "ok", 0.01), (2000, "ok", 0.04)]}
+    cfg = RunConfig(budget=1.0)
+    assert "timeout" in runner._skip_reason(Case("a", "uniform", 4000), history, cfg)
+    # b grows like n^2 (0.01 -> 0.04 for doubling): n = 8000 -> 0.64 s, n = 16000 -> 2.56 s.
+    assert runner._skip_reason(Case("b", "uniform", 8000), history, cfg) is None
+    reason = runner._skip_reason(Case("b", "uniform", 16000), history, cfg)
+    assert reason is not None and "2.56" in reason
+    assert runner._skip_reason(Case("b", "uniform", 16000), history, RunConfig()) is None
+
+
+def test_interrupt_keeps_finished_cases(tmp_path, monkeypatch):
+    from vorobench import bench_cmd
+
+    calls = []
+
+    def fake_run_case(case, config, on_step=None):
+        if calls:
+            raise KeyboardInterrupt
+        calls.append(case)
+        row = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "n": case.n,
+               "seed": case.seed, "repeat": 0, "status": "ok", "time_s": 0.5}
+        return CaseOutcome(case, "ok", [row], 0.5)
+
+    monkeypatch.setattr(runner, "run_case", fake_run_case)
+    out = tmp_path / "r.csv"
+    code, _ = bench_cmd.execute(["qhull"], ["uniform"], [10, 20, 30], [0], out,
+                                RunConfig(repeat=1, check=False), progress=False, verbose=False)
+    assert code == 130
+    df = pd.read_csv(out)
+    assert list(df["n"]) == [10] and list(df["time_s"]) == [0.5]
+
+
+def test_ctrl_c_in_a_real_run_loses_nothing_finished(tmp_path):
+    out = tmp_path / "r.csv"
+    cmd = [sys.executable, "-m", "vorobench", "bench", "--plugin", DOUBLES, "--impls", "qhull,hang",
+           "--sizes", "50", "--repeat", "1", "--no-check", "--quiet", "--timeout", "120",
+           "--warmup-timeout", "120", "--out", str(out)]
+    proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and not (out.exists() and "qhull" in out.read_text()):
+            time.sleep(0.2)
+        assert out.exists(), "the first case never finished"
+        time.sleep(0.5)                       # the hanging case is running now
+        os.kill(proc.pid, signal.SIGINT)
+        _, err = proc.communicate(timeout=30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130, err
+    assert "--resume" in err
+    df = pd.read_csv(out)
+    assert list(df["impl"]) == ["qhull"] and list(df["status"]) == ["ok"]
