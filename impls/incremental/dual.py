@@ -1,0 +1,132 @@
+"""The Voronoi diagram as the dual of the Delaunay triangulation, as edges for the DCEL builder.
+
+Every finite triangle gives the Voronoi vertex at its circumcentre; a Delaunay edge between
+two finite triangles gives the Voronoi edge joining their circumcentres, a hull edge a ray.
+Cocircular sites triangulate their common empty circle in several triangles with the same
+circumcentre: neighbours whose fourth site is exactly cocircular (incircle == 0) are merged
+into one vertex (union-find), and the Delaunay edges inside the group give no Voronoi edge.
+So the output has one vertex of degree >= 4 per empty circle through 4 or more sites and no
+zero-length edges. Its coordinates come from the three smallest site ids on the circle.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from impls.incremental.circumcentre import circumcentre
+from vorobench.predicates import incircle_counted
+
+__all__ = ["voronoi_edges"]
+
+
+@njit(cache=True)
+def _find(parent, t):
+    root = t
+    while parent[root] != root:
+        root = parent[root]
+    while parent[t] != root:
+        parent[t], t = root, parent[t]
+    return root
+
+
+@njit(cache=True)
+def _is_ghost(tri, t, inf):
+    return tri[3 * t] == inf or tri[3 * t + 1] == inf or tri[3 * t + 2] == inf
+
+
+@njit(cache=True)
+def voronoi_edges(pts, tri, opp, ntri, counters):
+    """Vertices and edges of the Voronoi diagram dual to a Delaunay triangulation.
+
+    Returns (vertices (V, 2), edge_sites (E, 2), edge_vertices (E, 2), merged): the edge
+    arrays in the form :func:`vorobench.dcel.assemble` takes; ``merged`` counts triangles
+    folded into a cocircular neighbour's vertex.
+    """
+    n = pts.shape[0]
+    inf = n
+    parent = np.arange(ntri)
+    ghost = np.zeros(ntri, dtype=np.bool_)
+    for t in range(ntri):
+        ghost[t] = _is_ghost(tri, t, inf)
+    # ---- merge finite neighbours with the same circumcircle
+    merged = 0
+    for e in range(3 * ntri):
+        oe = opp[e]
+        if oe < e:
+            continue
+        t = e // 3
+        t2 = oe // 3
+        if ghost[t] or ghost[t2]:
+            continue
+        d = tri[3 * t2 + (oe - 3 * t2 + 2) % 3]   # the corner of t2 off the shared edge
+        a = tri[3 * t]
+        b = tri[3 * t + 1]
+        c = tri[3 * t + 2]
+        if incircle_counted(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1],
+                            pts[d, 0], pts[d, 1], counters) == 0:
+            r1 = _find(parent, t)
+            r2 = _find(parent, t2)
+            if r1 != r2:
+                parent[max(r1, r2)] = min(r1, r2)
+                merged += 1
+    # ---- the three smallest site ids on each group's circle
+    low = np.full((ntri, 3), inf, dtype=np.int64)
+    for t in range(ntri):
+        if ghost[t]:
+            continue
+        r = _find(parent, t)
+        for k in range(3):
+            s = tri[3 * t + k]
+            if s == low[r, 0] or s == low[r, 1] or s == low[r, 2]:
+                continue
+            if s < low[r, 0]:
+                low[r, 2] = low[r, 1]
+                low[r, 1] = low[r, 0]
+                low[r, 0] = s
+            elif s < low[r, 1]:
+                low[r, 2] = low[r, 1]
+                low[r, 1] = s
+            elif s < low[r, 2]:
+                low[r, 2] = s
+    # ---- one vertex per group
+    vid = np.full(ntri, -1, dtype=np.int64)
+    nv = 0
+    for t in range(ntri):
+        if not ghost[t] and parent[t] == t:
+            vid[t] = nv
+            nv += 1
+    vertices = np.empty((nv, 2), dtype=np.float64)
+    for t in range(ntri):
+        if vid[t] >= 0:
+            i, j, k = low[t, 0], low[t, 1], low[t, 2]
+            x, y = circumcentre(pts[i, 0], pts[i, 1], pts[j, 0], pts[j, 1], pts[k, 0], pts[k, 1])
+            vertices[vid[t], 0] = x
+            vertices[vid[t], 1] = y
+    for t in range(ntri):
+        if not ghost[t]:
+            vid[t] = vid[_find(parent, t)]
+    # ---- one Voronoi edge per Delaunay edge between different vertices (or a vertex and a ray)
+    ne = 0
+    edge_sites = np.empty((3 * ntri // 2, 2), dtype=np.int64)
+    edge_vertices = np.empty((3 * ntri // 2, 2), dtype=np.int64)
+    for e in range(3 * ntri):
+        oe = opp[e]
+        if oe < e:
+            continue
+        t = e // 3
+        a = tri[e]
+        b = tri[3 * t + (e - 3 * t + 1) % 3]
+        if a == inf or b == inf:
+            continue
+        left = vid[t]              # -1 for a ghost: the edge runs out to infinity
+        right = vid[oe // 3]
+        if left == right:
+            continue               # inside a cocircular group: zero length
+        # a's half-edge runs along perp(b - a), i.e. from the right triangle's centre to the left's
+        edge_sites[ne, 0] = a
+        edge_sites[ne, 1] = b
+        edge_vertices[ne, 0] = right
+        edge_vertices[ne, 1] = left
+        ne += 1
+    return vertices, edge_sites[:ne], edge_vertices[:ne], merged

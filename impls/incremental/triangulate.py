@@ -1,0 +1,229 @@
+"""Bowyer–Watson Delaunay triangulation with an infinite vertex, compiled with numba.
+
+Triangles are stored as flat arrays in the style of delaunator: corner ``e = 3 t + k`` holds
+vertex ``tri[e]``, and half-edge ``e`` runs from ``tri[e]`` to the next corner of the same
+triangle, counter-clockwise; ``opp[e]`` is the half-edge running the other way in the
+neighbouring triangle. The convex hull is closed by *ghost* triangles that use the infinite
+vertex ``n``: every hull edge has a ghost on its outer side, so the triangulation is a closed
+surface and hull growth is the ordinary cavity update.
+
+Conflict (the circumcircle contains the new site p, strictly):
+* finite triangle (a, b, c): incircle(a, b, c, p) > 0;
+* ghost triangle with finite edge u -> v (the outside on its left): p strictly left of u -> v,
+  or on the line through u, v strictly between them (the limit of the circle through u, v and
+  a point far away).
+The triangles in conflict with p form a disc star-shaped from p; it is replaced by the fan of
+triangles joining p to the disc's boundary edges.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from vorobench.predicates import incircle_counted, orient2d_counted
+
+__all__ = ["triangulate", "STAT_NAMES"]
+
+#: Operation counts returned by :func:`triangulate`, in order (the predicate counters come separately).
+STAT_NAMES = ("insertions", "walk_steps", "cavity_triangles", "new_triangles")
+
+_WALK_CAP_FACTOR = 4     # a walk visiting more than 4 * triangles + 64 triangles is a bug
+
+
+@njit(cache=True)
+def _ghost_edge(tri, t, inf):
+    """For a ghost triangle, its finite edge (u, v) with the outside on the left; (-1, -1) if finite."""
+    a = tri[3 * t]
+    b = tri[3 * t + 1]
+    c = tri[3 * t + 2]
+    if a == inf:
+        return b, c
+    if b == inf:
+        return c, a
+    if c == inf:
+        return a, b
+    return -1, -1
+
+
+@njit(cache=True)
+def _strictly_between(pts, u, v, px, py):
+    """For p on the line through u and v: whether p lies strictly inside the segment uv."""
+    ux, uy, vx, vy = pts[u, 0], pts[u, 1], pts[v, 0], pts[v, 1]
+    if ux != vx:
+        return min(ux, vx) < px < max(ux, vx)
+    return min(uy, vy) < py < max(uy, vy)
+
+
+@njit(cache=True)
+def _in_conflict(pts, tri, t, inf, px, py, counters):
+    u, v = _ghost_edge(tri, t, inf)
+    if u < 0:
+        a = tri[3 * t]
+        b = tri[3 * t + 1]
+        c = tri[3 * t + 2]
+        return incircle_counted(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1],
+                                pts[c, 0], pts[c, 1], px, py, counters) > 0
+    o = orient2d_counted(pts[u, 0], pts[u, 1], pts[v, 0], pts[v, 1], px, py, counters)
+    if o != 0:
+        return o > 0
+    return _strictly_between(pts, u, v, px, py)
+
+
+@njit(cache=True)
+def _locate(pts, tri, opp, start, inf, px, py, cap, counters, stats):
+    """Visibility walk from finite triangle ``start`` to a triangle in conflict with p.
+
+    Crosses any edge that has p strictly on its outer side; stops in the finite triangle
+    containing p (closed), or in the ghost beyond the hull edge it crossed. Straight walks
+    terminate in Delaunay triangulations; the cap turns a bug into an error, not a hang.
+    """
+    t = start
+    came = -1
+    for step in range(cap):
+        stats[1] += 1
+        moved = False
+        for k in range(3):
+            e = 3 * t + (k + step) % 3
+            if e == came:
+                continue
+            a = tri[e]
+            b = tri[3 * t + (e - 3 * t + 1) % 3]
+            if orient2d_counted(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], px, py, counters) < 0:
+                came = opp[e]
+                t = came // 3
+                moved = True
+                break
+        if not moved:
+            return t
+        if tri[3 * t] == inf or tri[3 * t + 1] == inf or tri[3 * t + 2] == inf:
+            return t
+    raise RuntimeError("incremental: point location walk exceeded its step cap")
+
+
+@njit(cache=True)
+def triangulate(pts, order, counters):
+    """Delaunay triangulation of ``pts`` inserted in ``order``.
+
+    Returns (tri, opp, ntri, stats, ok): ``ok`` is False when all sites are collinear (no
+    triangle exists; the caller builds parallel lines instead). ``counters`` receives the
+    predicate counts (see :mod:`vorobench.predicates`).
+    """
+    n = pts.shape[0]
+    inf = n
+    stats = np.zeros(len(STAT_NAMES), dtype=np.int64)
+    cap_t = 2 * n + 4
+    tri = np.empty(3 * cap_t, dtype=np.int64)
+    opp = np.empty(3 * cap_t, dtype=np.int64)
+    if n < 3:
+        return tri, opp, 0, stats, False
+    # ---- seed triangle: the first two sites and the first one not collinear with them
+    i0 = order[0]
+    i1 = order[1]
+    third = -1
+    o = 0
+    for m in range(2, n):
+        o = orient2d_counted(pts[i0, 0], pts[i0, 1], pts[i1, 0], pts[i1, 1],
+                             pts[order[m], 0], pts[order[m], 1], counters)
+        if o != 0:
+            third = m
+            break
+    if third < 0:
+        return tri, opp, 0, stats, False
+    i2 = order[third]
+    if o < 0:
+        i1, i2 = i2, i1
+    seed = (i0, i1, i2)
+    for k in range(3):
+        tri[k] = seed[k]
+    # ghost k lies beyond edge seed[k] -> seed[k+1]: (seed[k+1], seed[k], inf)
+    for k in range(3):
+        g = 1 + k
+        tri[3 * g] = seed[(k + 1) % 3]
+        tri[3 * g + 1] = seed[k]
+        tri[3 * g + 2] = inf
+        opp[k] = 3 * g
+        opp[3 * g] = k
+    for k in range(3):
+        g = 1 + k
+        gp = 1 + (k + 2) % 3         # the ghost beyond the edge ending at seed[k]
+        opp[3 * g + 1] = 3 * gp + 2  # seed[k] -> inf  against  inf -> seed[k]
+        opp[3 * gp + 2] = 3 * g + 1
+    ntri = 4
+    stats[0] = 3
+    # ---- scratch for the cavity
+    in_cavity = np.full(cap_t, -1, dtype=np.int64)
+    tested = np.full(cap_t, -1, dtype=np.int64)
+    stack = np.empty(cap_t, dtype=np.int64)
+    cavity = np.empty(cap_t, dtype=np.int64)
+    bnd_u = np.empty(cap_t + 2, dtype=np.int64)
+    bnd_v = np.empty(cap_t + 2, dtype=np.int64)
+    bnd_o = np.empty(cap_t + 2, dtype=np.int64)
+    fan_from = np.empty(n + 1, dtype=np.int64)  # new triangle whose first corner is this vertex
+    last = 0
+    for m in range(2, n):
+        if m == third:
+            continue
+        p = order[m]
+        px = pts[p, 0]
+        py = pts[p, 1]
+        t0 = _locate(pts, tri, opp, last, inf, px, py, _WALK_CAP_FACTOR * ntri + 64, counters, stats)
+        if not _in_conflict(pts, tri, t0, inf, px, py, counters):
+            raise RuntimeError("incremental: located triangle is not in conflict with the new site")
+        # ---- grow the cavity: triangles in conflict, connected to t0
+        in_cavity[t0] = m
+        stack[0] = t0
+        sp = 1
+        ncav = 0
+        nb = 0
+        while sp > 0:
+            sp -= 1
+            t = stack[sp]
+            cavity[ncav] = t
+            ncav += 1
+            for k in range(3):
+                e = 3 * t + k
+                oe = opp[e]
+                t2 = oe // 3
+                if in_cavity[t2] == m:
+                    continue
+                if tested[t2] != m:
+                    tested[t2] = m
+                    if _in_conflict(pts, tri, t2, inf, px, py, counters):
+                        in_cavity[t2] = m
+                        stack[sp] = t2
+                        sp += 1
+                        continue
+                bnd_u[nb] = tri[e]
+                bnd_v[nb] = tri[3 * t + (k + 1) % 3]
+                bnd_o[nb] = oe
+                nb += 1
+        if nb != ncav + 2:
+            raise RuntimeError("incremental: the conflict region is not a topological disc")
+        # ---- fill it with the fan from p: triangle (u, v, p) on each boundary edge u -> v
+        for j in range(nb):
+            if j < ncav:
+                s = cavity[j]
+            else:
+                s = ntri
+                ntri += 1
+            u = bnd_u[j]
+            tri[3 * s] = u
+            tri[3 * s + 1] = bnd_v[j]
+            tri[3 * s + 2] = p
+            opp[3 * s] = bnd_o[j]
+            opp[bnd_o[j]] = 3 * s
+            fan_from[u] = s
+            in_cavity[s] = -1
+            tested[s] = -1
+            if u != inf and bnd_v[j] != inf:
+                last = s
+        for j in range(nb):
+            s = cavity[j] if j < ncav else ntri - (nb - j)
+            s2 = fan_from[tri[3 * s + 1]]    # the fan triangle starting where this one's edge ends
+            opp[3 * s + 1] = 3 * s2 + 2
+            opp[3 * s2 + 2] = 3 * s + 1
+        stats[0] += 1
+        stats[2] += ncav
+        stats[3] += nb
+    return tri, opp, ntri, stats, True
