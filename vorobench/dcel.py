@@ -12,6 +12,7 @@ from infinity, each followed by the other.
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from vorobench.diagram import Diagram, InvalidDiagramError
@@ -53,10 +54,72 @@ def assemble(sites: NDArray[np.float64], vertices: ArrayLike, edge_sites: ArrayL
     return Diagram(sites, vertices, origin, twin, nxt, site)
 
 
+_SMALL_CELL = 16   # cells with at most this many half-edges are sorted and searched linearly
+
+
+@njit(cache=True)
+def _link_next_compiled(site, origin, twin, n):
+    """Fast path of :func:`_link_next`: half-edges bucketed by cell (counting sort), each
+    cell's bucket sorted by origin, next found by binary search. O(H log(cell size)).
+    Returns (next, ok); ok is False on anything unusual (a strip cell's two lines, a cell
+    that does not close), which the numpy path then handles or reports."""
+    H = site.size
+    first = np.zeros(n + 1, dtype=np.int64)
+    for h in range(H):
+        first[site[h] + 1] += 1
+    for i in range(n):
+        first[i + 1] += first[i]
+    fill = first[:n].copy()
+    members = np.empty(H, dtype=np.int64)
+    for h in range(H):
+        members[fill[site[h]]] = h
+        fill[site[h]] += 1
+    starts = np.empty(H, dtype=np.int64)
+    for c in range(n):
+        lo, hi = first[c], first[c + 1]
+        if hi - lo > _SMALL_CELL:
+            part = members[lo:hi].copy()
+            order = np.argsort(origin[part])
+            for k in range(hi - lo):
+                members[lo + k] = part[order[k]]
+            for k in range(lo, hi):
+                starts[k] = origin[members[k]]
+        else:                                   # insertion sort: cells have ~6 edges
+            for k in range(lo, hi):
+                h = members[k]
+                key = origin[h]
+                j = k
+                while j > lo and starts[j - 1] > key:
+                    starts[j] = starts[j - 1]
+                    members[j] = members[j - 1]
+                    j -= 1
+                starts[j] = key
+                members[j] = h
+    nxt = np.empty(H, dtype=np.int64)
+    for h in range(H):
+        c = site[h]
+        want = origin[twin[h]]
+        lo, hi = first[c], first[c + 1]
+        if hi - lo > _SMALL_CELL:
+            k = lo + np.searchsorted(starts[lo:hi], want)
+        else:
+            k = lo
+            while k < hi and starts[k] < want:
+                k += 1
+        if k >= hi or starts[k] != want or (k + 1 < hi and starts[k + 1] == want):
+            return nxt, False
+        nxt[h] = members[k]
+    return nxt, True
+
+
 def _link_next(site: NDArray[np.int64], origin: NDArray[np.int64], twin: NDArray[np.int64],
                n: int, V: int) -> NDArray[np.int64]:
     """next[h] = the half-edge of cell site[h] starting at destination(h)."""
     H = site.size
+    if H and site.min() >= 0 and site.max() < n:
+        nxt, ok = _link_next_compiled(site, origin, twin, n)
+        if ok:
+            return nxt
     key = site * (V + 1) + (origin + 1)       # (cell, start vertex); infinity sorts first
     order = np.argsort(key, kind="stable")
     sorted_key = key[order]
