@@ -96,6 +96,7 @@ def _link_next_compiled(site, origin, twin, n):
                 starts[j] = key
                 members[j] = h
     nxt = np.empty(H, dtype=np.int64)
+    taken = np.zeros(H, dtype=np.bool_)
     for h in range(H):
         c = site[h]
         want = origin[twin[h]]
@@ -108,6 +109,9 @@ def _link_next_compiled(site, origin, twin, n):
                 k += 1
         if k >= hi or starts[k] != want or (k + 1 < hi and starts[k + 1] == want):
             return nxt, False
+        if taken[members[k]]:                   # next would not be a permutation
+            return nxt, False
+        taken[members[k]] = True
         nxt[h] = members[k]
     return nxt, True
 
