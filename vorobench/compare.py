@@ -1,0 +1,595 @@
+"""Are two diagrams the same Voronoi diagram? A combinatorial comparison after exact normalisation.
+
+Canonical form of a DCEL: a vertex is the set of sites whose cells touch it; an edge is its
+site pair (a, b) plus its two end vertices in the direction perp(b - a) (infinity included);
+a cell is the cyclic sequence of its neighbours, stored as "after neighbour x comes y".
+None of these depend on how an implementation numbers its vertices or half-edges.
+
+Normalisation: a Voronoi vertex of degree k >= 4 (k cocircular sites) may be one vertex or
+k - 2 vertices joined by zero-length edges. An edge is contracted when *all* the sites of
+both its end vertices are cocircular, decided with the exact ``incircle`` predicate on the
+sites (never from the rounded vertex coordinates), so both forms compare equal ("exact").
+Floating-point libraries (Qhull) also merge *nearly* cocircular sites, so if the exact
+comparison fails, edges shorter than ``rel_tol`` times the data scale are contracted in both
+diagrams as well and the comparison is repeated ("within_tolerance").
+
+Everything is sorting and array indexing; n = 10^6 takes seconds.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+from typing import Any, Optional
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+from vorobench.diagram import Diagram
+from vorobench.incidence import vertex_site_lists
+from vorobench.predicates import incircle, orient2d
+from vorobench.sorting import argsort_keys, dense_rank, is_member, sorted_unique
+from vorobench.tolerances import SHORT_EDGE_REL_TOL, VERTEX_MATCH_REL_TOL, data_scale, length_tolerance
+
+__all__ = ["compare", "Comparison", "Difference", "VERDICTS", "DIFFERENCE_KINDS"]
+
+#: Possible values of :attr:`Comparison.verdict`.
+VERDICTS = ("exact", "within_tolerance", "differs")
+
+#: Kinds of difference counted in :attr:`Comparison.counts`, with a readable label.
+DIFFERENCE_KINDS: dict[str, str] = {
+    "site_mismatch": "sites only in one diagram",
+    "invalid_structure": "diagrams that are not valid DCELs",
+    "vertices_only_in_a": "vertices (site sets) only in {a}",
+    "vertices_only_in_b": "vertices (site sets) only in {b}",
+    "duplicate_vertices": "site sets used by two vertices of one diagram",
+    "edges_only_in_a": "edges (site pairs) only in {a}",
+    "edges_only_in_b": "edges (site pairs) only in {b}",
+    "duplicate_edges": "site pairs with two edges in one diagram",
+    "edges_with_different_ends": "edges whose end vertices or direction differ",
+    "cells_with_different_neighbours": "cells whose cyclic neighbour sequence differs",
+    "coordinate_mismatches": "matched vertices farther apart than the tolerance",
+}
+
+_MAX_LISTED = 5          # differences listed per kind
+_MAX_SHORT_LISTED = 10   # short edges listed per diagram
+
+
+@dataclass
+class Difference:
+    """One difference, with the site indices involved and the relevant coordinates."""
+
+    kind: str
+    sites: tuple[int, ...]
+    detail: str
+    points: list[tuple[float, float]] = field(default_factory=list)
+
+    def __str__(self) -> str:
+        return f"{self.kind}: sites {list(self.sites)}: {self.detail}"
+
+
+@dataclass
+class Comparison:
+    """Result of :func:`compare`: the verdict, counts of each kind of difference, examples."""
+
+    equal: bool
+    verdict: str
+    counts: dict[str, int]
+    differences: list[Difference]
+    labels: tuple[str, str] = ("a", "b")
+    n_sites: int = 0
+    sizes: dict[str, dict[str, int]] = field(default_factory=dict)
+    scale: float = 1.0
+    rel_tol: float = SHORT_EDGE_REL_TOL
+    coord_tol: float = VERTEX_MATCH_REL_TOL
+    max_vertex_error: float = 0.0
+    sites_reordered: bool = False
+    zero_length_edges: dict[str, int] = field(default_factory=dict)
+    short_edge_counts: dict[str, int] = field(default_factory=dict)
+    short_edges: list[dict[str, Any]] = field(default_factory=list)
+    structure_errors: dict[str, str] = field(default_factory=dict)
+    #: Half-edge ids (in each diagram's own numbering) of the differing edges, for plotting.
+    highlight_a: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, np.int64), repr=False)
+    highlight_b: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, np.int64), repr=False)
+
+    @property
+    def n_differences(self) -> int:
+        return int(sum(self.counts.values()))
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-serialisable summary (highlight arrays as lists)."""
+        out = {k: _plain(v) for k, v in asdict(self).items() if k not in ("highlight_a", "highlight_b", "differences")}
+        out["differences"] = [_plain(asdict(d)) for d in self.differences]
+        out["highlight_a"] = self.highlight_a.tolist()
+        out["highlight_b"] = self.highlight_b.tolist()
+        return out
+
+    def __str__(self) -> str:
+        a, b = self.labels
+        sa, sb = self.sizes.get(a, {}), self.sizes.get(b, {})
+        head = {"exact": "EQUAL (exact)", "within_tolerance": "EQUAL within tolerance"}.get(self.verdict, "DIFFERENT")
+        lines = [f"compare {a} vs {b}: {head}  [n={self.n_sites}; V={sa.get('V', '?')}/{sb.get('V', '?')}, "
+                 f"E={sa.get('E', '?')}/{sb.get('E', '?')}]"]
+        if self.sites_reordered:
+            lines.append(f"  sites are the same set in a different order (matched by sorting)")
+        for name, msg in self.structure_errors.items():
+            lines.append(f"  {name} is not a valid DCEL: {msg}")
+        zl = {k: v for k, v in self.zero_length_edges.items() if v}
+        if zl:
+            lines.append("  zero-length edges contracted exactly (cocircular sites): "
+                         + ", ".join(f"{k}: {v}" for k, v in zl.items()))
+        if self.short_edge_counts and any(self.short_edge_counts.values()):
+            lines.append(f"  edges shorter than {self.rel_tol:g} x scale ({self.scale:.3g}) contracted: "
+                         + ", ".join(f"{k}: {v}" for k, v in self.short_edge_counts.items()))
+            for s in self.short_edges[:_MAX_SHORT_LISTED]:
+                lines.append(f"    {s['diagram']}: edge between sites {s['sites']}, length {s['length']:.3g}")
+        lines.append(f"  max vertex error {self.max_vertex_error:.3g} (relative to the local scale; "
+                     f"tolerance {self.coord_tol:g})")
+        for kind, count in self.counts.items():
+            if count:
+                lines.append(f"  {count} {DIFFERENCE_KINDS[kind].format(a=a, b=b)}")
+        if self.differences:
+            lines.append("  first differences:")
+            lines.extend(f"    {d}" for d in self.differences)
+        return "\n".join(lines)
+
+
+def _plain(x: Any) -> Any:
+    """numpy scalars/arrays and tuples to plain JSON types."""
+    if isinstance(x, dict):
+        return {str(k): _plain(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_plain(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, np.generic):
+        return x.item()
+    return x
+
+
+# ---------------------------------------------------------------------------------- sites
+def _site_matching(a: Diagram, b: Diagram) -> tuple[Optional[NDArray[np.int64]], list[Difference], int]:
+    """Map b's site ids to a's. Returns (map or None if the sets differ, differences, count)."""
+    sa, sb = np.asarray(a.sites, np.float64), np.asarray(b.sites, np.float64)
+    if sa.shape == sb.shape and np.array_equal(sa, sb):
+        return np.arange(sa.shape[0], dtype=np.int64), [], 0
+    oa, ob = np.lexsort((sa[:, 1], sa[:, 0])), np.lexsort((sb[:, 1], sb[:, 0]))
+    if sa.shape == sb.shape and np.array_equal(sa[oa], sb[ob]):
+        mapping = np.empty(sb.shape[0], dtype=np.int64)
+        mapping[ob] = oa
+        return mapping, [], 0
+    # Different sets: list the sites found in one diagram only.
+    va = np.ascontiguousarray(sa + 0.0).view(np.dtype((np.void, 16))).ravel()
+    vb = np.ascontiguousarray(sb + 0.0).view(np.dtype((np.void, 16))).ravel()
+    only_a = np.flatnonzero(~np.isin(va, vb))
+    only_b = np.flatnonzero(~np.isin(vb, va))
+    diffs = [Difference("site_mismatch", (int(i),), f"site {tuple(sa[i].tolist())} only in a",
+                        [tuple(sa[i].tolist())]) for i in only_a[:_MAX_LISTED]]
+    diffs += [Difference("site_mismatch", (int(i),), f"site {tuple(sb[i].tolist())} only in b",
+                         [tuple(sb[i].tolist())]) for i in only_b[:_MAX_LISTED]]
+    count = int(only_a.size + only_b.size)
+    if count == 0:  # same set with repeats (not prepared sites)
+        count = abs(sa.shape[0] - sb.shape[0]) or 1
+        diffs.append(Difference("site_mismatch", (), f"{sa.shape[0]} sites in a, {sb.shape[0]} in b"))
+    return None, diffs, count
+
+
+def _structure_error(d: Diagram) -> Optional[str]:
+    """The first broken DCEL invariant (``Diagram.validate``), or None."""
+    try:
+        d.validate()
+    except Exception as exc:  # any failure of validate is a structural problem of d
+        return f"{type(exc).__name__}: {exc}"
+    return None
+
+
+def _indices_usable(d: Diagram) -> bool:
+    """Whether the index arrays can be used for indexing at all (shapes and ranges)."""
+    H, V, n = d.n_half_edges, d.n_vertices, d.n_sites
+    arrays = (d.origin, d.twin, d.next, d.site)
+    if any(np.shape(x) != (H,) or np.asarray(x).dtype.kind not in "iu" for x in arrays):
+        return False
+    if H == 0:
+        return True
+    return bool(d.origin.min() >= -1 and d.origin.max() < V and d.twin.min() >= 0 and d.twin.max() < H
+                and d.next.min() >= 0 and d.next.max() < H and d.site.min() >= 0 and d.site.max() < n)
+
+
+# ---------------------------------------------------------------------------------- canonical form
+@dataclass
+class _Form:
+    """One diagram after contraction, in the common site numbering."""
+
+    m_ptr: NDArray[np.int64]          # (M+1,) CSR of merged vertices' sorted site lists
+    m_sites: NDArray[np.int64]
+    m_xy: NDArray[np.float64]         # (M, 2) mean coordinates of the merged vertices
+    h: NDArray[np.int64]              # kept half-edges (original ids)
+    cell: NDArray[np.int64]
+    nb: NDArray[np.int64]
+    start: NDArray[np.int64]          # merged vertex id, -1 = infinity
+    end: NDArray[np.int64]
+    succ_nb: NDArray[np.int64]        # neighbour across the next kept half-edge of the cell
+    n_exact: int                      # edges contracted as exactly zero-length
+    short: list[tuple[int, int, float]]  # edges contracted under tolerance: (a, b, length)
+    n_short: int
+    m_cv: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, np.int64))
+
+
+def _exactly_coincident(sites, ptr, s, a, b, u, v) -> NDArray[np.bool_]:
+    """Edges (a, b) from vertex u to v whose end vertices coincide: all sites of u and v on one circle.
+
+    Decided exactly on the sites: with c a third site of u, every site x of u and v other
+    than a, b, c must satisfy incircle(a, b, c, x) == 0, and a, b, c must not be collinear.
+    """
+    out = np.zeros(a.size, dtype=bool)
+    if a.size:
+        _coincident_kernel(sites, ptr, s, a, b, u, v, out)
+    return out
+
+
+@njit(cache=True)
+def _coincident_kernel(sites, ptr, s, a, b, u, v, out):
+    for k in range(a.size):
+        aa, bb = a[k], b[k]
+        c, hits = -1, 0
+        for j in range(ptr[u[k]], ptr[u[k] + 1]):
+            if s[j] == aa or s[j] == bb:
+                hits += 1
+            elif c < 0:
+                c = s[j]
+        for j in range(ptr[v[k]], ptr[v[k] + 1]):
+            if s[j] == aa or s[j] == bb:
+                hits += 1
+        # Both ends must touch both cells a and b, and u needs a third site.
+        if hits != 4 or c < 0:
+            continue
+        ax, ay, bx, by = sites[aa, 0], sites[aa, 1], sites[bb, 0], sites[bb, 1]
+        cx, cy = sites[c, 0], sites[c, 1]
+        if orient2d(ax, ay, bx, by, cx, cy) == 0:
+            continue
+        same = True
+        for w in (u[k], v[k]):
+            for j in range(ptr[w], ptr[w + 1]):
+                x = s[j]
+                if x != aa and x != bb and x != c and incircle(ax, ay, bx, by, cx, cy, sites[x, 0], sites[x, 1]) != 0:
+                    same = False
+                    break
+            if not same:
+                break
+        out[k] = same
+
+
+def _merge_labels(V: int, u: NDArray[np.int64], v: NDArray[np.int64]) -> NDArray[np.int64]:
+    """Union-find of vertices joined by contracted edges (connected components), as labels."""
+    if u.size == 0:
+        return np.arange(V, dtype=np.int64)
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    graph = coo_matrix((np.ones(u.size, dtype=np.int8), (u, v)), shape=(V, V))
+    _, labels = connected_components(graph, directed=False)
+    return labels.astype(np.int64)
+
+
+def _successor(nxt: NDArray[np.int64], kept: NDArray[np.bool_]) -> NDArray[np.int64]:
+    """For each half-edge, the first kept half-edge strictly after it along ``next``
+    (pointer doubling over removed half-edges); -1 if the cycle has no kept half-edge."""
+    H = nxt.size
+    jump = np.where(kept, np.arange(H), nxt)
+    for _ in range(64):
+        if kept[jump].all():
+            break
+        jump = jump[jump]
+    succ = jump[nxt]
+    return np.where(kept[succ], succ, -1)
+
+
+def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, short_length: Optional[float]) -> _Form:
+    """Canonical form of ``d``: contract exactly-zero edges (and, with ``short_length``,
+    edges shorter than it), merge their vertices, list kept half-edges with merged ends."""
+    sites = np.asarray(d.sites, np.float64)
+    site = site_map[np.asarray(d.site, np.int64)]
+    common_sites = np.empty_like(sites)
+    common_sites[site_map] = sites
+    origin = np.asarray(d.origin, np.int64)
+    twin = np.asarray(d.twin, np.int64)
+    nxt = np.asarray(d.next, np.int64)
+    V, H = d.n_vertices, d.n_half_edges
+    dest = origin[twin] if H else origin
+    ptr, s = vertex_site_lists(site, origin, dest, V, max(n, 1))
+    # Candidate edges for contraction: one half-edge per pair, both ends finite.
+    e = np.flatnonzero((np.arange(H) < twin) & (origin >= 0) & (dest >= 0))
+    u, v = origin[e], dest[e]
+    loop = u == v
+    a, b = site[e], site[twin[e]]
+    exact = loop.copy()
+    exact[~loop] = _exactly_coincident(common_sites, ptr, s, a[~loop], b[~loop], u[~loop], v[~loop])
+    contract = exact.copy()
+    short: list[tuple[int, int, float]] = []
+    n_short = 0
+    if short_length is not None and e.size:
+        xy = np.asarray(d.vertices, np.float64)
+        length = np.hypot(*(xy[u] - xy[v]).T)
+        is_short = (length < short_length) & ~exact
+        n_short = int(is_short.sum())
+        for k in np.flatnonzero(is_short)[:_MAX_SHORT_LISTED]:
+            short.append((int(min(a[k], b[k])), int(max(a[k], b[k])), float(length[k])))
+        contract |= is_short
+    labels = _merge_labels(V, u[contract & ~loop], v[contract & ~loop])
+    M = int(labels.max()) + 1 if V else 0
+    # Merged vertices: union of the members' site lists, mean of their coordinates.
+    member = np.repeat(np.arange(V), np.diff(ptr))
+    m_ptr, m_sites = vertex_site_lists(s, labels[member], np.full(member.size, -1, np.int64), M, max(n, 1))
+    xy = np.asarray(d.vertices, np.float64).reshape(-1, 2)
+    used = np.diff(ptr) > 0
+    weight = np.bincount(labels[used], minlength=M).astype(np.float64)
+    m_xy = np.zeros((M, 2))
+    if M:
+        for k in range(2):
+            m_xy[:, k] = np.bincount(labels[used], weights=xy[used, k], minlength=M) / np.maximum(weight, 1)
+    # Kept half-edges with merged ends and the neighbour that follows along the cell.
+    removed = np.zeros(H, dtype=bool)
+    removed[e[contract]] = True
+    removed[twin[e[contract]]] = True
+    kept = ~removed
+    succ = _successor(nxt, kept) if H else np.zeros(0, np.int64)
+    h = np.flatnonzero(kept)
+    nb_all = site[twin] if H else site
+    succ_h = succ[h]
+    succ_nb = np.where(succ_h >= 0, nb_all[np.maximum(succ_h, 0)], -1) if h.size else np.zeros(0, np.int64)
+    start = np.where(origin[h] >= 0, labels[np.maximum(origin[h], 0)] if V else -1, -1)
+    end = np.where(dest[h] >= 0, labels[np.maximum(dest[h], 0)] if V else -1, -1)
+    return _Form(m_ptr, m_sites, m_xy, h, site[h], nb_all[h], start.astype(np.int64), end.astype(np.int64),
+                 succ_nb.astype(np.int64), int(exact.sum()), short, n_short)
+
+
+def _rank_rows(rows: NDArray[np.int64], base: int) -> NDArray[np.int64]:
+    """Dense ranks of the rows of an (N, d) matrix with entries in [0, base): equal rows, equal ranks."""
+    N, d = rows.shape
+    if N == 0:
+        return np.zeros(0, np.int64)
+    code = rows[:, 0].copy()
+    bound = base
+    for j in range(1, d):
+        if bound > (2**62) // base:                # compress before the code overflows
+            code = dense_rank(code)
+            bound = int(code.max()) + 1
+        code = code * base + rows[:, j]
+        bound *= base
+    return dense_rank(code)
+
+
+def _joint_vertex_ids(forms: list[_Form], n: int) -> None:
+    """Give every merged vertex of every form an id shared by equal site sets (``m_cv``)."""
+    degs = [np.diff(f.m_ptr) for f in forms]
+    all_degs = sorted_unique(np.concatenate(degs)) if degs else np.zeros(0, np.int64)
+    for f, dg in zip(forms, degs):
+        f.m_cv = np.full(dg.size, -1, dtype=np.int64)
+    offset = 0
+    for d in all_degs:
+        if d == 0:
+            continue
+        parts, owners = [], []
+        for k, (f, dg) in enumerate(zip(forms, degs)):
+            idx = np.flatnonzero(dg == d)
+            parts.append(f.m_sites[f.m_ptr[idx][:, None] + np.arange(d)])
+            owners.append(idx)
+        rank = _rank_rows(np.concatenate(parts), max(n, 1))
+        pos = 0
+        for f, idx in zip(forms, owners):
+            f.m_cv[idx] = offset + rank[pos:pos + idx.size]
+            pos += idx.size
+        offset += int(rank.max()) + 1 if rank.size else 0
+
+
+# ---------------------------------------------------------------------------------- differences
+@dataclass
+class _Diff:
+    counts: dict[str, int]
+    differences: list[Difference]
+    highlight_a: NDArray[np.int64]
+    highlight_b: NDArray[np.int64]
+    max_vertex_error: float
+
+    @property
+    def combinatorial(self) -> int:
+        return sum(v for k, v in self.counts.items() if k != "coordinate_mismatches")
+
+
+def _site_tuple(f: _Form, m: int) -> tuple[int, ...]:
+    return tuple(int(x) for x in f.m_sites[f.m_ptr[m]:f.m_ptr[m + 1]])
+
+
+def _end_text(f: _Form, m: int) -> str:
+    if m < 0:
+        return "infinity"
+    x, y = f.m_xy[m]
+    return f"{list(_site_tuple(f, m))} at ({x:.6g}, {y:.6g})"
+
+
+def _cycle(f: _Form, cell: int) -> list[int]:
+    """Neighbour sequence of a cell in form f, starting from its smallest neighbour."""
+    mask = f.cell == cell
+    after = dict(zip(f.nb[mask].tolist(), f.succ_nb[mask].tolist()))
+    if not after:
+        return []
+    x0 = min(after)
+    out, x = [x0], after[x0]
+    while x != x0 and x in after and len(out) <= len(after):
+        out.append(x)
+        x = after[x]
+    return out
+
+
+def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale: float,
+                 coord_tol: float, labels: tuple[str, str]) -> _Diff:
+    la, lb = labels
+    counts = {k: 0 for k in DIFFERENCE_KINDS}
+    diffs: list[Difference] = []
+    # Vertices: by canonical id.
+    total = int(max(fa.m_cv.max(initial=-1), fb.m_cv.max(initial=-1))) + 1
+    where_a = np.full(total, -1, np.int64)
+    where_b = np.full(total, -1, np.int64)
+    live_a, live_b = np.flatnonzero(fa.m_cv >= 0), np.flatnonzero(fb.m_cv >= 0)
+    where_a[fa.m_cv[live_a]] = live_a
+    where_b[fb.m_cv[live_b]] = live_b
+    dup = (np.bincount(fa.m_cv[live_a], minlength=total) > 1).sum() + \
+        (np.bincount(fb.m_cv[live_b], minlength=total) > 1).sum()
+    counts["duplicate_vertices"] = int(dup)
+    for kind, f, live, other, label in (("vertices_only_in_a", fa, live_a, where_b, la),
+                                        ("vertices_only_in_b", fb, live_b, where_a, lb)):
+        only = live[other[f.m_cv[live]] < 0]
+        counts[kind] = int(only.size)
+        for m in only[:_MAX_LISTED]:
+            diffs.append(Difference(kind, _site_tuple(f, int(m)), f"vertex at {tuple(f.m_xy[m].round(12).tolist())} "
+                                    f"only in {label}", [tuple(f.m_xy[m].tolist())]))
+    # Coordinates of matched vertices.
+    ma = live_a[where_b[fa.m_cv[live_a]] >= 0]
+    mb = where_b[fa.m_cv[ma]]
+    max_err = 0.0
+    if ma.size:
+        pa, pb = fa.m_xy[ma], fb.m_xy[mb]
+        err = np.hypot(*(pa - pb).T)
+        radius = np.hypot(*(pa - sites[fa.m_sites[fa.m_ptr[ma]]]).T)
+        local = np.maximum(scale, radius)
+        magnitude = np.maximum(np.abs(pa).max(1), np.abs(pb).max(1))
+        rel = err / local
+        max_err = float(rel.max())
+        bad = np.flatnonzero(err > length_tolerance(coord_tol, local, magnitude))
+        counts["coordinate_mismatches"] = int(bad.size)
+        for k in bad[:_MAX_LISTED]:
+            diffs.append(Difference("coordinate_mismatches", _site_tuple(fa, int(ma[k])),
+                                    f"vertex at {tuple(pa[k].tolist())} in {la}, {tuple(pb[k].tolist())} in {lb} "
+                                    f"(error {rel[k]:.3g} of the local scale)",
+                                    [tuple(pa[k].tolist()), tuple(pb[k].tolist())]))
+    # Half-edges by (cell, neighbour); each carries its ends and the next neighbour.
+    cv_start_a = np.where(fa.start >= 0, fa.m_cv[np.maximum(fa.start, 0)] if fa.m_cv.size else -1, -1)
+    cv_end_a = np.where(fa.end >= 0, fa.m_cv[np.maximum(fa.end, 0)] if fa.m_cv.size else -1, -1)
+    cv_start_b = np.where(fb.start >= 0, fb.m_cv[np.maximum(fb.start, 0)] if fb.m_cv.size else -1, -1)
+    cv_end_b = np.where(fb.end >= 0, fb.m_cv[np.maximum(fb.end, 0)] if fb.m_cv.size else -1, -1)
+    key_a = fa.cell * n + fa.nb
+    key_b = fb.cell * n + fb.nb
+    oa, ob = argsort_keys(key_a), argsort_keys(key_b)
+    ka, kb = key_a[oa], key_b[ob]
+    dup_a = np.flatnonzero(ka[1:] == ka[:-1])
+    dup_b = np.flatnonzero(kb[1:] == kb[:-1])
+    counts["duplicate_edges"] = int(((fa.cell[oa[dup_a]] < fa.nb[oa[dup_a]]).sum()
+                                     + (fb.cell[ob[dup_b]] < fb.nb[ob[dup_b]]).sum()))
+    for f, o, dups, label in ((fa, oa, dup_a, la), (fb, ob, dup_b, lb)):
+        for k in dups[:_MAX_LISTED]:
+            x, y = int(f.cell[o[k]]), int(f.nb[o[k]])
+            if x < y:
+                diffs.append(Difference("duplicate_edges", (x, y), f"two edges between sites {x} and {y} in {label}"))
+    if ka.size == kb.size and np.array_equal(ka, kb) and dup_a.size == 0:
+        ia, ib = oa, ob
+        only_a = only_b = np.zeros(0, np.int64)
+    else:
+        first_a, first_b = _first_of_runs(ka), _first_of_runs(kb)
+        ua, ub = ka[first_a], kb[first_b]
+        in_b = is_member(ua, ub)
+        in_a = is_member(ub, ua)
+        ia, ib = oa[first_a[in_b]], ob[first_b[in_a]]   # both ordered by key
+        only_a = oa[first_a[~in_b]]
+        only_b = ob[first_b[~in_a]]
+    hl_a, hl_b = [fa.h[only_a]], [fb.h[only_b]]
+    for kind, f, only, cs, ce, label in (("edges_only_in_a", fa, only_a, cv_start_a, cv_end_a, la),
+                                         ("edges_only_in_b", fb, only_b, cv_start_b, cv_end_b, lb)):
+        lower = only[f.cell[only] < f.nb[only]]
+        # An edge counts once; a pair present in one direction only counts by that half-edge.
+        counts[kind] = int(sorted_unique(np.minimum(f.cell[only], f.nb[only]) * n
+                                     + np.maximum(f.cell[only], f.nb[only])).size)
+        for k in (lower if lower.size else only)[:_MAX_LISTED]:
+            diffs.append(Difference(kind, (int(f.cell[k]), int(f.nb[k])),
+                                    f"edge from {_end_text(f, int(f.start[k]))} to {_end_text(f, int(f.end[k]))} "
+                                    f"only in {label}", _edge_points(f, k)))
+    # Matched half-edges: same ends and the same next neighbour?
+    diff_ends = (cv_start_a[ia] != cv_start_b[ib]) | (cv_end_a[ia] != cv_end_b[ib])
+    lower = fa.cell[ia] < fa.nb[ia]
+    bad_edges = np.flatnonzero(diff_ends & lower)
+    counts["edges_with_different_ends"] = int(bad_edges.size)
+    for k in bad_edges[:_MAX_LISTED]:
+        x, y = ia[k], ib[k]
+        diffs.append(Difference("edges_with_different_ends", (int(fa.cell[x]), int(fa.nb[x])),
+                                f"{la}: {_end_text(fa, int(fa.start[x]))} -> {_end_text(fa, int(fa.end[x]))}; "
+                                f"{lb}: {_end_text(fb, int(fb.start[y]))} -> {_end_text(fb, int(fb.end[y]))}",
+                                _edge_points(fa, x) + _edge_points(fb, y)))
+    bad_he = np.flatnonzero(diff_ends)
+    hl_a.append(fa.h[ia[bad_he]])
+    hl_b.append(fb.h[ib[bad_he]])
+    succ_differs = fa.succ_nb[ia] != fb.succ_nb[ib]
+    bad_cells = sorted_unique(np.concatenate([fa.cell[ia[succ_differs]], fa.cell[only_a], fb.cell[only_b]]))
+    counts["cells_with_different_neighbours"] = int(bad_cells.size)
+    for c in bad_cells[:_MAX_LISTED]:
+        diffs.append(Difference("cells_with_different_neighbours", (int(c),),
+                                f"neighbours {_cycle(fa, int(c))} in {la}, {_cycle(fb, int(c))} in {lb}",
+                                [tuple(sites[c].tolist())]))
+    hl_a.append(fa.h[ia[succ_differs]])
+    hl_b.append(fb.h[ib[succ_differs]])
+    return _Diff(counts, diffs, sorted_unique(np.concatenate(hl_a)), sorted_unique(np.concatenate(hl_b)), max_err)
+
+
+def _first_of_runs(sorted_keys: NDArray[np.int64]) -> NDArray[np.int64]:
+    """Index of the first element of each run of equal keys in a sorted array."""
+    if sorted_keys.size == 0:
+        return np.zeros(0, np.int64)
+    return np.flatnonzero(np.concatenate([[True], sorted_keys[1:] != sorted_keys[:-1]]))
+
+
+def _edge_points(f: _Form, k: int) -> list[tuple[float, float]]:
+    return [tuple(f.m_xy[m].tolist()) for m in (int(f.start[k]), int(f.end[k])) if m >= 0]
+
+
+# ---------------------------------------------------------------------------------- entry point
+def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coord_tol: Optional[float] = None,
+            labels: tuple[str, str] = ("a", "b")) -> Comparison:
+    """Compare two diagrams of the same sites combinatorially and by vertex coordinates.
+
+    ``rel_tol``: edges shorter than ``rel_tol`` times the sites' bounding-box size are
+    contracted for the ``within_tolerance`` verdict. ``coord_tol``: matched vertices may
+    differ by this fraction of their local scale (default ``VERTEX_MATCH_REL_TOL``).
+    ``labels`` name the two diagrams in the report. Never raises on a broken diagram:
+    that is reported as a difference.
+
+    >>> import impls, datasets_gen
+    >>> d = impls.build("qhull", datasets_gen.generate("grid", 16))
+    >>> compare(d, d).verdict
+    'exact'
+    """
+    coord_tol = VERTEX_MATCH_REL_TOL if coord_tol is None else float(coord_tol)
+    la, lb = labels
+    sizes = {la: a.counts(), lb: b.counts()}
+    n = a.n_sites
+    scale = data_scale(np.asarray(a.sites, np.float64).reshape(-1, 2))
+    base = dict(labels=(la, lb), n_sites=n, sizes=sizes, scale=scale, rel_tol=rel_tol, coord_tol=coord_tol)
+    counts = {k: 0 for k in DIFFERENCE_KINDS}
+    site_map, site_diffs, site_count = _site_matching(a, b)
+    if site_map is None:
+        counts["site_mismatch"] = site_count
+        return Comparison(False, "differs", counts, site_diffs, **base)
+    reordered = not np.array_equal(site_map, np.arange(site_map.size))
+    structure = {name: msg for name, msg in ((la, _structure_error(a)), (lb, _structure_error(b))) if msg}
+    counts["invalid_structure"] = len(structure)
+    if not (_indices_usable(a) and _indices_usable(b)):
+        return Comparison(False, "differs", counts, [], sites_reordered=reordered, structure_errors=structure, **base)
+    identity = np.arange(n, dtype=np.int64)
+    sites = np.asarray(a.sites, np.float64)
+    result = None
+    for stage, short_length in (("exact", None), ("within_tolerance", rel_tol * scale)):
+        forms = [_canonical(a, identity, n, short_length), _canonical(b, site_map, n, short_length)]
+        _joint_vertex_ids(forms, n)
+        diff = _differences(forms[0], forms[1], sites, n, scale, coord_tol, (la, lb))
+        result = (stage, forms, diff)
+        if diff.combinatorial == 0 or rel_tol <= 0:
+            break
+    stage, forms, diff = result
+    diff.counts["invalid_structure"] = len(structure)
+    ok = diff.combinatorial == 0 and diff.counts["coordinate_mismatches"] == 0 and not structure
+    short = [dict(diagram=lbl, sites=[x, y], length=length)
+             for lbl, f in zip((la, lb), forms) for x, y, length in f.short]
+    return Comparison(
+        equal=ok, verdict=stage if ok else "differs", counts=diff.counts, differences=diff.differences,
+        max_vertex_error=diff.max_vertex_error, sites_reordered=reordered,
+        zero_length_edges={la: forms[0].n_exact, lb: forms[1].n_exact},
+        short_edge_counts={la: forms[0].n_short, lb: forms[1].n_short} if stage != "exact" else {},
+        short_edges=short, structure_errors=structure,
+        highlight_a=diff.highlight_a, highlight_b=diff.highlight_b, **base)

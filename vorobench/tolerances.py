@@ -1,0 +1,72 @@
+"""Every floating-point tolerance of the project, named in one place.
+
+Combinatorial decisions (orientation, cocircularity) are exact and need no tolerance; the
+numbers here only judge float coordinates (Voronoi vertices are rounded circumcentres).
+Lengths are judged relative to a *local scale*: the larger of the sites' bounding-box size
+and the radius of the vertex's empty circle (far-away vertices of nearly collinear sites
+carry proportionally larger rounding errors), plus a few ulps of the coordinates' magnitude
+(sites around 1e9 with unit spacing cannot be resolved better than ulp(1e9) ~ 1.2e-7).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "SHORT_EDGE_REL_TOL",
+    "VERTEX_MATCH_REL_TOL",
+    "EQUIDISTANCE_REL_TOL",
+    "PROBE_REL_TOL",
+    "NEAR_DEGENERATE_REL_TOL",
+    "ROUNDOFF_ULPS",
+    "data_scale",
+    "length_tolerance",
+    "allowed_error",
+]
+
+#: compare(): edges shorter than this fraction of the data scale are contracted for the
+#: ``within_tolerance`` verdict (Qhull merges nearly cocircular sites, exact code keeps them).
+SHORT_EDGE_REL_TOL = 1e-10
+
+#: compare(): matched vertices may differ by this fraction of their local scale.
+VERTEX_MATCH_REL_TOL = 1e-7
+
+#: certify(): a vertex's distances to its own sites may differ, and another site may be
+#: closer than them, by this fraction of the local scale.
+EQUIDISTANCE_REL_TOL = 1e-8
+
+#: certify(): a probe point may lie outside its nearest site's cell by this fraction of the
+#: local scale (probes on a cell boundary belong to both cells).
+PROBE_REL_TOL = 1e-9
+
+#: certify() of a floating-point library (Qhull): an orientation or convex-hull decision that
+#: is wrong only for sites within this fraction of the data scale of being collinear is a
+#: near-degenerate error, tolerated in the ``within_tolerance`` verdict (never for exact code).
+NEAR_DEGENERATE_REL_TOL = 1e-9
+
+#: Absolute slack, in units of float64 epsilon times the coordinates' magnitude.
+ROUNDOFF_ULPS = 64.0
+
+_EPS = float(np.finfo(np.float64).eps)
+
+
+def data_scale(sites: NDArray[np.float64]) -> float:
+    """Size of the sites' bounding box (its longer side); 1.0 when it is empty or a point."""
+    if sites.shape[0] < 2:
+        return 1.0
+    span = float(np.max(sites.max(axis=0) - sites.min(axis=0)))
+    return span if span > 0 else 1.0
+
+
+def length_tolerance(rel_tol: float, local_scale: ArrayLike, magnitude: ArrayLike) -> NDArray[np.float64]:
+    """Allowed length error: ``rel_tol * local_scale`` plus ROUNDOFF_ULPS ulps of ``magnitude``."""
+    return rel_tol * np.asarray(local_scale, dtype=np.float64) + \
+        ROUNDOFF_ULPS * _EPS * np.asarray(magnitude, dtype=np.float64)
+
+
+@njit(cache=True)
+def allowed_error(rel_tol: float, local_scale: float, magnitude: float) -> float:
+    """Scalar, numba-callable :func:`length_tolerance`, for kernels."""
+    return rel_tol * local_scale + ROUNDOFF_ULPS * _EPS * magnitude
