@@ -11,7 +11,11 @@ both its end vertices are cocircular, decided with the exact ``incircle`` predic
 sites (never from the rounded vertex coordinates), so both forms compare equal ("exact").
 Floating-point libraries (Qhull) also merge *nearly* cocircular sites, so if the exact
 comparison fails, edges shorter than ``rel_tol`` times the data scale are contracted in both
-diagrams as well and the comparison is repeated ("within_tolerance").
+diagrams as well, and so are edges whose end vertices are equidistant from the sites of both
+to within ``rel_tol`` of the radius (nearly cocircular sites: what Qhull merges, even when
+the sites are nearly collinear and the exact vertices lie far apart), and the comparison
+is repeated ("within_tolerance"). A vertex merged under tolerance may then lie anywhere
+within its members' spread when coordinates are matched.
 
 Everything is sorting and array indexing; n = 10^6 takes seconds.
 """
@@ -29,7 +33,8 @@ from vorobench.diagram import Diagram
 from vorobench.incidence import vertex_site_lists
 from vorobench.predicates import incircle, orient2d
 from vorobench.sorting import argsort_keys, dense_rank, is_member, sorted_unique
-from vorobench.tolerances import SHORT_EDGE_REL_TOL, VERTEX_MATCH_REL_TOL, data_scale, length_tolerance
+from vorobench.tolerances import (SHORT_EDGE_REL_TOL, VERTEX_MATCH_REL_TOL, allowed_error, circumcentre_tolerance,
+                                  data_scale)
 
 __all__ = ["compare", "Comparison", "Difference", "VERDICTS", "DIFFERENCE_KINDS"]
 
@@ -83,6 +88,8 @@ class Comparison:
     rel_tol: float = SHORT_EDGE_REL_TOL
     coord_tol: float = VERTEX_MATCH_REL_TOL
     max_vertex_error: float = 0.0
+    #: Largest vertex error as a multiple of its allowed error (<= 1: within tolerance).
+    max_vertex_error_ratio: float = 0.0
     sites_reordered: bool = False
     zero_length_edges: dict[str, int] = field(default_factory=dict)
     short_edge_counts: dict[str, int] = field(default_factory=dict)
@@ -119,12 +126,13 @@ class Comparison:
             lines.append("  zero-length edges contracted exactly (cocircular sites): "
                          + ", ".join(f"{k}: {v}" for k, v in zl.items()))
         if self.short_edge_counts and any(self.short_edge_counts.values()):
-            lines.append(f"  edges shorter than {self.rel_tol:g} x scale ({self.scale:.3g}) contracted: "
+            lines.append(f"  contracted under tolerance (shorter than {self.rel_tol:g} x scale {self.scale:.3g}, "
+                         f"or between nearly cocircular vertices): "
                          + ", ".join(f"{k}: {v}" for k, v in self.short_edge_counts.items()))
             for s in self.short_edges[:_MAX_SHORT_LISTED]:
                 lines.append(f"    {s['diagram']}: edge between sites {s['sites']}, length {s['length']:.3g}")
-        lines.append(f"  max vertex error {self.max_vertex_error:.3g} (relative to the local scale; "
-                     f"tolerance {self.coord_tol:g})")
+        lines.append(f"  max vertex error {self.max_vertex_error:.3g} of the local scale, "
+                     f"{self.max_vertex_error_ratio:.3g} x the allowed error (tolerance {self.coord_tol:g})")
         for kind, count in self.counts.items():
             if count:
                 lines.append(f"  {count} {DIFFERENCE_KINDS[kind].format(a=a, b=b)}")
@@ -203,6 +211,7 @@ class _Form:
     m_ptr: NDArray[np.int64]          # (M+1,) CSR of merged vertices' sorted site lists
     m_sites: NDArray[np.int64]
     m_xy: NDArray[np.float64]         # (M, 2) mean coordinates of the merged vertices
+    m_extent: NDArray[np.float64]     # (M,) largest distance of a member from that mean
     h: NDArray[np.int64]              # kept half-edges (original ids)
     cell: NDArray[np.int64]
     nb: NDArray[np.int64]
@@ -284,9 +293,30 @@ def _successor(nxt: NDArray[np.int64], kept: NDArray[np.bool_]) -> NDArray[np.in
     return np.where(kept[succ], succ, -1)
 
 
-def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, short_length: Optional[float]) -> _Form:
-    """Canonical form of ``d``: contract exactly-zero edges (and, with ``short_length``,
-    edges shorter than it), merge their vertices, list kept half-edges with merged ends."""
+@njit(cache=True)
+def _nearly_cocircular_kernel(xy, sites, ptr, s, u, v, rel_tol, out):
+    """out[k]: vertex u[k] or v[k] is equidistant, within ``rel_tol`` of the radius (plus
+    roundoff), from every site of both: the two vertices are one vertex of nearly cocircular
+    sites, as a floating-point library may merge them."""
+    for k in range(u.size):
+        for w in (u[k], v[k]):
+            px, py = xy[w, 0], xy[w, 1]
+            lo, hi = np.inf, 0.0
+            mag = max(abs(px), abs(py))
+            for z in (u[k], v[k]):
+                for j in range(ptr[z], ptr[z + 1]):
+                    x = s[j]
+                    d = np.hypot(px - sites[x, 0], py - sites[x, 1])
+                    lo, hi = min(lo, d), max(hi, d)
+                    mag = max(mag, abs(sites[x, 0]), abs(sites[x, 1]))
+            if hi - lo <= allowed_error(rel_tol, hi, mag):
+                out[k] = True
+
+
+def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optional[float], scale: float) -> _Form:
+    """Canonical form of ``d``: contract exactly-zero edges (and, with ``rel_tol``, edges
+    shorter than ``rel_tol * scale`` or between vertices of nearly cocircular sites), merge
+    their vertices, list the kept half-edges with their merged ends."""
     sites = np.asarray(d.sites, np.float64)
     site = site_map[np.asarray(d.site, np.int64)]
     common_sites = np.empty_like(sites)
@@ -307,10 +337,12 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, short_length: Op
     contract = exact.copy()
     short: list[tuple[int, int, float]] = []
     n_short = 0
-    if short_length is not None and e.size:
+    if rel_tol is not None and e.size:
         xy = np.asarray(d.vertices, np.float64)
         length = np.hypot(*(xy[u] - xy[v]).T)
-        is_short = (length < short_length) & ~exact
+        is_short = length < rel_tol * scale
+        _nearly_cocircular_kernel(xy, common_sites, ptr, s, u, v, rel_tol, is_short)
+        is_short &= ~exact
         n_short = int(is_short.sum())
         for k in np.flatnonzero(is_short)[:_MAX_SHORT_LISTED]:
             short.append((int(min(a[k], b[k])), int(max(a[k], b[k])), float(length[k])))
@@ -327,6 +359,9 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, short_length: Op
     if M:
         for k in range(2):
             m_xy[:, k] = np.bincount(labels[used], weights=xy[used, k], minlength=M) / np.maximum(weight, 1)
+    m_extent = np.zeros(M)
+    if M:
+        np.maximum.at(m_extent, labels[used], np.hypot(*(xy[used] - m_xy[labels[used]]).T))
     # Kept half-edges with merged ends and the neighbour that follows along the cell.
     removed = np.zeros(H, dtype=bool)
     removed[e[contract]] = True
@@ -339,7 +374,7 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, short_length: Op
     succ_nb = np.where(succ_h >= 0, nb_all[np.maximum(succ_h, 0)], -1) if h.size else np.zeros(0, np.int64)
     start = np.where(origin[h] >= 0, labels[np.maximum(origin[h], 0)] if V else -1, -1)
     end = np.where(dest[h] >= 0, labels[np.maximum(dest[h], 0)] if V else -1, -1)
-    return _Form(m_ptr, m_sites, m_xy, h, site[h], nb_all[h], start.astype(np.int64), end.astype(np.int64),
+    return _Form(m_ptr, m_sites, m_xy, m_extent, h, site[h], nb_all[h], start.astype(np.int64), end.astype(np.int64),
                  succ_nb.astype(np.int64), int(exact.sum()), short, n_short)
 
 
@@ -390,6 +425,7 @@ class _Diff:
     highlight_a: NDArray[np.int64]
     highlight_b: NDArray[np.int64]
     max_vertex_error: float
+    max_vertex_error_ratio: float
 
     @property
     def combinatorial(self) -> int:
@@ -446,21 +482,30 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
     # Coordinates of matched vertices.
     ma = live_a[where_b[fa.m_cv[live_a]] >= 0]
     mb = where_b[fa.m_cv[ma]]
-    max_err = 0.0
+    max_err = max_ratio = 0.0
     if ma.size:
         pa, pb = fa.m_xy[ma], fb.m_xy[mb]
         err = np.hypot(*(pa - pb).T)
-        radius = np.hypot(*(pa - sites[fa.m_sites[fa.m_ptr[ma]]]).T)
+        first = fa.m_ptr[ma]
+        last = fa.m_ptr[ma + 1] - 1
+        s0, s1, s2 = (sites[fa.m_sites[np.minimum(first + k, last)]] for k in range(3))
+        radius = np.hypot(*(pa - s0).T)
+        shortest = np.minimum(np.minimum(np.hypot(*(s0 - s1).T), np.hypot(*(s1 - s2).T)), np.hypot(*(s0 - s2).T))
+        shortest = np.where(shortest > 0, shortest, scale)
         local = np.maximum(scale, radius)
         magnitude = np.maximum(np.abs(pa).max(1), np.abs(pb).max(1))
+        # A vertex merged under tolerance may lie anywhere within its members' spread.
+        allowed = circumcentre_tolerance(coord_tol, local, radius, shortest, magnitude) \
+            + fa.m_extent[ma] + fb.m_extent[mb]
         rel = err / local
         max_err = float(rel.max())
-        bad = np.flatnonzero(err > length_tolerance(coord_tol, local, magnitude))
+        max_ratio = float((err / allowed).max())
+        bad = np.flatnonzero(err > allowed)
         counts["coordinate_mismatches"] = int(bad.size)
         for k in bad[:_MAX_LISTED]:
             diffs.append(Difference("coordinate_mismatches", _site_tuple(fa, int(ma[k])),
                                     f"vertex at {tuple(pa[k].tolist())} in {la}, {tuple(pb[k].tolist())} in {lb} "
-                                    f"(error {rel[k]:.3g} of the local scale)",
+                                    f"(error {rel[k]:.3g} of the local scale, {err[k] / allowed[k]:.3g} x allowed)",
                                     [tuple(pa[k].tolist()), tuple(pb[k].tolist())]))
     # Half-edges by (cell, neighbour); each carries its ends and the next neighbour.
     cv_start_a = np.where(fa.start >= 0, fa.m_cv[np.maximum(fa.start, 0)] if fa.m_cv.size else -1, -1)
@@ -525,7 +570,8 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
                                 [tuple(sites[c].tolist())]))
     hl_a.append(fa.h[ia[succ_differs]])
     hl_b.append(fb.h[ib[succ_differs]])
-    return _Diff(counts, diffs, sorted_unique(np.concatenate(hl_a)), sorted_unique(np.concatenate(hl_b)), max_err)
+    return _Diff(counts, diffs, sorted_unique(np.concatenate(hl_a)), sorted_unique(np.concatenate(hl_b)),
+                 max_err, max_ratio)
 
 
 def _first_of_runs(sorted_keys: NDArray[np.int64]) -> NDArray[np.int64]:
@@ -574,8 +620,8 @@ def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coor
     identity = np.arange(n, dtype=np.int64)
     sites = np.asarray(a.sites, np.float64)
     result = None
-    for stage, short_length in (("exact", None), ("within_tolerance", rel_tol * scale)):
-        forms = [_canonical(a, identity, n, short_length), _canonical(b, site_map, n, short_length)]
+    for stage, tol in (("exact", None), ("within_tolerance", rel_tol)):
+        forms = [_canonical(a, identity, n, tol, scale), _canonical(b, site_map, n, tol, scale)]
         _joint_vertex_ids(forms, n)
         diff = _differences(forms[0], forms[1], sites, n, scale, coord_tol, (la, lb))
         result = (stage, forms, diff)
@@ -588,7 +634,8 @@ def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coor
              for lbl, f in zip((la, lb), forms) for x, y, length in f.short]
     return Comparison(
         equal=ok, verdict=stage if ok else "differs", counts=diff.counts, differences=diff.differences,
-        max_vertex_error=diff.max_vertex_error, sites_reordered=reordered,
+        max_vertex_error=diff.max_vertex_error, max_vertex_error_ratio=diff.max_vertex_error_ratio,
+        sites_reordered=reordered,
         zero_length_edges={la: forms[0].n_exact, lb: forms[1].n_exact},
         short_edge_counts={la: forms[0].n_short, lb: forms[1].n_short} if stage != "exact" else {},
         short_edges=short, structure_errors=structure,

@@ -24,6 +24,7 @@ __all__ = [
     "data_scale",
     "length_tolerance",
     "allowed_error",
+    "circumcentre_tolerance",
 ]
 
 #: compare(): edges shorter than this fraction of the data scale are contracted for the
@@ -70,3 +71,17 @@ def length_tolerance(rel_tol: float, local_scale: ArrayLike, magnitude: ArrayLik
 def allowed_error(rel_tol: float, local_scale: float, magnitude: float) -> float:
     """Scalar, numba-callable :func:`length_tolerance`, for kernels."""
     return rel_tol * local_scale + ROUNDOFF_ULPS * _EPS * magnitude
+
+
+def circumcentre_tolerance(rel_tol: float, local_scale: ArrayLike, radius: ArrayLike, shortest: ArrayLike,
+                           magnitude: ArrayLike) -> NDArray[np.float64]:
+    """Allowed error of a Voronoi vertex computed in floating point.
+
+    The circumcentre of sites at distance ``shortest`` on a circle of ``radius`` R divides by
+    a cross product that loses about eps R / shortest of relative accuracy, so the centre is
+    off by up to ~eps R^2 / shortest: nearly collinear sites give vertices far away whose
+    coordinates no float computation pins down. That term is added to ``length_tolerance``.
+    """
+    radius = np.asarray(radius, dtype=np.float64)
+    conditioning = radius * radius / np.maximum(np.asarray(shortest, dtype=np.float64), 1e-300)
+    return length_tolerance(rel_tol, local_scale, np.asarray(magnitude, dtype=np.float64) + conditioning)

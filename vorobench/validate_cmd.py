@@ -1,0 +1,185 @@
+"""Cross-validate implementations against a reference on every dataset; shrink failures to witnesses.
+
+Every case is built by each implementation (an exception is recorded as a crash), each diagram
+is certified, and each is compared with the reference, which is certified too. Prints a matrix
+implementation x dataset, writes ``summary.json`` and, for every failure, a small witness
+(``.npy``, the command that reproduces it, a PNG) under ``--out``. Exit status 1 if anything
+is wrong.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from vorobench.certify import DEFAULT_PROBES
+from vorobench.crossval import DEFAULT_REFERENCE, PASSING, VERDICTS, CaseVerdict, build_and_certify, check_case
+
+__all__ = ["add_arguments", "run"]
+
+_STYLE = {"exact": "green", "within_tolerance": "green", "certified": "green", "unsupported": "dim",
+          "differs": "bold red", "not_certified": "bold red", "crashed": "bold red"}
+_SHORT = {"within_tolerance": "within tol", "not_certified": "NOT CERTIFIED", "differs": "DIFFERS",
+          "crashed": "CRASHED"}
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--impls", default="all", help="comma-separated implementations (default: all available)")
+    p.add_argument("--datasets", default="all", help="comma-separated datasets, or 'all' (default)")
+    p.add_argument("--sizes", default="10,100,1000", help="comma-separated sizes (default 10,100,1000)")
+    p.add_argument("--seeds", default="0", help="comma-separated dataset seeds (default 0)")
+    p.add_argument("--reference", default=DEFAULT_REFERENCE, help=f"reference implementation (default {DEFAULT_REFERENCE})")
+    p.add_argument("--points", help="validate the points of this file (.npy/.csv/.txt) instead of datasets")
+    p.add_argument("--out", default="reports/validate", help="directory for summary.json and witnesses "
+                                                             "(default reports/validate)")
+    p.add_argument("--probes", type=int, default=DEFAULT_PROBES, help=f"random probes per certificate "
+                                                                      f"(default {DEFAULT_PROBES})")
+    p.add_argument("--no-shrink", action="store_true", help="save failing point sets as they are, unshrunk")
+    p.add_argument("--shrink-seconds", type=float, default=120.0, help="time budget per witness (default 120)")
+
+
+def _cases(args: argparse.Namespace) -> list[dict[str, Any]]:
+    """(label, dataset, n, seed, points) of every case."""
+    import datasets_gen
+
+    from vorobench.cli import parse_list, parse_sizes
+
+    if args.points:
+        pts = datasets_gen.load(args.points)
+        return [dict(dataset=Path(args.points).name, n=int(pts.shape[0]), seed=None, points=pts)]
+    names = parse_list(args.datasets)
+    if not names or names == ["all"]:
+        names = datasets_gen.available()
+    unknown = [d for d in names if d not in datasets_gen.available() and not d.startswith(datasets_gen.FILE_PREFIX)]
+    if unknown:
+        raise ValueError(f"unknown dataset(s) {', '.join(unknown)}; see `vorobench datasets`")
+    sizes = parse_sizes(args.sizes)
+    seeds = [int(s) for s in parse_list(args.seeds)]
+    return [dict(dataset=d, n=n, seed=s, points=None) for d in names for n in sizes for s in seeds]
+
+
+def _impl_names(args: argparse.Namespace) -> list[str]:
+    import impls
+
+    from vorobench.cli import parse_list
+
+    names = parse_list(args.impls)
+    if not names or names == ["all"]:
+        names = impls.available()
+    for name in names + [args.reference]:
+        impls.get(name)  # KeyError naming the available ones
+    # The reference is certified too: it always has a row, first.
+    return [args.reference] + [n for n in names if n != args.reference]
+
+
+def _worst(verdicts: list[str]) -> str:
+    return max(verdicts, key=VERDICTS.index)
+
+
+def run(args: argparse.Namespace) -> int:
+    import datasets_gen
+    import impls
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+    from rich.table import Table
+
+    from vorobench.prepare import prepare
+    from vorobench.shrink import shrink_case, write_witness
+
+    console = Console()
+    names = _impl_names(args)
+    cases = _cases(args)
+    reference = args.reference
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    records: list[dict[str, Any]] = []
+    failures: list[tuple[dict[str, Any], CaseVerdict, np.ndarray]] = []
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                  console=console, transient=True) as progress:
+        task = progress.add_task("validating", total=len(cases) * len(names))
+        for case in cases:
+            points = case["points"] if case["points"] is not None else \
+                datasets_gen.generate(case["dataset"], case["n"], seed=case["seed"])
+            sites, _ = prepare(points)
+            label = f"{case['dataset']} n={case['n']}" + (f" seed={case['seed']}" if case["seed"] is not None else "")
+            ref_res = build_and_certify(reference, sites, probes=args.probes)
+            for name in names:
+                progress.update(task, description=f"{name:>12} on {label}")
+                verdict = check_case(name, sites, reference=reference, reference_result=ref_res, probes=args.probes)
+                records.append(dict(dataset=case["dataset"], n=case["n"], seed=case["seed"], **verdict.to_dict()))
+                if not verdict.passed:
+                    failures.append((dict(case, impl=name, label=label), verdict, sites))
+                progress.advance(task)
+    # Witnesses.
+    witnesses = []
+    for case, verdict, sites in failures:
+        name = case["impl"]
+        stem = f"{name}-{case['dataset']}-n{case['n']}" + (f"-s{case['seed']}" if case["seed"] is not None else "")
+        stem = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in stem)
+        with console.status(f"shrinking {name} on {case['label']} ({sites.shape[0]} points)"):
+            small = sites if args.no_shrink else shrink_case(name, sites, verdict, reference=reference,
+                                                            probes=min(args.probes, 2000),
+                                                            time_budget=args.shrink_seconds)
+            w = write_witness(out / "witnesses", stem, name, small, reference=reference, probes=min(args.probes, 2000))
+        witnesses.append(dict(impl=name, dataset=case["dataset"], n=case["n"], seed=case["seed"],
+                              verdict=verdict.verdict, points=str(w.points), command=str(w.command),
+                              picture=str(w.picture) if w.picture else None, n_points=w.n_points,
+                              shrunk_verdict=w.verdict.verdict))
+    # The matrix: implementation x dataset, worst verdict over sizes and seeds.
+    datasets = list(dict.fromkeys(r["dataset"] for r in records))
+    table = Table(title=f"cross-validation against {reference} ({len(cases)} cases)")
+    table.add_column("implementation")
+    for d in datasets:
+        table.add_column(d, overflow="fold")
+    for name in names:
+        row = [name + (" (ref)" if name == reference else "")]
+        for d in datasets:
+            vs = [r for r in records if r["impl"] == name and r["dataset"] == d]
+            worst = _worst([r["verdict"] for r in vs])
+            bad = sum(not r["passed"] for r in vs)
+            text = _SHORT.get(worst, worst)
+            if bad:
+                text += f" {bad}/{len(vs)}"
+            elif any(r["blame"] == "reference" for r in vs):
+                text += " (ref wrong)"
+            row.append(f"[{_STYLE.get(worst, '')}]{text}[/]" if not (worst == "differs" and not bad) else
+                       f"[yellow]{text}[/]")
+        table.add_row(*row)
+    console.print(table)
+    notes = []
+    float_impls = [n for n in names if not impls.get(n).exact]
+    if float_impls:
+        notes.append(f"{', '.join(float_impls)} {'is' if len(float_impls) == 1 else 'are'} floating point: "
+                     f"'within tolerance' against {'it' if len(float_impls) == 1 else 'them'} is a pass, and "
+                     f"{'its' if len(float_impls) == 1 else 'their'} certificates are judged within tolerance; "
+                     f"exact implementations must agree with each other exactly.")
+    blamed = [r for r in records if r["blame"] == "reference"]
+    if blamed:
+        notes.append(f"{len(blamed)} difference(s) were the reference's failure (see the {reference} row).")
+    for note in notes:
+        console.print(f"[dim]note:[/] {note}")
+    for case, verdict, _ in failures:
+        console.print(f"[red]FAIL[/] {case['impl']} on {case['label']}: {verdict.verdict}: {verdict.message[:400]}")
+    for w in witnesses:
+        console.print(f"  witness: {w['n_points']} points -> {w['points']}  (picture: {w['picture']}; "
+                      f"command in {w['command']})")
+    summary = dict(reference=reference, impls=names, datasets=datasets, cases=len(cases),
+                   passed=not failures, failures=len(failures), notes=notes, witnesses=witnesses, results=records)
+    path = out / "summary.json"
+    path.write_text(json.dumps(summary, indent=1, default=_json_default))
+    ok = not failures
+    console.print(f"{'[green]all passed[/]' if ok else f'[red]{len(failures)} failure(s)[/]'}: "
+                  f"{len(records)} results written to {path}")
+    return 0 if ok else 1
+
+
+def _json_default(x: Any) -> Any:
+    if isinstance(x, np.generic):
+        return x.item()
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    return str(x)
