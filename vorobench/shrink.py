@@ -116,6 +116,11 @@ def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[n
     own_d = verdict.result.diagram if verdict.result is not None else None
     if own_d is ref_d:
         ref_d = None
+    if own_d is None and ref_d is None:            # crashed: draw the points at least
+        from vorobench.diagram import Diagram
+        from vorobench.prepare import prepare
+
+        own_d = Diagram.empty(prepare(points)[0])
     comp = verdict.comparison
     hl_ref = comp.highlight_a if comp is not None else _offending_half_edges(verdict.reference_result)
     hl_own = comp.highlight_b if comp is not None else _offending_half_edges(verdict.result)

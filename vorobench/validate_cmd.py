@@ -129,25 +129,28 @@ def run(args: argparse.Namespace) -> int:
                               verdict=verdict.verdict, points=str(w.points), command=str(w.command),
                               picture=str(w.picture) if w.picture else None, n_points=w.n_points,
                               shrunk_verdict=w.verdict.verdict))
-    # The matrix: implementation x dataset, worst verdict over sizes and seeds.
+    # The matrix: implementation x dataset (datasets as rows so that many fit on a terminal),
+    # worst verdict over sizes and seeds.
     datasets = list(dict.fromkeys(r["dataset"] for r in records))
     table = Table(title=f"cross-validation against {reference} ({len(cases)} cases)")
-    table.add_column("implementation")
-    for d in datasets:
-        table.add_column(d, overflow="fold")
+    table.add_column("dataset")
     for name in names:
-        row = [name + (" (ref)" if name == reference else "")]
-        for d in datasets:
+        table.add_column(name + (" (ref)" if name == reference else ""))
+    for d in datasets:
+        row = [d]
+        for name in names:
             vs = [r for r in records if r["impl"] == name and r["dataset"] == d]
             worst = _worst([r["verdict"] for r in vs])
             bad = sum(not r["passed"] for r in vs)
             text = _SHORT.get(worst, worst)
             if bad:
                 text += f" {bad}/{len(vs)}"
+                style = _STYLE.get(worst, "")
             elif any(r["blame"] == "reference" for r in vs):
-                text += " (ref wrong)"
-            row.append(f"[{_STYLE.get(worst, '')}]{text}[/]" if not (worst == "differs" and not bad) else
-                       f"[yellow]{text}[/]")
+                text, style = "ref wrong", "yellow"
+            else:
+                style = _STYLE.get(worst, "")
+            row.append(f"[{style}]{text}[/]" if style else text)
         table.add_row(*row)
     console.print(table)
     notes = []
