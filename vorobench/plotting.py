@@ -10,7 +10,7 @@ from numpy.typing import NDArray
 
 from vorobench.diagram import Diagram
 
-__all__ = ["edge_segments", "draw_diagram", "save_plot"]
+__all__ = ["edge_segments", "draw_diagram", "save_plot", "save_overlay"]
 
 
 def edge_segments(d: Diagram, box: tuple[float, float, float, float]) -> NDArray[np.float64]:
@@ -81,5 +81,49 @@ def save_plot(d: Diagram, path: str | Path, title: str = "") -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    return path
+
+
+def save_overlay(first: Optional[Diagram], second: Optional[Diagram], path: str | Path, *,
+                 labels: tuple[str, str] = ("a", "b"), highlight_first: Optional[Sequence[int]] = None,
+                 highlight_second: Optional[Sequence[int]] = None, mark_sites: Optional[Sequence[int]] = None,
+                 title: str = "") -> Path:
+    """Draw two diagrams of the same sites on one axes (``first`` solid blue, ``second``
+    dashed orange), their differing half-edges in red and ``mark_sites`` circled; write ``path``.
+    Either diagram may be None (e.g. the implementation crashed)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    drawn = [d for d in (first, second) if d is not None]
+    if not drawn:
+        raise ValueError("save_overlay needs at least one diagram")
+    boxes = np.array([d.bounding_box() for d in drawn])
+    # Far-away vertices (nearly collinear sites) would shrink the sites to a dot: frame the sites.
+    site_box = drawn[0].bounding_box(margin=0.25) if drawn[0].n_sites else boxes[0]
+    box = (max(boxes[:, 0].min(), site_box[0]), max(boxes[:, 1].min(), site_box[1]),
+           min(boxes[:, 2].max(), site_box[2]), min(boxes[:, 3].max(), site_box[3]))
+    fig, ax = plt.subplots(figsize=(8, 8))
+    if first is not None:
+        draw_diagram(first, ax=ax, box=box, highlight=highlight_first, edge_color="tab:blue", label=labels[0])
+    if second is not None:
+        before = len(ax.collections)
+        draw_diagram(second, ax=ax, box=box, highlight=highlight_second, edge_color="tab:orange", label=labels[1])
+        if len(ax.collections) > before:
+            ax.collections[before].set_linestyle("--")     # the second diagram's edges
+    sites = drawn[0].sites
+    if mark_sites is not None and len(mark_sites):
+        idx = np.asarray(mark_sites, dtype=np.int64)
+        ax.plot(sites[idx, 0], sites[idx, 1], "o", ms=10, mfc="none", mec="red", label="offending sites")
+    if sites.shape[0] <= 60:
+        for i, (x, y) in enumerate(sites):
+            ax.annotate(str(i), (x, y), textcoords="offset points", xytext=(3, 3), fontsize=7)
+    ax.set_title(title)
+    ax.legend(loc="upper right", fontsize="small", framealpha=0.8)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110, bbox_inches="tight")
     plt.close(fig)
     return path
