@@ -88,15 +88,19 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
         if stats is not None:
             stats.update({k: 0 for k in _STATS_KEPT}, site_events=n)
         return Diagram.empty(sites)
-    order = np.lexsort((sites[:, 0], sites[:, 1])).astype(np.int32)
+    # The sweep runs on the sites in event order (y, then x): site i is the i-th event, which
+    # keeps its memory accesses local; site ids are mapped back after the DCEL is built.
+    order = np.lexsort((sites[:, 0], sites[:, 1]))
+    swept = np.ascontiguousarray(sites[order])
     counters = np.zeros(N_COUNTERS, dtype=np.int64)
-    status, edge_sites, edge_vertices, vertices = sweep(sites, order, counters)
+    status, edge_sites, edge_vertices, vertices = sweep(swept, counters)
     if status != OK:
         raise RuntimeError(f"fortune: {_ERRORS.get(status, 'unknown error')} (n = {n}); this is a bug")
     if stats is not None:
         named = dict(zip(COUNTER_NAMES, counters.tolist()))
         stats.update({k: int(named[k]) for k in _STATS_KEPT})
-    return assemble(sites, vertices, edge_sites, edge_vertices)
+    d = assemble(swept, vertices, edge_sites, edge_vertices)
+    return Diagram(sites, d.vertices, d.origin, d.twin, d.next, order[d.site])
 
 
 def warmup() -> None:

@@ -36,10 +36,9 @@ def new_arcs(capacity):
     return np.full((max(capacity, 1), ARC_FIELDS), -1, dtype=np.int32)
 
 
-@njit(cache=True)
-def add_arc(arcs, count, site, prio):
-    """Fill row ``count`` as a detached arc of ``site``; returns its id (= count)."""
-    x = count
+@njit(cache=True, inline='always')
+def add_arc(arcs, x, site, prio):
+    """Fill row x as a detached arc of ``site`` with treap priority ``prio``; returns x."""
     for f in range(ARC_FIELDS):
         arcs[x, f] = -1
     arcs[x, SITE] = site
@@ -47,7 +46,7 @@ def add_arc(arcs, count, site, prio):
     return x
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def _rotate_up(arcs, root, y):
     # Rotate y above its parent p, keeping the in-order (left-to-right) sequence; returns the root.
     p = arcs[y, PARENT]
@@ -73,7 +72,7 @@ def _rotate_up(arcs, root, y):
     return root
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def insert_after(arcs, root, x, y):
     """Insert detached arc y immediately right of arc x (x = -1: y becomes the whole, empty,
     beach line). Returns the new root."""
@@ -100,7 +99,7 @@ def insert_after(arcs, root, x, y):
     return root
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def remove(arcs, root, x):
     """Remove arc x from the tree and the neighbour list; returns the new root."""
     while True:
@@ -134,22 +133,7 @@ def remove(arcs, root, x):
     return root
 
 
-@njit(cache=True)
-def _side(sites, p, q, sx, sy, counters):
-    # -1 / 0 / +1: the new site (sx, sy) is left of / below / right of the (p, q) breakpoint
-    counters[BP_CALLS] += 1
-    px = sites[p, 0]
-    py = sites[p, 1]
-    qx = sites[q, 0]
-    qy = sites[q, 1]
-    s = breakpoint_side_filter(px, py, qx, qy, sx, sy)
-    if s != UNDECIDED:
-        return s
-    counters[BP_EXACT] += 1
-    return breakpoint_side_exact(px, py, qx, qy, sx, sy)
-
-
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def locate(arcs, root, sites, sx, sy, counters):
     """The arc directly above the new site (sx, sy) at sweep position y = sy.
 
@@ -164,14 +148,31 @@ def locate(arcs, root, sites, sx, sy, counters):
         steps += 1
         if steps > limit:
             return -1
+        b = arcs[x, SITE]
+        bx = sites[b, 0]
+        by = sites[b, 1]
         p = arcs[x, PREV]
-        if p != -1 and _side(sites, arcs[p, SITE], arcs[x, SITE], sx, sy, counters) < 0:
-            x = arcs[x, LEFT]
-            continue
+        if p != -1:
+            a = arcs[p, SITE]
+            counters[BP_CALLS] += 1
+            side = breakpoint_side_filter(sites[a, 0], sites[a, 1], bx, by, sx, sy)
+            if side == UNDECIDED:
+                counters[BP_EXACT] += 1
+                side = breakpoint_side_exact(sites[a, 0], sites[a, 1], bx, by, sx, sy)
+            if side < 0:
+                x = arcs[x, LEFT]
+                continue
         q = arcs[x, NEXT]
-        if q != -1 and _side(sites, arcs[x, SITE], arcs[q, SITE], sx, sy, counters) >= 0:
-            x = arcs[x, RIGHT]
-            continue
+        if q != -1:
+            c = arcs[q, SITE]
+            counters[BP_CALLS] += 1
+            side = breakpoint_side_filter(bx, by, sites[c, 0], sites[c, 1], sx, sy)
+            if side == UNDECIDED:
+                counters[BP_EXACT] += 1
+                side = breakpoint_side_exact(bx, by, sites[c, 0], sites[c, 1], sx, sy)
+            if side >= 0:
+                x = arcs[x, RIGHT]
+                continue
         return x
     return -1
 

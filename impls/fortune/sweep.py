@@ -42,16 +42,23 @@ ERR_CAPACITY = 2
 ERR_ITERATIONS = 3
 
 
-@njit(cache=True)
-def _xorshift(state):
-    # 32-bit xorshift: deterministic treap priorities (machine-independent counts)
-    state ^= (state << np.uint32(13))
-    state ^= (state >> np.uint32(17))
-    state ^= (state << np.uint32(5))
-    return state
+_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
+_MIX1 = np.uint64(0xBF58476D1CE4E5B9)
+_MIX2 = np.uint64(0x94D049BB133111EB)
 
 
 @njit(cache=True)
+def _priority(k):
+    # splitmix64 of the arc's serial number k: deterministic pseudo-random treap priorities
+    # (so the counts in stats do not depend on the machine), 31 bits
+    z = np.uint64(k) * _GOLDEN
+    z = (z ^ (z >> np.uint64(30))) * _MIX1
+    z = (z ^ (z >> np.uint64(27))) * _MIX2
+    z = z ^ (z >> np.uint64(31))
+    return np.int32(z >> np.uint64(33))
+
+
+@njit(cache=True, inline='always')
 def _close(edge_sites, edge_vertices, e, left_site, v):
     # the breakpoint with left arc `left_site` that traced edge e stops at vertex v
     if edge_sites[e, 0] == left_site:
@@ -61,16 +68,19 @@ def _close(edge_sites, edge_vertices, e, left_site, v):
 
 
 @njit(cache=True)
-def sweep(sites, order, counters):
-    """Run the sweep over ``sites`` visited in ``order`` (sorted by y, then x).
+def sweep(sites, counters):
+    """Run the sweep over ``sites``, which must be sorted by y, then x (site i = i-th event).
 
     Returns (status, edge_sites, edge_vertices, vertices); status OK or an ERR_* code.
     ``counters`` (int64, N_COUNTERS) receives the operation counts.
     """
-    n = order.shape[0]
+    n = sites.shape[0]
     arc_cap = 2 * n + 2
     arcs = bl.new_arcs(arc_cap)
-    ev_i, ev_f, heap, free = eq.new_queue(arc_cap)
+    # removed arcs' rows are reused (a stack), so the live beach line stays in few rows
+    arc_free = np.empty(arc_cap, dtype=np.int32)
+    nafree = 0
+    ev_i, ev_f, heap, hkey, free = eq.new_queue(arc_cap)
     nfree = free.shape[0]
     edge_cap = 3 * n + 2
     edge_sites = np.empty((edge_cap, 2), dtype=np.int32)
@@ -82,23 +92,23 @@ def sweep(sites, order, counters):
     hsize = 0
     seq = 0
     beach = 0
-    rng = np.uint32(2463534242)
+    serial = 0
     root = -1
     status = OK
 
     # First sweep position: every site with the lowest y is an arc; consecutive ones are
     # separated by vertical bisectors coming up from infinity.
-    y0 = sites[order[0], 1]
+    y0 = sites[0, 1]
     k = 0
     last = -1
-    while k < n and sites[order[k], 1] == y0:
-        rng = _xorshift(rng)
-        x = bl.add_arc(arcs, na, order[k], np.int32(rng >> np.uint32(1)))
+    while k < n and sites[k, 1] == y0:
+        serial += 1
+        x = bl.add_arc(arcs, na, k, _priority(serial))
         na += 1
         root = bl.insert_after(arcs, root, last, x)
         if last != -1:
             edge_sites[ne, 0] = arcs[last, bl.SITE]
-            edge_sites[ne, 1] = order[k]
+            edge_sites[ne, 1] = k
             arcs[last, bl.EDGE] = ne
             ne += 1
         last = x
@@ -116,9 +126,9 @@ def sweep(sites, order, counters):
         if iterations > max_iterations:
             status = ERR_ITERATIONS
             break
-        if hsize > 0 and (i >= n or eq.before_site(sites, ev_i, ev_f, heap[0], sites[order[i], 1], counters)):
+        if hsize > 0 and (i >= n or eq.before_site(sites, ev_i, hkey[0, 0], hkey[0, 1], heap[0], sites[i, 1], counters)):
             # ---------------- circle event: arc b vanishes at the circumcentre of (a, b, c)
-            e, hsize = eq.pop(sites, ev_i, ev_f, heap, hsize, counters)
+            e, hsize = eq.pop(sites, ev_i, heap, hkey, hsize, counters)
             b = ev_i[e, eq.ARC]
             a = arcs[b, bl.PREV]
             c = arcs[b, bl.NEXT]
@@ -138,12 +148,14 @@ def sweep(sites, order, counters):
             arcs[a, bl.EDGE] = ne
             ne += 1
             root = bl.remove(arcs, root, b)
+            arc_free[nafree] = b
+            nafree += 1
             beach -= 1
             touched[0] = a
             touched[1] = c
         elif i < n:
             # ---------------- site event: split the arc above s into (q, s, q)
-            s = order[i]
+            s = i
             i += 1
             counters[SITE_EVENTS] += 1
             sx = sites[s, 0]
@@ -152,22 +164,30 @@ def sweep(sites, order, counters):
             if x < 0:
                 status = ERR_LOCATE
                 break
-            if na + 2 > arc_cap or ne + 1 > edge_cap:
+            if na + 2 > arc_cap or ne + 1 > edge_cap or nv + 1 > vertices.shape[0]:
                 status = ERR_CAPACITY
                 break
             g = arcs[x, bl.EVENT]
             if g != -1:
-                hsize = eq.discard(sites, ev_i, ev_f, heap, hsize, g, counters)
+                hsize = eq.discard(sites, ev_i, heap, hkey, hsize, g, counters)
                 nfree = eq.release(ev_i, free, nfree, g)
                 arcs[x, bl.EVENT] = -1
                 counters[FALSE_ALARMS] += 1
             q = arcs[x, bl.SITE]
-            rng = _xorshift(rng)
-            xs = bl.add_arc(arcs, na, s, np.int32(rng >> np.uint32(1)))
-            na += 1
-            rng = _xorshift(rng)
-            x2 = bl.add_arc(arcs, na, q, np.int32(rng >> np.uint32(1)))
-            na += 1
+            serial += 1
+            if nafree > 0:
+                nafree -= 1
+                xs = bl.add_arc(arcs, arc_free[nafree], s, _priority(serial))
+            else:
+                xs = bl.add_arc(arcs, na, s, _priority(serial))
+                na += 1
+            serial += 1
+            if nafree > 0:
+                nafree -= 1
+                x2 = bl.add_arc(arcs, arc_free[nafree], q, _priority(serial))
+            else:
+                x2 = bl.add_arc(arcs, na, q, _priority(serial))
+                na += 1
             root = bl.insert_after(arcs, root, x, xs)
             root = bl.insert_after(arcs, root, xs, x2)
             edge_sites[ne, 0] = q
@@ -188,7 +208,7 @@ def sweep(sites, order, counters):
             x = touched[t]
             g = arcs[x, bl.EVENT]
             if g != -1:
-                hsize = eq.discard(sites, ev_i, ev_f, heap, hsize, g, counters)
+                hsize = eq.discard(sites, ev_i, heap, hkey, hsize, g, counters)
                 nfree = eq.release(ev_i, free, nfree, g)
                 arcs[x, bl.EVENT] = -1
                 counters[FALSE_ALARMS] += 1
@@ -226,7 +246,7 @@ def sweep(sites, order, counters):
             ev_f[g, eq.VX] = vx
             ev_f[g, eq.VY] = vy
             arcs[x, bl.EVENT] = g
-            hsize = eq.push(sites, ev_i, ev_f, heap, hsize, g, counters)
+            hsize = eq.push(sites, ev_i, ev_f, heap, hkey, hsize, g, counters)
             counters[CIRCLE_EVENTS] += 1
         if status != OK:
             break
