@@ -30,7 +30,8 @@ from vorobench.compare import Comparison, compare
 from vorobench.diagram import Diagram
 from vorobench.prepare import prepare
 
-__all__ = ["CaseVerdict", "BuildResult", "build_and_certify", "check_case", "VERDICTS", "PASSING", "DEFAULT_REFERENCE"]
+__all__ = ["CaseVerdict", "BuildResult", "build_and_certify", "check_case", "agree_exactly", "VERDICTS", "PASSING",
+           "DEFAULT_REFERENCE"]
 
 DEFAULT_REFERENCE = "qhull"
 
@@ -240,3 +241,22 @@ def _decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) 
 def _failed_near(res: BuildResult) -> str:
     cert = res.certificate
     return ", ".join(f"{c.name}: {c.detail}" for c in cert.checks if not c.ok) if cert else ""
+
+
+def agree_exactly(first: BuildResult, second: BuildResult) -> CaseVerdict:
+    """Two exact implementations on the same sites must give the same diagram after exact
+    normalisation only (verdict ``exact``); anything else fails. Crashes and missing
+    diagrams are judged on their own rows, so they pass here."""
+    a, b = first.impl, second.impl
+    if first.diagram is None or second.diagram is None:
+        return CaseVerdict(b, a, "unsupported", True, second.certified, first.certified,
+                           f"no comparison of {a} and {b}: a diagram is missing", result=second, reference_result=first)
+    comp = compare(first.diagram, second.diagram, labels=(a, b))
+    if comp.equal and comp.verdict == "exact":
+        return CaseVerdict(b, a, "exact", True, second.certified, first.certified,
+                           f"exact implementations {a} and {b} agree exactly", result=second, reference_result=first,
+                           comparison=comp)
+    blame = "impl" if not second.certified else "reference" if not first.certified else "unknown"
+    return CaseVerdict(b, a, "differs", False, second.certified, first.certified,
+                       f"exact implementations {a} and {b} disagree ({comp.verdict}, {comp.n_differences} differences): "
+                       f"they must agree exactly", blame, result=second, reference_result=first, comparison=comp)

@@ -18,9 +18,9 @@ from typing import Callable, Optional
 import numpy as np
 from numpy.typing import NDArray
 
-from vorobench.crossval import CaseVerdict, check_case
+from vorobench.crossval import CaseVerdict, agree_exactly, build_and_certify, check_case
 
-__all__ = ["ddmin", "shrink_case", "write_witness", "Witness"]
+__all__ = ["ddmin", "judge", "shrink_case", "write_witness", "Witness"]
 
 
 def ddmin(n: int, fails: Callable[[NDArray[np.int64]], bool], *, max_tests: int = 2000,
@@ -63,14 +63,25 @@ def ddmin(n: int, fails: Callable[[NDArray[np.int64]], bool], *, max_tests: int 
     return items
 
 
+def judge(impl: str, points: NDArray[np.float64], *, reference: str, exact_peer: Optional[str] = None,
+          probes: int = 2000) -> CaseVerdict:
+    """``impl`` on ``points``: against ``reference`` (:func:`check_case`), or, with
+    ``exact_peer``, exact agreement with that other exact implementation."""
+    if exact_peer is None:
+        return check_case(impl, points, reference=reference, probes=probes)
+    return agree_exactly(build_and_certify(exact_peer, points, probes=probes),
+                         build_and_certify(impl, points, probes=probes))
+
+
 def shrink_case(impl: str, points: NDArray[np.float64], verdict: CaseVerdict, *, reference: str,
-                probes: int = 2000, max_tests: int = 2000, time_budget: float = 120.0) -> NDArray[np.float64]:
+                exact_peer: Optional[str] = None, probes: int = 2000, max_tests: int = 2000,
+                time_budget: float = 120.0) -> NDArray[np.float64]:
     """The smallest subset of ``points`` found by :func:`ddmin` on which ``impl`` fails the same
-    way (same verdict and blame) against ``reference``."""
+    way (same verdict and blame) against ``reference`` (or against ``exact_peer``)."""
     want = (verdict.verdict, verdict.blame)
 
     def fails(idx: NDArray[np.int64]) -> bool:
-        v = check_case(impl, points[idx], reference=reference, probes=probes)
+        v = judge(impl, points[idx], reference=reference, exact_peer=exact_peer, probes=probes)
         return (v.verdict, v.blame) == want and not v.passed
 
     keep = ddmin(points.shape[0], fails, max_tests=max_tests, time_budget=time_budget)
@@ -89,7 +100,7 @@ class Witness:
 
 
 def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[np.float64], *, reference: str,
-                  probes: int = 2000) -> Witness:
+                  exact_peer: Optional[str] = None, probes: int = 2000) -> Witness:
     """Save ``points`` as ``NAME.npy`` with ``NAME.txt`` (the command that reproduces the failure
     and what it reports) and ``NAME.png`` (both diagrams, differing edges in red)."""
     from vorobench.plotting import save_overlay
@@ -98,8 +109,9 @@ def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[n
     directory.mkdir(parents=True, exist_ok=True)
     npy = directory / f"{name}.npy"
     np.save(npy, np.asarray(points, dtype=np.float64))
-    verdict = check_case(impl, points, reference=reference, probes=probes)
-    command = (f"vorobench validate --impls {shlex.quote(impl)} --reference {shlex.quote(reference)} "
+    verdict = judge(impl, points, reference=reference, exact_peer=exact_peer, probes=probes)
+    names = impl if exact_peer is None else f"{exact_peer},{impl}"
+    command = (f"vorobench validate --impls {shlex.quote(names)} --reference {shlex.quote(reference)} "
                f"--points {shlex.quote(str(npy))}")
     lines = [command, "", f"{points.shape[0]} points; verdict {verdict.verdict}: {verdict.message}"]
     shown: list = []
@@ -126,9 +138,10 @@ def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[n
     hl_own = comp.highlight_b if comp is not None else _offending_half_edges(verdict.result)
     marks = _offending_sites(verdict.result) + _offending_sites(verdict.reference_result)
     try:
-        save_overlay(ref_d, own_d, picture, labels=(reference, impl), highlight_first=hl_ref,
+        other = exact_peer or reference
+        save_overlay(ref_d, own_d, picture, labels=(other, impl), highlight_first=hl_ref,
                      highlight_second=hl_own, mark_sites=marks,
-                     title=f"{impl} vs {reference}: {verdict.verdict} ({points.shape[0]} points)")
+                     title=f"{impl} vs {other}: {verdict.verdict} ({points.shape[0]} points)")
     except Exception:  # nothing to draw (both crashed) or a drawing failure: the witness stands without it
         picture = None
     return Witness(npy, txt, picture, int(points.shape[0]), verdict)

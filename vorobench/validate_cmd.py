@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from vorobench.certify import DEFAULT_PROBES
-from vorobench.crossval import DEFAULT_REFERENCE, PASSING, VERDICTS, CaseVerdict, build_and_certify, check_case
+from vorobench.crossval import DEFAULT_REFERENCE, VERDICTS, CaseVerdict, agree_exactly, build_and_certify, check_case
 
 __all__ = ["add_arguments", "run"]
 
@@ -107,12 +107,22 @@ def run(args: argparse.Namespace) -> int:
             sites, _ = prepare(points)
             label = f"{case['dataset']} n={case['n']}" + (f" seed={case['seed']}" if case["seed"] is not None else "")
             ref_res = build_and_certify(reference, sites, probes=args.probes)
+            anchor = None                       # the first exact implementation: the others must match it exactly
             for name in names:
                 progress.update(task, description=f"{name:>12} on {label}")
                 verdict = check_case(name, sites, reference=reference, reference_result=ref_res, probes=args.probes)
-                records.append(dict(dataset=case["dataset"], n=case["n"], seed=case["seed"], **verdict.to_dict()))
-                if not verdict.passed:
-                    failures.append((dict(case, impl=name, label=label), verdict, sites))
+                checks = [(verdict, None)]
+                res = verdict.result
+                if res is not None and res.exact and res.diagram is not None and name != reference:
+                    if anchor is None:
+                        anchor = res
+                    else:
+                        checks.append((agree_exactly(anchor, res), anchor.impl))
+                for v, peer in checks:
+                    records.append(dict(dataset=case["dataset"], n=case["n"], seed=case["seed"], exact_peer=peer,
+                                        **v.to_dict()))
+                    if not v.passed:
+                        failures.append((dict(case, impl=name, label=label, exact_peer=peer), v, sites))
                 progress.advance(task)
     # Witnesses.
     witnesses = []
@@ -120,11 +130,15 @@ def run(args: argparse.Namespace) -> int:
         name = case["impl"]
         stem = f"{name}-{case['dataset']}-n{case['n']}" + (f"-s{case['seed']}" if case["seed"] is not None else "")
         stem = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in stem)
+        peer = case["exact_peer"]
+        if peer:
+            stem += f"-vs-{peer}"
         with console.status(f"shrinking {name} on {case['label']} ({sites.shape[0]} points)"):
             small = sites if args.no_shrink else shrink_case(name, sites, verdict, reference=reference,
-                                                            probes=min(args.probes, 2000),
+                                                            exact_peer=peer, probes=min(args.probes, 2000),
                                                             time_budget=args.shrink_seconds)
-            w = write_witness(out / "witnesses", stem, name, small, reference=reference, probes=min(args.probes, 2000))
+            w = write_witness(out / "witnesses", stem, name, small, reference=reference, exact_peer=peer,
+                              probes=min(args.probes, 2000))
         witnesses.append(dict(impl=name, dataset=case["dataset"], n=case["n"], seed=case["seed"],
                               verdict=verdict.verdict, points=str(w.points), command=str(w.command),
                               picture=str(w.picture) if w.picture else None, n_points=w.n_points,
@@ -160,13 +174,21 @@ def run(args: argparse.Namespace) -> int:
                      f"'within tolerance' against {'it' if len(float_impls) == 1 else 'them'} is a pass, and "
                      f"{'its' if len(float_impls) == 1 else 'their'} certificates are judged within tolerance; "
                      f"exact implementations must agree with each other exactly.")
+    pairs = [r for r in records if r["exact_peer"]]
+    if pairs:
+        bad_pairs = sum(not r["passed"] for r in pairs)
+        notes.append(f"{len(pairs)} comparisons between exact implementations (against "
+                     f"{', '.join(sorted({r['exact_peer'] for r in pairs}))}): "
+                     + ("all exact." if not bad_pairs else f"{bad_pairs} NOT exact."))
     blamed = [r for r in records if r["blame"] == "reference"]
     if blamed:
         notes.append(f"{len(blamed)} difference(s) were the reference's failure (see the {reference} row).")
     for note in notes:
         console.print(f"[dim]note:[/] {note}")
     for case, verdict, _ in failures:
-        console.print(f"[red]FAIL[/] {case['impl']} on {case['label']}: {verdict.verdict}: {verdict.message[:400]}")
+        against = f" vs {case['exact_peer']}" if case["exact_peer"] else ""
+        console.print(f"[red]FAIL[/] {case['impl']}{against} on {case['label']}: {verdict.verdict}: "
+                      f"{verdict.message[:400]}")
     for w in witnesses:
         console.print(f"  witness: {w['n_points']} points -> {w['points']}  (picture: {w['picture']}; "
                       f"command in {w['command']})")
