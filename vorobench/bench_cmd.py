@@ -30,6 +30,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--seeds", type=lambda s: [int(x) for x in parse_list(s)], default=[0],
                    help="comma-separated dataset seeds (default 0)")
     p.add_argument("--repeat", type=int, default=3, help="timed builds per case (default 3)")
+    p.add_argument("--min-time", type=float, default=0.0, metavar="S",
+                   help="repeat builds shorter than this until S seconds are timed (at most 25 builds; default 0)")
     p.add_argument("--timeout", type=float, default=60.0,
                    help="seconds allowed for each timed build and for the check (default 60)")
     p.add_argument("--warmup-timeout", type=float, default=300.0,
@@ -46,6 +48,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-check", action="store_true", help="skip certification and comparison with the reference")
     p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
                    help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
+    p.add_argument("--start-method", choices=("forkserver", "spawn"), default=None,
+                   help="how workers start: forked from a server with the libraries imported (default "
+                        "where available), or a fresh interpreter per case (spawn, ~2 s slower per case)")
     p.add_argument("--parquet", action="store_true", help="also write <stem>.parquet at the end")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no line per case")
 
@@ -95,8 +100,10 @@ def execute(impl_names: Optional[Sequence[str]], datasets: Sequence[str], sizes:
     todo = [c for c in cases if c.key not in done]
     meta = sysinfo.run_metadata()
     meta.update(run_id=config.run_id, argv=sys.argv[1:], impls=impl_names, datasets=list(datasets),
-                sizes=list(sizes), seeds=list(seeds), repeat=config.repeat, timeout=config.timeout,
-                reference=config.reference, check=config.check, cases_planned=len(cases),
+                sizes=list(sizes), seeds=list(seeds), repeat=config.repeat, min_time=config.min_time,
+                timeout=config.timeout,
+                reference=config.reference, check=config.check, start_method=config.start_method,
+                cases_planned=len(cases),
                 cases_to_run=len(todo))
     out.parent.mkdir(parents=True, exist_ok=True)
     results.append_run_metadata(out, meta)
@@ -117,17 +124,19 @@ def execute(impl_names: Optional[Sequence[str]], datasets: Sequence[str], sizes:
 
 
 def config_from_args(args: argparse.Namespace):
-    from vorobench.runner import RunConfig
+    from vorobench.runner import RunConfig, default_start_method
 
     if args.repeat < 1:
         raise ValueError("--repeat must be at least 1")
     if args.timeout <= 0:
         raise ValueError("--timeout must be positive")
     out = Path(args.out) if args.out else default_out()
-    return RunConfig(repeat=args.repeat, timeout=args.timeout, warmup_timeout=args.warmup_timeout,
+    return RunConfig(repeat=args.repeat, min_time=args.min_time, timeout=args.timeout,
+                     warmup_timeout=args.warmup_timeout,
                      reference=args.reference, check=not args.no_check, plugins=tuple(args.plugin),
                      reference_cache=str(out.with_name(out.stem + ".reference")),
-                     memory_limit_mb=args.memory_limit, budget=args.budget), out
+                     memory_limit_mb=args.memory_limit, budget=args.budget,
+                     start_method=args.start_method or default_start_method()), out
 
 
 def run(args: argparse.Namespace) -> int:

@@ -19,6 +19,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 from matplotlib.colors import to_rgba  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
+from matplotlib.ticker import FixedLocator, FuncFormatter, LogLocator, NullFormatter, NullLocator  # noqa: E402
 
 __all__ = ["impl_styles", "plot_metric_panels", "plot_time", "plot_time_per_nlogn", "plot_ratio",
            "plot_memory", "plot_correctness", "VERDICT_COLOURS"]
@@ -45,6 +46,41 @@ def impl_styles(impls: Sequence[str]) -> dict[str, dict]:
     cmap = plt.get_cmap("tab10")
     return {name: {"color": cmap(i % 10), "marker": _MARKERS[i % len(_MARKERS)]}
             for i, name in enumerate(sorted(impls))}
+
+
+def _size_label(n: float, _pos=None) -> str:
+    """1000 -> 1k, 30000 -> 30k, 1024 -> 1.02k: short tick labels for sizes."""
+    if n >= 1e6:
+        return f"{n / 1e6:.3g}M"
+    if n >= 1e3:
+        return f"{n / 1e3:.3g}k"
+    return f"{n:.3g}"
+
+
+def _value_label(v: float, _pos=None) -> str:
+    return f"{v:g}"
+
+
+def _label_size_axis(ax, sizes: Sequence[float]) -> None:
+    """Ticks at the sizes actually measured (when few), labelled 1k, 10k, ... instead of 10^3."""
+    sizes = sorted(set(float(s) for s in sizes))
+    if 0 < len(sizes) <= 8:
+        ax.xaxis.set_major_locator(FixedLocator(sizes))
+        ax.xaxis.set_minor_locator(NullLocator())
+    else:
+        ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.xaxis.set_major_formatter(FuncFormatter(_size_label))
+
+
+def _label_log_values(ax) -> None:
+    """Plain numbers on a log y axis; intermediate labels (2, 5) only when it spans little."""
+    ax.yaxis.set_major_formatter(FuncFormatter(_value_label))
+    lo, hi = ax.get_ylim()
+    if lo > 0 and hi / lo < 100:
+        ax.yaxis.set_minor_locator(LogLocator(base=10, subs=(2.0, 5.0)))
+        ax.yaxis.set_minor_formatter(FuncFormatter(_value_label))
+    else:
+        ax.yaxis.set_minor_formatter(NullFormatter())
 
 
 def _grid(n_panels: int, title: str):
@@ -96,8 +132,10 @@ def plot_metric_panels(table: pd.DataFrame, column: str, path: Path, title: str,
         if hline is not None:
             ax.axhline(hline, color="0.3", linestyle="--", linewidth=1)
         ax.set_xscale("log")
+        _label_size_axis(ax, part["n_sites"])
         if logy:
             ax.set_yscale("log")
+            _label_log_values(ax)
         ax.set_title(dataset, fontsize=11)
         ax.set_xlabel("n (distinct sites)")
         ax.set_ylabel(ylabel)

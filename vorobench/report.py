@@ -304,8 +304,11 @@ def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, re
         parts += [_md_table(["impl", "dataset", "n", "seed", "status", "verdict", "step", "error"], rows), ""]
     skipped = cases[cases["status"] == "skipped"]
     if not skipped.empty:
-        parts += ["Skipped: " + "; ".join(f"`{r.impl}` {r.dataset} n={_fmt_n(r.n)} ({r.error})"
-                                          for r in skipped.itertuples()) + ".", ""]
+        first = skipped.sort_values("n").groupby(["impl", "dataset"], sort=True).first().reset_index()
+        parts += ["Skipped (a smaller size timed out or ran out of memory, or the build time extrapolated "
+                  "from the smaller sizes exceeded the run's budget): "
+                  + "; ".join(f"`{r.impl}` {r.dataset} from n={_fmt_n(r.n)}" for r in first.itertuples())
+                  + ".", ""]
 
     argv = (meta.get("runs") or [{}])[-1].get("argv")
     parts += ["## Data", "",

@@ -9,7 +9,9 @@ Timing protocol: inputs are generated and prepared before anything is timed; the
 (``Implementation.warmup`` plus one untimed build of a small input from the same dataset)
 absorbs JIT compilation and is timed on its own; each repeat is one ``perf_counter_ns`` wall
 time with the garbage collector collected before and paused during the build; the resident
-peak is reset before each build so the build's own peak memory is measured.
+peak is reset before each build so the build's own peak memory is measured. Builds shorter
+than a scheduler time slice are repeated until ``min_time`` seconds are timed (at most
+``MAX_REPEAT`` builds), so one preemption on a busy machine cannot move the median.
 """
 
 from __future__ import annotations
@@ -35,6 +37,9 @@ Send = Callable[[str, Any], None]
 
 #: Smallest input used for the untimed warm-up build (capped by the case's own n).
 WARMUP_N = 64
+
+#: Most builds per case when short builds are repeated to fill ``min_time``.
+MAX_REPEAT = 25
 
 
 def load_plugin(spec: str) -> list[str]:
@@ -111,7 +116,9 @@ def check_against_reference(diagram, reference) -> tuple[str, str]:
     module's own function is a one-line change. Verdicts: "exact", "within_tolerance",
     "differs", "not_certified" (and "no_reference" when the reference failed).
     """
-    from vorobench import certify, compare
+    # Imported from their modules: once a submodule is loaded, ``vorobench.certify`` names it.
+    from vorobench.certify import certify
+    from vorobench.compare import compare
 
     cert = certify(diagram)
     if not cert.ok:
@@ -169,6 +176,9 @@ def _numeric_stats(stats: dict) -> dict[str, float]:
 
 
 def _run_steps(case: dict, config: dict, send: Send) -> None:
+    if config.get("environ") is not None:
+        os.environ.clear()
+        os.environ.update(config["environ"])
     for spec in config.get("plugins", ()):
         load_plugin(spec)
     import datasets_gen
@@ -201,16 +211,21 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
     send("data", {"warmup_s": (time.perf_counter_ns() - t0) / 1e9})
 
     diagram = None
-    for i in range(config["repeat"]):
-        send("step", f"repeat {i + 1}/{config['repeat']}")
+    repeat, min_time = config["repeat"], config.get("min_time") or 0.0
+    timed_ns, i = 0, 0
+    # At least `repeat` builds; fast ones are repeated until `min_time` of timed builds (capped).
+    while i < repeat or (timed_ns < min_time * 1e9 and i < MAX_REPEAT):
+        send("step", f"repeat {i + 1}/{repeat}" if i < repeat else f"repeat {i + 1} (filling min-time)")
         stats: dict = {}
         diagram = None                      # free the previous result before the next build
         diagram, ns, peak, own = _timed_build(impl.build, sites, stats)
+        timed_ns += ns
         row = {"time_s": ns / 1e9, "peak_rss_mb": peak, "mem_mb": own}
         if i == 0:
             counts = diagram.counts()
             row.update(V=counts["V"], E=counts["E"], **_numeric_stats(stats))
         send("repeat", row)
+        i += 1
 
     if config.get("check", True) and config.get("reference"):
         send("step", "check")

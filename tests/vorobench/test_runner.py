@@ -165,3 +165,22 @@ def test_ctrl_c_in_a_real_run_loses_nothing_finished(tmp_path):
     assert "--resume" in err
     df = pd.read_csv(out)
     assert list(df["impl"]) == ["qhull"] and list(df["status"]) == ["ok"]
+
+
+def test_spawned_worker_also_isolates_a_hard_crash():
+    from vorobench.worker import load_plugin
+
+    load_plugin(DOUBLES)
+    config = RunConfig(repeat=1, check=False, plugins=(DOUBLES,), start_method="spawn")
+    crash = runner.run_case(Case("crash_exit", "uniform", 20), config)
+    assert crash.status == "crashed" and "code 3" in crash.error
+    healthy = runner.run_case(Case("steady", "uniform", 20), config)
+    assert healthy.status == "ok" and healthy.rows[0]["time_s"] > 0
+
+
+def test_short_builds_are_repeated_to_fill_min_time():
+    config = RunConfig(repeat=2, min_time=0.15, check=False, plugins=(DOUBLES,))
+    outcome = runner.run_case(Case("steady", "uniform", 20), config)    # ~0.02 s per build
+    assert outcome.status == "ok"
+    assert 7 <= len(outcome.rows) <= 9
+    assert [r["repeat"] for r in outcome.rows] == list(range(len(outcome.rows)))
