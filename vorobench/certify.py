@@ -14,7 +14,8 @@ by being wrong consistently:
 * ``hull``: the unbounded cells are exactly the sites on the convex-hull boundary, collinear
   boundary points included (monotone chain with exact orient2d).
 * ``probes``: random points of the bounding box, and every site, lie in the cell (polygon of
-  the diagram's own vertices) of their nearest site.
+  the diagram's own vertices) of their nearest site, and random points lie strictly inside no
+  cell of their next nearest sites (no cell claims a neighbour's territory).
 
 Geometric tolerances come from :mod:`vorobench.tolerances`. O(n log n).
 """
@@ -405,18 +406,24 @@ def _random_probes(ctx: _Context) -> NDArray[np.float64]:
     return rng.uniform(lo - pad, hi + pad, size=(ctx.probes, 2))
 
 
+#: Besides its nearest site's cell, a random probe must not lie strictly inside the cells of
+#: its next nearest sites (a cell that claims a neighbour's territory).
+_PROBE_NEIGHBOURS = 3
+
+
 @njit(cache=True)
-def _probe_kernel(pts, cell, cptr, by_cell, sites, xy, site, twin, origin, scale, rel_tol, outside):
-    """outside[i]: probe i is not in the polygon of cell[i] as the diagram draws it. Each
-    half-edge h of the cell bounds it by the line through its finite end (the diagram's own
-    vertex), or through the sites' midpoint for a full line, in direction perp(b - a); the
-    cell is on the left."""
+def _probe_kernel(pts, cell, inside, cptr, by_cell, sites, xy, site, twin, origin, scale, rel_tol, bad):
+    """bad[i]: probe pts[i] is outside the polygon of cell[i] (if inside[i]) or strictly inside
+    it (if not), beyond the tolerance, as the diagram draws the cell: each half-edge h bounds
+    it by the line through its finite end (the diagram's own vertex), or through the sites'
+    midpoint for a full line, in direction perp(b - a), with the cell on its left."""
     for i in range(pts.shape[0]):
         c = cell[i]
         px, py = pts[i, 0], pts[i, 1]
         if cptr[c + 1] == cptr[c]:
-            outside[i] = True
+            bad[i] = inside[i]
             continue
+        out, strictly_in = False, True
         for j in range(cptr[c], cptr[c + 1]):
             h = by_cell[j]
             a, b = site[h], site[twin[h]]
@@ -428,10 +435,12 @@ def _probe_kernel(pts, cell, cptr, by_cell, sites, xy, site, twin, origin, scale
                 ax, ay = 0.5 * (sites[a, 0] + sites[b, 0]), 0.5 * (sites[a, 1] + sites[b, 1])
             side = (dx * (py - ay) - dy * (px - ax)) / np.hypot(dx, dy)   # signed distance, + = left
             radius = np.hypot(ax - sites[a, 0], ay - sites[a, 1])
-            mag = max(abs(px), abs(py), abs(ax), abs(ay))
-            if side < -allowed_error(rel_tol, max(scale, radius), mag):
-                outside[i] = True
-                break
+            tol = allowed_error(rel_tol, max(scale, radius), max(abs(px), abs(py), abs(ax), abs(ay)))
+            if side < -tol:
+                out = True
+            if side <= tol:
+                strictly_in = False
+        bad[i] = out if inside[i] else strictly_in
 
 
 def _check_probes(ctx: _Context) -> Check:
@@ -439,31 +448,44 @@ def _check_probes(ctx: _Context) -> Check:
     if n <= 1:
         return Check("probes", True, f"n = {n}: one cell is the whole plane")
     random = _random_probes(ctx)
-    _, nearest = ctx.tree.query(random, workers=-1)
-    # Every site is a probe too; its nearest site is itself (sites are distinct).
-    pts = np.concatenate([random, ctx.sites])
-    cell = np.concatenate([nearest.astype(np.int64), np.arange(n, dtype=np.int64)])
+    k = min(n, 1 + _PROBE_NEIGHBOURS)
+    _, near = ctx.tree.query(random, k=k, workers=-1)
+    near = near.reshape(random.shape[0], k).astype(np.int64)
+    # Rows: each random probe in its nearest cell and not strictly inside the next k - 1;
+    # every site in its own cell (its nearest site is itself: sites are distinct).
+    pts = np.concatenate([np.repeat(random, k, axis=0), ctx.sites])
+    cell = np.concatenate([near.reshape(-1), np.arange(n, dtype=np.int64)])
+    inside = np.concatenate([np.tile(np.arange(k) == 0, random.shape[0]), np.ones(n, dtype=bool)])
     by_cell = argsort_keys(ctx.site)
     cptr = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.bincount(ctx.site, minlength=n), out=cptr[1:])
-    outside = np.zeros(pts.shape[0], dtype=bool)
+    bad = np.zeros(pts.shape[0], dtype=bool)
     xy = ctx.xy if ctx.V else np.zeros((1, 2))
-    _probe_kernel(pts, cell, cptr, by_cell, ctx.sites, xy, ctx.site, ctx.twin, ctx.origin,
-                  ctx.scale, PROBE_REL_TOL, outside)
-    n_random = ctx.probes
-    bad_random = np.flatnonzero(outside[:n_random])
-    bad_sites = np.flatnonzero(outside[n_random:])
-    if bad_random.size or bad_sites.size:
-        parts = []
+    _probe_kernel(pts, cell, inside, cptr, by_cell, ctx.sites, xy, ctx.site, ctx.twin, ctx.origin,
+                  ctx.scale, PROBE_REL_TOL, bad)
+    m = random.shape[0] * k
+    bad_own = np.flatnonzero(bad[:m] & inside[:m]) // k
+    bad_other = np.flatnonzero(bad[:m] & ~inside[:m])
+    bad_sites = np.flatnonzero(bad[m:])
+    if bad_own.size or bad_other.size or bad_sites.size:
+        parts, ids = [], []
         if bad_sites.size:
             parts.append(f"{bad_sites.size} sites lie outside their own cell")
-        if bad_random.size:
-            k = int(bad_random[0])
-            parts.append(f"{bad_random.size} of {n_random} random probes lie outside the cell of their nearest "
-                         f"site (first: ({pts[k, 0]:.6g}, {pts[k, 1]:.6g}) nearest to site {int(cell[k])})")
-        ids = _ids(bad_sites) if bad_sites.size else _ids(cell[bad_random])
-        return Check("probes", False, "; ".join(parts), ids, "site")
-    return Check("probes", True, f"{n_random} random probes and {n} sites lie in their nearest site's cell")
+            ids += _ids(bad_sites)
+        if bad_own.size:
+            q = int(bad_own[0])
+            parts.append(f"{bad_own.size} of {ctx.probes} random probes lie outside the cell of their nearest "
+                         f"site (first: ({random[q, 0]:.6g}, {random[q, 1]:.6g}) nearest to site {int(near[q, 0])})")
+            ids += _ids(near[bad_own, 0])
+        if bad_other.size:
+            q, j = divmod(int(bad_other[0]), k)
+            parts.append(f"{bad_other.size} times a cell claims a random probe nearer to another site (first: "
+                         f"({random[q, 0]:.6g}, {random[q, 1]:.6g}) inside cell {int(near[q, j])}, nearest site "
+                         f"{int(near[q, 0])})")
+            ids += _ids(cell[bad_other])
+        return Check("probes", False, "; ".join(parts), [int(i) for i in dict.fromkeys(ids)][:_MAX_IDS], "site")
+    return Check("probes", True, f"{ctx.probes} random probes lie in their nearest site's cell and no other of "
+                                 f"the {k} nearest; all {n} sites lie in their own cell")
 
 
 _RUNNERS: dict[str, Callable[[_Context], Check]] = {
