@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 from impls.base import Implementation
 from impls.incremental.dual import voronoi_edges
 from impls.incremental.order import brio_order
+
 from impls.incremental.triangulate import STAT_NAMES, triangulate
 from vorobench.dcel import assemble, collinear_diagram
 from vorobench.diagram import Diagram
@@ -45,17 +46,30 @@ def _predicate_stats(counters: NDArray[np.int64]) -> dict[str, int]:
             "incircle_calls": int(counters[INCIRCLE_CALLS]), "incircle_exact": int(counters[INCIRCLE_EXACT])}
 
 
+def _triangulate(sites: NDArray[np.float64], stats: Optional[dict]):
+    """Triangulate the sites copied into insertion order (consecutive insertions then touch
+    nearby memory). Returns (points, ids, tri, opp, ntri, ok): ``ids[v]`` is point v's site id."""
+    counters = np.zeros(4, dtype=np.int64)
+    ids = brio_order(sites)
+    points = np.ascontiguousarray(sites[ids])
+    tri, opp, ntri, counts, ok = triangulate(points, np.arange(points.shape[0]), counters)
+    if stats is not None:
+        stats.update(zip(STAT_NAMES, (int(c) for c in counts)))
+        stats.update(_predicate_stats(counters))
+    return points, ids, tri, opp, ntri, ok
+
+
 def delaunay(sites: NDArray[np.float64], stats: Optional[dict] = None
              ) -> Optional[tuple[NDArray[np.int64], NDArray[np.int64], int]]:
     """The Delaunay triangulation of prepared sites as (tri, opp, ntri), ghosts included
     (vertex n is the infinite vertex); None if the sites are all collinear (or n < 3)."""
-    counters = np.zeros(4, dtype=np.int64)
-    order = brio_order(sites)
-    tri, opp, ntri, counts, ok = triangulate(sites, order, counters)
-    if stats is not None:
-        stats.update(zip(STAT_NAMES, (int(c) for c in counts)))
-        stats.update(_predicate_stats(counters))
-    return (tri, opp, ntri) if ok else None
+    sites = np.ascontiguousarray(sites, dtype=np.float64).reshape(-1, 2)
+    n = sites.shape[0]
+    _, ids, tri, opp, ntri, ok = _triangulate(sites, stats)
+    if not ok:
+        return None
+    corners = tri[:3 * ntri]
+    return np.where(corners < n, ids[np.minimum(corners, n - 1)], n), opp[:3 * ntri], ntri
 
 
 def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
@@ -65,14 +79,13 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     if n <= 1:
         return Diagram.empty(sites)
     counts: dict = {}
-    triangulation = delaunay(sites, counts)
-    if triangulation is None:
+    points, ids, tri, opp, ntri, ok = _triangulate(sites, counts)
+    if not ok:
         if stats is not None:
             stats.update(counts, collinear=1)
         return collinear_diagram(sites)
-    tri, opp, ntri = triangulation
     counters = np.zeros(4, dtype=np.int64)
-    vertices, edge_sites, edge_vertices, merged = voronoi_edges(sites, tri, opp, ntri, counters)
+    vertices, edge_sites, edge_vertices, merged = voronoi_edges(points, ids, tri, opp, ntri, counters)
     if stats is not None:
         stats.update(counts)
         stats["merged_triangles"] = int(merged)

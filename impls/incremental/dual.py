@@ -36,11 +36,43 @@ def _is_ghost(tri, t, inf):
 
 
 @njit(cache=True)
-def voronoi_edges(pts, tri, opp, ntri, counters):
+def _sort3_by_id(low, r, a, b, c, ids):
+    """low[r] = points a, b, c ordered by site id."""
+    if ids[a] > ids[b]:
+        a, b = b, a
+    if ids[b] > ids[c]:
+        b, c = c, b
+    if ids[a] > ids[b]:
+        a, b = b, a
+    low[r, 0] = a
+    low[r, 1] = b
+    low[r, 2] = c
+
+
+@njit(cache=True)
+def _insert_by_id(low, r, s, ids):
+    """Keep in low[r] the three points of smallest site id seen so far (s not yet counted)."""
+    if s == low[r, 0] or s == low[r, 1] or s == low[r, 2]:
+        return
+    if ids[s] < ids[low[r, 0]]:
+        low[r, 2] = low[r, 1]
+        low[r, 1] = low[r, 0]
+        low[r, 0] = s
+    elif ids[s] < ids[low[r, 1]]:
+        low[r, 2] = low[r, 1]
+        low[r, 1] = s
+    elif ids[s] < ids[low[r, 2]]:
+        low[r, 2] = s
+
+
+@njit(cache=True)
+def voronoi_edges(pts, ids, tri, opp, ntri, counters):
     """Vertices and edges of the Voronoi diagram dual to a Delaunay triangulation.
 
-    Returns (vertices (V, 2), edge_sites (E, 2), edge_vertices (E, 2), merged): the edge
-    arrays in the form :func:`vorobench.dcel.assemble` takes; ``merged`` counts triangles
+    ``pts`` are the points the triangulation indexes (in insertion order, for locality) and
+    ``ids[v]`` the caller's site id of point v: output edges use those ids, and a vertex's
+    coordinates come from its three smallest ids. Returns (vertices (V, 2),
+    edge_sites (E, 2), edge_vertices (E, 2), merged): the edge arrays in the form :func:`vorobench.dcel.assemble` takes; ``merged`` counts triangles
     folded into a cocircular neighbour's vertex.
     """
     n = pts.shape[0]
@@ -70,25 +102,21 @@ def voronoi_edges(pts, tri, opp, ntri, counters):
             if r1 != r2:
                 parent[max(r1, r2)] = min(r1, r2)
                 merged += 1
-    # ---- the three smallest site ids on each group's circle
-    low = np.full((ntri, 3), inf, dtype=np.int64)
+    # ---- the three points of smallest site id on each group's circle (point indices)
+    low = np.empty((ntri, 3), dtype=np.int64)
     for t in range(ntri):
         if ghost[t]:
             continue
-        r = _find(parent, t)
-        for k in range(3):
-            s = tri[3 * t + k]
-            if s == low[r, 0] or s == low[r, 1] or s == low[r, 2]:
+        r = _find(parent, t) if merged else t
+        if r == t:
+            _sort3_by_id(low, t, tri[3 * t], tri[3 * t + 1], tri[3 * t + 2], ids)
+    if merged:
+        for t in range(ntri):
+            r = _find(parent, t)
+            if ghost[t] or r == t:
                 continue
-            if s < low[r, 0]:
-                low[r, 2] = low[r, 1]
-                low[r, 1] = low[r, 0]
-                low[r, 0] = s
-            elif s < low[r, 1]:
-                low[r, 2] = low[r, 1]
-                low[r, 1] = s
-            elif s < low[r, 2]:
-                low[r, 2] = s
+            for k in range(3):
+                _insert_by_id(low, r, tri[3 * t + k], ids)
     # ---- one vertex per group
     vid = np.full(ntri, -1, dtype=np.int64)
     nv = 0
@@ -103,9 +131,10 @@ def voronoi_edges(pts, tri, opp, ntri, counters):
             x, y = circumcentre(pts[i, 0], pts[i, 1], pts[j, 0], pts[j, 1], pts[k, 0], pts[k, 1])
             vertices[vid[t], 0] = x
             vertices[vid[t], 1] = y
-    for t in range(ntri):
-        if not ghost[t]:
-            vid[t] = vid[_find(parent, t)]
+    if merged:
+        for t in range(ntri):
+            if not ghost[t]:
+                vid[t] = vid[_find(parent, t)]
     # ---- one Voronoi edge per Delaunay edge between different vertices (or a vertex and a ray)
     ne = 0
     edge_sites = np.empty((3 * ntri // 2, 2), dtype=np.int64)
@@ -124,8 +153,8 @@ def voronoi_edges(pts, tri, opp, ntri, counters):
         if left == right:
             continue               # inside a cocircular group: zero length
         # a's half-edge runs along perp(b - a), i.e. from the right triangle's centre to the left's
-        edge_sites[ne, 0] = a
-        edge_sites[ne, 1] = b
+        edge_sites[ne, 0] = ids[a]
+        edge_sites[ne, 1] = ids[b]
         edge_vertices[ne, 0] = right
         edge_vertices[ne, 1] = left
         ne += 1
