@@ -54,65 +54,75 @@ def assemble(sites: NDArray[np.float64], vertices: ArrayLike, edge_sites: ArrayL
     return Diagram(sites, vertices, origin, twin, nxt, site)
 
 
-_SMALL_CELL = 16   # cells with at most this many half-edges are sorted and searched linearly
+_BIG_VERTEX = 16   # vertices of higher degree (many cocircular sites) are sorted and bisected
 
 
 @njit(cache=True)
-def _link_next_compiled(site, origin, twin, n):
-    """Fast path of :func:`_link_next`: half-edges bucketed by cell (counting sort), each
-    cell's bucket sorted by origin, next found by binary search. O(H log(cell size)).
-    Returns (next, ok); ok is False on anything unusual (a strip cell's two lines, a cell
-    that does not close), which the numpy path then handles or reports."""
+def _link_next_compiled(site, origin, twin, n, V):
+    """Fast path of :func:`_link_next`. Half-edges are bucketed by start vertex (counting
+    sort; ~3 per vertex), so next[h] is the member of dest(h)'s bucket in cell site[h];
+    a ray's successor is its cell's one half-edge from infinity. Sequential when vertex ids
+    follow the edge order. Returns (next, ok); ok is False on anything unusual (a strip
+    cell's two lines, a cell that does not close), which the numpy path then handles or reports."""
     H = site.size
-    first = np.zeros(n + 1, dtype=np.int64)
+    first = np.zeros(V + 1, dtype=np.int64)
+    from_infinity = np.full(n, -1, dtype=np.int64)
     for h in range(H):
-        first[site[h] + 1] += 1
-    for i in range(n):
-        first[i + 1] += first[i]
-    fill = first[:n].copy()
+        v = origin[h]
+        if v >= 0:
+            first[v + 1] += 1
+        elif from_infinity[site[h]] >= 0:
+            return np.empty(0, dtype=np.int64), False
+        else:
+            from_infinity[site[h]] = h
+    for v in range(V):
+        first[v + 1] += first[v]
+    fill = first[:V].copy()
     members = np.empty(H, dtype=np.int64)
     for h in range(H):
-        members[fill[site[h]]] = h
-        fill[site[h]] += 1
-    starts = np.empty(H, dtype=np.int64)
-    for c in range(n):
-        lo, hi = first[c], first[c + 1]
-        if hi - lo > _SMALL_CELL:
+        v = origin[h]
+        if v >= 0:
+            members[fill[v]] = h
+            fill[v] += 1
+    cells = np.empty(H, dtype=np.int64)     # site of each bucket member, buckets sorted by it
+    for v in range(V):
+        lo, hi = first[v], first[v + 1]
+        if hi - lo > _BIG_VERTEX:
             part = members[lo:hi].copy()
-            order = np.argsort(origin[part])
+            order = np.argsort(site[part])
             for k in range(hi - lo):
                 members[lo + k] = part[order[k]]
-            for k in range(lo, hi):
-                starts[k] = origin[members[k]]
-        else:                                   # insertion sort: cells have ~6 edges
-            for k in range(lo, hi):
-                h = members[k]
-                key = origin[h]
-                j = k
-                while j > lo and starts[j - 1] > key:
-                    starts[j] = starts[j - 1]
-                    members[j] = members[j - 1]
-                    j -= 1
-                starts[j] = key
-                members[j] = h
+        for k in range(lo, hi):
+            cells[k] = site[members[k]]
     nxt = np.empty(H, dtype=np.int64)
     taken = np.zeros(H, dtype=np.bool_)
     for h in range(H):
         c = site[h]
-        want = origin[twin[h]]
-        lo, hi = first[c], first[c + 1]
-        if hi - lo > _SMALL_CELL:
-            k = lo + np.searchsorted(starts[lo:hi], want)
+        v = origin[twin[h]]
+        if v < 0:
+            g = from_infinity[c]
+            if g < 0:
+                return nxt, False
         else:
-            k = lo
-            while k < hi and starts[k] < want:
-                k += 1
-        if k >= hi or starts[k] != want or (k + 1 < hi and starts[k + 1] == want):
+            lo, hi = first[v], first[v + 1]
+            if hi - lo > _BIG_VERTEX:
+                k = lo + np.searchsorted(cells[lo:hi], c)
+                if k >= hi or cells[k] != c or (k + 1 < hi and cells[k + 1] == c):
+                    return nxt, False
+            else:
+                k = -1
+                for m in range(lo, hi):
+                    if cells[m] == c:
+                        if k >= 0:
+                            return nxt, False
+                        k = m
+                if k < 0:
+                    return nxt, False
+            g = members[k]
+        if taken[g]:                            # next would not be a permutation
             return nxt, False
-        if taken[members[k]]:                   # next would not be a permutation
-            return nxt, False
-        taken[members[k]] = True
-        nxt[h] = members[k]
+        taken[g] = True
+        nxt[h] = g
     return nxt, True
 
 
@@ -120,8 +130,8 @@ def _link_next(site: NDArray[np.int64], origin: NDArray[np.int64], twin: NDArray
                n: int, V: int) -> NDArray[np.int64]:
     """next[h] = the half-edge of cell site[h] starting at destination(h)."""
     H = site.size
-    if H and site.min() >= 0 and site.max() < n:
-        nxt, ok = _link_next_compiled(site, origin, twin, n)
+    if H and site.min() >= 0 and site.max() < n and origin.min() >= -1 and origin.max() < V:
+        nxt, ok = _link_next_compiled(site, origin, twin, n, V)
         if ok:
             return nxt
     key = site * (V + 1) + (origin + 1)       # (cell, start vertex); infinity sorts first
