@@ -35,7 +35,7 @@ from vorobench.incidence import vertex_site_lists
 from vorobench.predicates import orient2d
 from vorobench.sorting import argsort_keys, sorted_unique
 from vorobench.tolerances import (EQUIDISTANCE_REL_TOL, NEAR_DEGENERATE_REL_TOL, PROBE_REL_TOL, SHORT_EDGE_REL_TOL,
-                                  allowed_error, data_scale)
+                                  allowed_error, data_scale, length_tolerance)
 
 __all__ = ["certify", "Certificate", "Check", "CHECKS", "convex_hull_boundary", "convex_hull_polygon"]
 
@@ -188,8 +188,8 @@ def _check_structure(ctx: _Context) -> Check:
 
 
 @njit(cache=True)
-def _vertex_kernel(xy, sites, ptr, s, rel_tol, r_min, r_max, tol):
-    """Per vertex: smallest and largest distance to its sites, and the allowed difference."""
+def _vertex_kernel(xy, sites, ptr, s, r_min, r_max, magnitude):
+    """Per vertex: smallest and largest distance to its sites, and the largest coordinate."""
     for v in range(ptr.size - 1):
         lo, hi = np.inf, 0.0
         mag = max(abs(xy[v, 0]), abs(xy[v, 1]))
@@ -198,8 +198,7 @@ def _vertex_kernel(xy, sites, ptr, s, rel_tol, r_min, r_max, tol):
             d = np.hypot(xy[v, 0] - sites[x, 0], xy[v, 1] - sites[x, 1])
             lo, hi = min(lo, d), max(hi, d)
             mag = max(mag, abs(sites[x, 0]), abs(sites[x, 1]))
-        r_min[v], r_max[v] = lo, hi
-        tol[v] = allowed_error(rel_tol, hi, mag)
+        r_min[v], r_max[v], magnitude[v] = lo, hi, mag
 
 
 def _check_vertices(ctx: _Context) -> Check:
@@ -209,38 +208,46 @@ def _check_vertices(ctx: _Context) -> Check:
     if used.size == 0:
         return Check("vertices", True, "no vertices")
     few = used[deg[used] < 3]
-    r_min, r_max, tol = np.empty(ctx.V), np.empty(ctx.V), np.empty(ctx.V)
-    _vertex_kernel(ctx.xy, ctx.sites, ptr, s, EQUIDISTANCE_REL_TOL, r_min, r_max, tol)
-    r_min, r_max, tol = r_min[used], r_max[used], tol[used]
-    unequal = used[r_max - r_min > tol]
+    r_min, r_max, mag = np.empty(ctx.V), np.empty(ctx.V), np.empty(ctx.V)
+    _vertex_kernel(ctx.xy, ctx.sites, ptr, s, r_min, r_max, mag)
+    r_min, r_max, mag = r_min[used], r_max[used], mag[used]
+    # Strict: relative to the vertex's own radius. Near-degenerate (a floating-point library
+    # merging nearly cocircular sites): relative to the data scale.
+    tol = length_tolerance(EQUIDISTANCE_REL_TOL, r_max, mag)
+    tol_near = length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(ctx.scale, r_max), mag)
+    unequal = r_max - r_min > tol
     # Empty circle: no site strictly closer than the vertex's own (k-d tree nearest site).
     nearest, _ = ctx.tree.query(ctx.xy[used], workers=-1)
-    closer = used[nearest < r_min - tol]
+    closer = nearest < r_min - tol
     spread = (r_max - r_min) / np.maximum(r_max, 1e-300)
     problems = []
     if few.size:
         problems.append(f"{few.size} vertices touch fewer than 3 cells")
-    if unequal.size:
+    if unequal.any():
         k = int(np.argmax(spread))
-        problems.append(f"{unequal.size} vertices are not equidistant from their sites "
+        problems.append(f"{int(unequal.sum())} vertices are not equidistant from their sites "
                         f"(worst: vertex {int(used[k])}, distances {r_min[k]:.6g} .. {r_max[k]:.6g})")
-    if closer.size:
-        problems.append(f"{closer.size} vertices have a site strictly closer than their own "
+    if closer.any():
+        problems.append(f"{int(closer.sum())} vertices have a site strictly closer than their own "
                         f"(empty circle violated)")
     if problems:
-        bad = sorted_unique(np.concatenate([few, unequal, closer]))
-        return Check("vertices", False, "; ".join(problems), _ids(bad), "vertex")
+        within = few.size == 0 and not ((r_max - r_min > tol_near) | (nearest < r_min - tol_near)).any()
+        if within:
+            problems.append("all within the near-degenerate tolerance of the data scale")
+        bad = sorted_unique(np.concatenate([few, used[unequal], used[closer]]))
+        return Check("vertices", False, "; ".join(problems), _ids(bad), "vertex", within_tolerance=within)
     return Check("vertices", True, f"{used.size} vertices: empty circles, distances agree to "
                  f"{float(spread.max()):.2g} (relative)")
 
 
 @njit(cache=True)
-def _edge_kernel(sites, xy, ptr, s, a, b, u, v, rel_tol, wrong_way, worst, off):
+def _edge_kernel(sites, xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, magnitude):
     """Per edge k (a's half-edge from vertex u to v, -1 = infinity):
     wrong_way[k]: not oriented along perp(b - a): some other site of u is not strictly right of
     a->b, or some other site of v not strictly left (exact); worst[k]: the largest distance of
     such a site from the line ab (small = near-degenerate);
-    off[k]: a finite end is not equidistant from a and b (off the bisector)."""
+    gap[k]: largest |d(w, a) - d(w, b)| over the finite ends w (0 on the bisector), with the
+    distance (radius) and coordinate magnitude to judge it by."""
     for k in range(a.size):
         aa, bb = a[k], b[k]
         ax, ay, bx, by = sites[aa, 0], sites[aa, 1], sites[bb, 0], sites[bb, 1]
@@ -256,9 +263,10 @@ def _edge_kernel(sites, xy, ptr, s, a, b, u, v, rel_tol, wrong_way, worst, off):
                     worst[k] = max(worst[k], dist)
             px, py = xy[w, 0], xy[w, 1]
             da, db = np.hypot(px - ax, py - ay), np.hypot(px - bx, py - by)
-            mag = max(abs(px), abs(py), abs(ax), abs(ay), abs(bx), abs(by))
-            if abs(da - db) > allowed_error(rel_tol, max(da, db), mag):
-                off[k] = True
+            if abs(da - db) > gap[k]:
+                gap[k] = abs(da - db)
+                radius[k] = max(da, db)
+                magnitude[k] = max(abs(px), abs(py), abs(ax), abs(ay), abs(bx), abs(by))
 
 
 def _check_edges(ctx: _Context) -> Check:
@@ -269,10 +277,12 @@ def _check_edges(ctx: _Context) -> Check:
     u, v = ctx.origin[e], ctx.dest[e]
     ptr, s = ctx.vertex_sites
     wrong_way = np.zeros(e.size, dtype=bool)
-    off = np.zeros(e.size, dtype=bool)
-    worst = np.zeros(e.size)
-    _edge_kernel(ctx.sites, ctx.xy, ptr, s, a, b, u, v, EQUIDISTANCE_REL_TOL, wrong_way, worst, off)
+    worst, gap, radius, mag = (np.zeros(e.size) for _ in range(4))
+    _edge_kernel(ctx.sites, ctx.xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, mag)
+    off = gap > length_tolerance(EQUIDISTANCE_REL_TOL, radius, mag)
+    off_far = gap > length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(ctx.scale, radius), mag)
     problems = []
+    within = True
     if wrong_way.any():
         # Near-degenerate: the offending sites are almost on the line ab, or the edge is almost a point.
         bad = np.flatnonzero(wrong_way)
@@ -285,11 +295,10 @@ def _check_edges(ctx: _Context) -> Check:
         problems.append(f"{bad.size} edges run the wrong way (or join vertices that do not "
                         f"surround them)" + (f", {near} of them near-degenerate" if near else ""))
         within = bool(tolerated.all())
-    else:
-        within = True
     if off.any():
-        problems.append(f"{int(off.sum())} edges have an end off their sites' bisector")
-        within = False
+        problems.append(f"{int(off.sum())} edges have an end off their sites' bisector"
+                        + ("" if off_far.any() else " (within the near-degenerate tolerance of the data scale)"))
+        within = within and not off_far.any()
     if problems:
         return Check("edges", False, "; ".join(problems), _ids(e[wrong_way | off]), "half-edge", within_tolerance=within)
     return Check("edges", True, f"{e.size} edges on their bisectors, oriented along perp(b - a)")

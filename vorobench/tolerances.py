@@ -42,10 +42,12 @@ EQUIDISTANCE_REL_TOL = 1e-8
 #: local scale (probes on a cell boundary belong to both cells).
 PROBE_REL_TOL = 1e-9
 
-#: certify() of a floating-point library (Qhull): an orientation or convex-hull decision that
-#: is wrong only for sites within this fraction of the data scale of being collinear is a
-#: near-degenerate error, tolerated in the ``within_tolerance`` verdict (never for exact code).
-NEAR_DEGENERATE_REL_TOL = 1e-9
+#: certify() of a floating-point library (Qhull): a decision that is wrong only for sites
+#: within this fraction of the data scale of being collinear or cocircular (a wrong side, a
+#: merged vertex whose sites are equidistant only to this fraction of the scale) is a
+#: near-degenerate error, tolerated in the ``within_tolerance`` verdict (never for exact
+#: code). Qhull's precision is relative to the bounding box, not to the local spacing.
+NEAR_DEGENERATE_REL_TOL = 1e-8
 
 #: Absolute slack, in units of float64 epsilon times the coordinates' magnitude.
 ROUNDOFF_ULPS = 64.0
