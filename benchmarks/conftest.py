@@ -41,9 +41,14 @@ def warmed(name: str):
     return impl
 
 
-def rounds_for(n: int, budget_s: float = 3.0, per_site_s: float = 2e-6) -> int:
-    """Rounds so that one benchmark takes about ``budget_s`` for an O(n log n) method: 3..50."""
-    return int(min(50, max(3, budget_s / (per_site_s * max(n, 1)))))
+#: Seconds of timed builds to aim for per benchmark, and the longest single build accepted.
+TARGET_SECONDS = 3.0
+MAX_BUILD_SECONDS = 20.0
+
+
+def rounds_for(build_seconds: float, target_s: float = TARGET_SECONDS) -> int:
+    """Rounds so that one benchmark takes about ``target_s``: between 3 and 50."""
+    return int(min(50, max(3, target_s / max(build_seconds, 1e-9))))
 
 
 def is_quadratic(name: str) -> bool:
@@ -52,19 +57,52 @@ def is_quadratic(name: str) -> bool:
     return any(tag in text for tag in ("n^2", "n²", "n**2", "n^3", "n³"))
 
 
-def bench_build(benchmark, name: str, sites: np.ndarray, rounds: Optional[int] = None):
+#: (implementation, label) -> [(n, seconds of one build)], to skip hopeless larger sizes early.
+_BUILD_TIMES: dict[tuple[str, str], list[tuple[int, float]]] = {}
+
+
+def _predicted_seconds(name: str, label: Optional[str], n: int) -> Optional[float]:
+    """One build's time at n, extrapolated from smaller sizes of the same label (None if unknown)."""
+    seen = sorted(t for t in _BUILD_TIMES.get((name, label), []) if t[0] < n) if label else []
+    if not seen:
+        return None
+    exponent = 2.0                       # cautious when only one size is known
+    if len(seen) >= 2 and seen[-1][0] > seen[-2][0] and seen[-2][1] > 0:
+        (n0, t0), (n1, t1) = seen[-2:]
+        exponent = min(2.5, max(1.0, float(np.log(t1 / t0) / np.log(n1 / n0))))
+    n_last, t_last = seen[-1]
+    return t_last * (n / n_last) ** exponent
+
+
+def bench_build(benchmark, name: str, sites: np.ndarray, rounds: Optional[int] = None,
+                label: Optional[str] = None):
     """Time ``impls.get(name).build(sites)`` with pytest-benchmark; returns the last diagram.
 
-    Each round gets the same prepared sites through ``setup`` (nothing generated in the timed
-    call); the implementation's counters go to ``extra_info`` as ``stat_<name>``.
+    One untimed build first gives the counters (to ``extra_info`` as ``stat_<name>``) and the
+    build time that sets the number of rounds; a build slower than ``MAX_BUILD_SECONDS`` (or
+    predicted so from smaller sizes with the same ``label``, e.g. the dataset) is skipped:
+    that is `vorobench bench`'s job, with its timeouts. Each round gets the same prepared
+    sites through ``setup``: nothing is generated inside the timed call.
     """
+    n = int(sites.shape[0])
+    predicted = _predicted_seconds(name, label, n)
+    if predicted is not None and predicted > MAX_BUILD_SECONDS:
+        pytest.skip(f"{name}: one build of {n} sites would take about {predicted:.0f} s "
+                    f"(> {MAX_BUILD_SECONDS:g} s, extrapolated); measure it with `vorobench bench`")
     impl = warmed(name)
     stats: dict = {}
-    diagram = impl.build(sites, stats)               # untimed: counters and a first result
+    t0 = time.perf_counter_ns()
+    diagram = impl.build(sites, stats)
+    first_s = (time.perf_counter_ns() - t0) / 1e9
+    if label:
+        _BUILD_TIMES.setdefault((name, label), []).append((n, first_s))
+    if first_s > MAX_BUILD_SECONDS:
+        pytest.skip(f"{name}: one build of {sites.shape[0]} sites takes {first_s:.0f} s "
+                    f"(> {MAX_BUILD_SECONDS:g} s); measure it with `vorobench bench`")
     benchmark.extra_info.update({f"stat_{k}": v for k, v in stats.items() if isinstance(v, (int, float))})
     benchmark.extra_info["n_sites"] = int(sites.shape[0])
     result = benchmark.pedantic(impl.build, setup=lambda: ((sites, None), {}),
-                                rounds=rounds or rounds_for(sites.shape[0]), iterations=1, warmup_rounds=0)
+                                rounds=rounds or rounds_for(first_s), iterations=1, warmup_rounds=0)
     return result if result is not None else diagram
 
 
@@ -104,7 +142,7 @@ def sites_of() -> Callable[..., np.ndarray]:
 
 @pytest.fixture(scope="session")
 def build_benchmark() -> Callable:
-    """``build_benchmark(benchmark, name, sites, rounds=None)``: see :func:`bench_build`."""
+    """``build_benchmark(benchmark, name, sites, rounds=None, label=None)``: see :func:`bench_build`."""
     return bench_build
 
 

@@ -24,7 +24,7 @@ def test_build(benchmark, sites_of, build_benchmark, scipy_ratio, quadratic, nam
         pytest.skip(f"{name} is quadratic; sizes above {QUADRATIC_MAX_N} are left to `vorobench bench`")
     sites = sites_of(dataset, n)
     benchmark.group = f"build {dataset} n={n}"
-    diagram = build_benchmark(benchmark, name, sites)
+    diagram = build_benchmark(benchmark, name, sites, label=dataset)
     scipy_ratio(benchmark, sites)
     assert diagram.n_sites == sites.shape[0]
     assert diagram.n_edges >= sites.shape[0] - 1   # a connected diagram of n >= 2 sites
