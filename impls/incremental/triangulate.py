@@ -113,8 +113,8 @@ def triangulate(pts, order, counters):
     inf = n
     stats = np.zeros(len(STAT_NAMES), dtype=np.int64)
     cap_t = 2 * n + 4
-    tri = np.empty(3 * cap_t, dtype=np.int64)
-    opp = np.empty(3 * cap_t, dtype=np.int64)
+    tri = np.empty(3 * cap_t, dtype=np.int32)
+    opp = np.empty(3 * cap_t, dtype=np.int32)
     if n < 3:
         return tri, opp, 0, stats, False
     # ---- seed triangle: the first two sites and the first one not collinear with them
@@ -152,8 +152,8 @@ def triangulate(pts, order, counters):
     ntri = 4
     stats[0] = 3
     # ---- scratch for the cavity
-    in_cavity = np.full(cap_t, -1, dtype=np.int64)
-    tested = np.full(cap_t, -1, dtype=np.int64)
+    # mark[t] == 2 m: t is in the cavity of insertion m; 2 m + 1: t was tested and is not
+    mark = np.full(cap_t, -1, dtype=np.int64)
     stack = np.empty(cap_t, dtype=np.int64)
     cavity = np.empty(cap_t, dtype=np.int64)
     bnd_u = np.empty(cap_t + 2, dtype=np.int64)
@@ -167,11 +167,12 @@ def triangulate(pts, order, counters):
         p = order[m]
         px = pts[p, 0]
         py = pts[p, 1]
+        # the located triangle contains p (or is the ghost beyond the hull edge p sees), so
+        # its circle contains p strictly: it is in conflict without a test
         t0 = _locate(pts, tri, opp, last, inf, px, py, _WALK_CAP_FACTOR * ntri + 64, counters, stats)
-        if not _in_conflict(pts, tri, t0, inf, px, py, counters):
-            raise RuntimeError("incremental: located triangle is not in conflict with the new site")
         # ---- grow the cavity: triangles in conflict, connected to t0
-        in_cavity[t0] = m
+        inside = 2 * m
+        mark[t0] = inside
         stack[0] = t0
         sp = 1
         ncav = 0
@@ -185,15 +186,15 @@ def triangulate(pts, order, counters):
                 e = 3 * t + k
                 oe = opp[e]
                 t2 = oe // 3
-                if in_cavity[t2] == m:
+                if mark[t2] == inside:
                     continue
-                if tested[t2] != m:
-                    tested[t2] = m
+                if mark[t2] != inside + 1:
                     if _in_conflict(pts, tri, t2, inf, px, py, counters):
-                        in_cavity[t2] = m
+                        mark[t2] = inside
                         stack[sp] = t2
                         sp += 1
                         continue
+                    mark[t2] = inside + 1
                 bnd_u[nb] = tri[e]
                 bnd_v[nb] = tri[3 * t + (k + 1) % 3]
                 bnd_o[nb] = oe
@@ -214,8 +215,6 @@ def triangulate(pts, order, counters):
             opp[3 * s] = bnd_o[j]
             opp[bnd_o[j]] = 3 * s
             fan_from[u] = s
-            in_cavity[s] = -1
-            tested[s] = -1
             if u != inf and bnd_v[j] != inf:
                 last = s
         for j in range(nb):
