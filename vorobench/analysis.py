@@ -22,12 +22,14 @@ __all__ = [
     "speed_ratios",
     "correctness_matrix",
     "failures",
+    "passed",
 ]
 
 #: Verdicts from best to worst; None = says nothing about correctness (not checked or not run).
 VERDICT_RANK: dict[str, Optional[int]] = {
     "exact": 0,
     "within_tolerance": 1,
+    "certified": 1,
     "no_reference": 1,
     "differs": 2,
     "not_certified": 3,
@@ -65,6 +67,7 @@ def case_table(df: pd.DataFrame) -> pd.DataFrame:
     out = grouped.agg(
         status=("status", "first"),
         verdict=("verdict", "first"),
+        check_passed=("check_passed", "first"),
         time_s=("time_s", "median"),
         time_min_s=("time_s", "min"),
         repeats=("time_s", "count"),
@@ -132,13 +135,25 @@ def speed_ratios(sizes: pd.DataFrame, reference: str) -> pd.DataFrame:
     return merged[["impl", "dataset", "n", "n_sites", "time_s", "ref_time_s", "ratio"]]
 
 
+def passed(verdict: object, check_passed: object = None) -> Optional[bool]:
+    """Did a case pass its check? The cross-validation's own judgement when recorded (a
+    difference blamed on the reference passes), else exact/within tolerance/certified."""
+    if isinstance(check_passed, (bool, np.bool_)):
+        return bool(check_passed)
+    if isinstance(check_passed, str) and check_passed in ("True", "False"):
+        return check_passed == "True"
+    rank = verdict_rank(verdict)
+    return None if rank is None else rank <= 1
+
+
 def correctness_matrix(cases: pd.DataFrame) -> pd.DataFrame:
-    """Worst verdict and counts per (impl, dataset): columns worst, cases, good (exact or within tolerance)."""
+    """Worst verdict and counts per (impl, dataset): columns worst, cases, checked, good (passed)."""
     rows = []
     for (impl, dataset), g in cases.groupby(["impl", "dataset"], sort=True):
         verdicts = g["verdict"].tolist()
-        good = sum(1 for v in verdicts if verdict_rank(v) in (0, 1))
-        checked = sum(1 for v in verdicts if verdict_rank(v) is not None)
+        outcomes = [passed(v, p) for v, p in zip(verdicts, g["check_passed"])]
+        good = sum(1 for o in outcomes if o)
+        checked = sum(1 for o in outcomes if o is not None)
         rows.append({"impl": impl, "dataset": dataset, "worst": worst_verdict(verdicts),
                      "cases": len(g), "checked": checked, "good": good})
     return pd.DataFrame(rows, columns=["impl", "dataset", "worst", "cases", "checked", "good"])
@@ -147,5 +162,6 @@ def correctness_matrix(cases: pd.DataFrame) -> pd.DataFrame:
 def failures(cases: pd.DataFrame) -> pd.DataFrame:
     """Cases that did not run to completion (crashed, timeout, oom, error) or were not certified."""
     bad_status = ~cases["status"].isin(["ok", "unsupported", "skipped"])
-    bad_verdict = cases["verdict"].map(lambda v: (verdict_rank(v) or 0) >= 2)
+    bad_verdict = pd.Series([passed(v, p) is False for v, p in zip(cases["verdict"], cases["check_passed"])],
+                            index=cases.index, dtype=bool)
     return cases[bad_status | bad_verdict]

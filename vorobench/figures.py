@@ -30,6 +30,7 @@ _MARKERS = "osD^vP*Xh<>"
 VERDICT_COLOURS = {
     "exact": "#1a9850",
     "within_tolerance": "#91cf60",
+    "certified": "#66bd63",
     "no_reference": "#d9ef8b",
     "differs": "#fdae61",
     "not_certified": "#f46d43",

@@ -35,14 +35,15 @@ STATUSES = ("ok", "crashed", "timeout", "oom", "error", "unsupported", "skipped"
 
 #: Leading columns, in order; ``stat_*`` columns follow.
 COLUMNS = (
-    "run_id", "impl", "dataset", "n", "seed", "repeat", "status", "verdict",
+    "run_id", "impl", "dataset", "n", "seed", "repeat", "status", "verdict", "check_passed", "blame",
     "time_s", "warmup_s", "setup_s", "check_s",
     "n_points", "n_sites", "V", "E",
     "rss_base_mb", "peak_rss_mb", "mem_mb",
     "phase", "error", "verdict_detail", "finished_at",
 )
 
-_TEXT = {"run_id", "impl", "dataset", "status", "verdict", "phase", "error", "verdict_detail", "finished_at"}
+_TEXT = {"run_id", "impl", "dataset", "status", "verdict", "check_passed", "blame", "phase", "error",
+         "verdict_detail", "finished_at"}
 
 #: The columns that identify a case.
 KEY = ("impl", "dataset", "n", "seed")

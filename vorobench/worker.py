@@ -109,25 +109,34 @@ def store_reference(path: Path, diagram) -> None:
     os.replace(tmp, path)
 
 
-def check_against_reference(diagram, reference) -> tuple[str, str]:
-    """The correctness verdict of one built diagram: (verdict, one-line detail).
+def check_against_reference(impl_name: str, diagram, reference: str, reference_diagram,
+                            reference_error: str = "") -> dict:
+    """The correctness verdict of one built diagram, as result columns.
 
-    The single place that decides a case's verdict, so switching to the cross-validation
-    module's own function is a one-line change. Verdicts: "exact", "within_tolerance",
-    "differs", "not_certified" (and "no_reference" when the reference failed).
+    The single place that judges a case: the already-built diagram (no second build) and the
+    reference's are certified, compared, and the cross-validation rules of
+    :mod:`vorobench.crossval` decide the verdict and who is to blame.
     """
-    # Imported from their modules: once a submodule is loaded, ``vorobench.certify`` names it.
+    import impls
+    from vorobench import crossval
     from vorobench.certify import certify
-    from vorobench.compare import compare
 
-    cert = certify(diagram)
-    if not cert.ok:
-        return "not_certified", _first_line(cert)
-    if reference is None:
-        return "no_reference", "certified; no reference diagram to compare with"
-    cmp = compare(diagram, reference)
-    verdict = getattr(cmp, "verdict", None) or ("exact" if cmp.equal else "differs")
-    return str(verdict), _first_line(cmp)
+    def exact(name: str) -> bool:
+        try:
+            return bool(impls.get(name).exact)
+        except Exception:  # an unknown reference is judged strictly
+            return True
+
+    res = crossval.BuildResult(impl_name, exact(impl_name), diagram, certify(diagram))
+    if impl_name == reference:
+        ref = res
+    elif reference_diagram is None:
+        ref = crossval.BuildResult(reference, exact(reference), error=reference_error or "no reference diagram")
+    else:
+        ref = crossval.BuildResult(reference, exact(reference), reference_diagram, certify(reference_diagram))
+    verdict = crossval._decide(impl_name, reference, res, ref)
+    return {"verdict": verdict.verdict, "check_passed": bool(verdict.passed), "blame": verdict.blame or "",
+            "verdict_detail": _first_line(verdict.message)}
 
 
 def _first_line(obj: object) -> str:
@@ -231,8 +240,8 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
         send("step", "check")
         t0 = time.perf_counter_ns()
         try:
+            ref, ref_error = None, ""
             if impl.name == config["reference"]:
-                ref = diagram
                 if config.get("reference_cache"):
                     store_reference(Path(config["reference_cache"]) /
                                     f"{impl.name}-{case['dataset']}-{case['n']}-{case['seed']}.npz", diagram)
@@ -240,13 +249,12 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
                 try:
                     ref = reference_diagram(config["reference"], case["dataset"], case["n"], case["seed"],
                                             sites, config.get("reference_cache"))
-                except Exception:
-                    ref = None
-            verdict, detail = check_against_reference(diagram, ref)
+                except Exception as exc:            # the reference's failure is not this case's
+                    ref_error = f"{type(exc).__name__}: {exc}"
+            verdict = check_against_reference(impl.name, diagram, config["reference"], ref, ref_error)
         except Exception as exc:                    # a failing check is reported, not fatal
-            verdict, detail = "check_error", f"{type(exc).__name__}: {exc}"
-        send("data", {"verdict": verdict, "verdict_detail": detail,
-                      "check_s": (time.perf_counter_ns() - t0) / 1e9})
+            verdict = {"verdict": "check_error", "verdict_detail": _first_line(f"{type(exc).__name__}: {exc}")}
+        send("data", {**verdict, "check_s": (time.perf_counter_ns() - t0) / 1e9})
     else:
         send("data", {"verdict": "skipped"})
     send("done", None)

@@ -1,7 +1,7 @@
 """Test-only implementations that misbehave on purpose, loaded into workers with ``--plugin``.
 
 Each wraps Qhull's build (a correct diagram) with one fault: a hard exit, a segfault, a hang,
-an impossible allocation, a Python exception, a refusal, a sleep, or a large allocation. ``steady`` sleeps for
+an impossible allocation, a Python exception, a refusal, a sleep, a large allocation, or a wrong diagram. ``steady`` sleeps for
 ``VOROBENCH_TEST_SLEEP`` seconds (default 0.02) before building and reports counters scaled by
 ``VOROBENCH_TEST_COUNTER_SCALE`` (default 1): the environment variables let a test slow it
 down or change its counters between two runs without renaming it.
@@ -10,6 +10,7 @@ down or change its counters between two runs without renaming it.
 from __future__ import annotations
 
 import ctypes
+import dataclasses
 import os
 import time
 
@@ -63,6 +64,12 @@ def _hungry(sites, stats=None):
     return qhull_build(sites, stats)
 
 
+def _wrong(sites, stats=None):
+    moved = sites.copy()
+    moved[0] += 0.05                             # the diagram of other sites, labelled with these
+    return dataclasses.replace(qhull_build(moved, stats), sites=sites)
+
+
 def _refuse(sites):
     return "refuses every input (test double)"
 
@@ -81,5 +88,6 @@ IMPLEMENTATIONS = [
     _double("fail", _fail),
     _double("steady", _steady),
     _double("hungry", _hungry),
+    _double("wrong", _wrong),
     _double("refuse", qhull_build, supports=_refuse),
 ]

@@ -89,10 +89,14 @@ def test_counters_and_peak_memory_are_measured(faulty_run):
 
 def test_check_gives_a_verdict_against_the_reference(tmp_path):
     out = tmp_path / "r.csv"
-    assert _bench(out, "qhull,steady", "--sizes", "60", "--repeat", "1", "--timeout", "60") == 0
+    assert _bench(out, "qhull,steady,wrong", "--sizes", "60", "--repeat", "1", "--timeout", "60") == 0
     df = pd.read_csv(out)
-    # steady returns Qhull's own diagram, so both must certify and agree with the reference exactly.
-    assert list(df["verdict"]) == ["exact", "exact"], df["verdict_detail"].tolist()
+    # The reference's own row is judged on its certificate; steady returns Qhull's own diagram,
+    # so it must certify and agree with the reference exactly; wrong's diagram belongs to other sites.
+    assert list(df["impl"]) == ["qhull", "steady", "wrong"]
+    assert list(df["verdict"]) == ["certified", "exact", "not_certified"], df["verdict_detail"].tolist()
+    assert df["check_passed"].tolist() == [True, True, False]
+    assert df["blame"].fillna("").tolist() == ["", "", "impl"]
     assert (df["check_s"] > 0).all()
 
 
