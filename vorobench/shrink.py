@@ -39,6 +39,8 @@ def ddmin(n: int, fails: Callable[[NDArray[np.int64]], bool], *, max_tests: int 
         nonlocal tests
         key = subset.tobytes()
         if key not in cache:
+            if tests >= max_tests or time.monotonic() >= deadline:
+                return False                          # out of budget: keep what we have
             tests += 1
             cache[key] = bool(fails(subset))
         return cache[key]
