@@ -80,6 +80,15 @@ _STATS_KEPT = ("site_events", "circle_events", "false_alarms", "vertices", "max_
                "orient2d_calls", "orient2d_exact")
 
 
+def _event_order(sites: NDArray[np.float64]) -> NDArray[np.int64]:
+    """Indices of the sites sorted by y, then x (one quicksort unless some y values repeat)."""
+    order = np.argsort(sites[:, 1])
+    y = sites[order, 1]
+    if np.any(y[1:] == y[:-1]):
+        order = np.lexsort((sites[:, 0], sites[:, 1]))
+    return order
+
+
 def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     """The Voronoi diagram of prepared ``sites`` by Fortune's sweep."""
     sites = np.ascontiguousarray(sites, dtype=np.float64).reshape(-1, 2)
@@ -90,7 +99,7 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
         return Diagram.empty(sites)
     # The sweep runs on the sites in event order (y, then x): site i is the i-th event, which
     # keeps its memory accesses local; site ids are mapped back after the DCEL is built.
-    order = np.lexsort((sites[:, 0], sites[:, 1]))
+    order = _event_order(sites)
     swept = np.ascontiguousarray(sites[order])
     counters = np.zeros(N_COUNTERS, dtype=np.int64)
     status, edge_sites, edge_vertices, vertices = sweep(swept, counters)

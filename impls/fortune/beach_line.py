@@ -32,8 +32,9 @@ BP_EXACT = 5
 
 @njit(cache=True)
 def new_arcs(capacity):
-    """An empty arc table with room for ``capacity`` arcs (rows filled by :func:`add_arc`)."""
-    return np.full((max(capacity, 1), ARC_FIELDS), -1, dtype=np.int32)
+    """An arc table with room for ``capacity`` arcs; rows are filled by :func:`add_arc` (left
+    uninitialised here, so untouched rows cost no memory)."""
+    return np.empty((max(capacity, 1), ARC_FIELDS), dtype=np.int32)
 
 
 @njit(cache=True, inline='always')
@@ -72,7 +73,7 @@ def _rotate_up(arcs, root, y):
     return root
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def insert_after(arcs, root, x, y):
     """Insert detached arc y immediately right of arc x (x = -1: y becomes the whole, empty,
     beach line). Returns the new root."""
@@ -99,7 +100,7 @@ def insert_after(arcs, root, x, y):
     return root
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def remove(arcs, root, x):
     """Remove arc x from the tree and the neighbour list; returns the new root."""
     while True:
@@ -133,7 +134,7 @@ def remove(arcs, root, x):
     return root
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def locate(arcs, root, sites, sx, sy, counters):
     """The arc directly above the new site (sx, sy) at sweep position y = sy.
 

@@ -36,31 +36,41 @@ ORDER_EXACT = 7
 
 @njit(cache=True)
 def new_queue(capacity):
-    """(ev_i, ev_f, heap, hkey, free): event tables, the heap with its keys, a free list of every row."""
+    """(ev_i, ev_f, heap, hkey, free): event rows, the heap with its keys, a free-row stack.
+
+    Allocated uninitialised: only the rows in use are ever touched (the beach line, and so
+    the number of pending events, is typically O(sqrt n)).
+    """
     capacity = max(capacity, 1)
-    ev_i = np.full((capacity, 6), -1, dtype=np.int32)
-    ev_f = np.zeros((capacity, 4), dtype=np.float64)
+    ev_i = np.empty((capacity, 6), dtype=np.int32)
+    ev_f = np.empty((capacity, 4), dtype=np.float64)
     heap = np.empty(capacity, dtype=np.int32)
     hkey = np.empty((capacity, 2), dtype=np.float64)           # (Y, ERR) of heap[k]
-    free = np.arange(capacity - 1, -1, -1).astype(np.int32)   # a stack: pop from the end
+    free = np.empty(capacity + 1, dtype=np.int32)               # [0]: rows ever used; then a stack
+    free[0] = 0
     return ev_i, ev_f, heap, hkey, free
 
 
 @njit(cache=True, inline='always')
 def allocate(ev_i, free, nfree):
-    """Take a row from the free list; returns (row, new nfree), row -1 if none is left."""
-    if nfree == 0:
+    """Take a row: the last one released if any, else a never used one; returns (row, new
+    nfree), row -1 if the table is full. ``nfree`` counts the released rows on the stack."""
+    if nfree > 0:
+        return free[nfree], nfree - 1
+    e = free[0]
+    if e >= ev_i.shape[0]:
         return -1, 0
-    nfree -= 1
-    return free[nfree], nfree
+    free[0] = e + 1
+    return e, 0
 
 
 @njit(cache=True, inline='always')
 def release(ev_i, free, nfree, e):
-    """Return row e to the free list; returns the new nfree."""
+    """Put row e back on the free stack; returns the new nfree."""
     ev_i[e, POS] = -1
+    nfree += 1
     free[nfree] = e
-    return nfree + 1
+    return nfree
 
 
 @njit(cache=True, inline='always')
@@ -76,7 +86,7 @@ def _float_order(ye, erre, yg, errg):
     return 0
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def _exact_before(sites, ev_i, e, g):
     # exact order of two circle events; equal tops go to the older event (smaller SEQ).
     # Only scalars cross the call into the predicate (array arguments cost reference counts).

@@ -81,7 +81,7 @@ def sweep(sites, counters):
     arc_free = np.empty(arc_cap, dtype=np.int32)
     nafree = 0
     ev_i, ev_f, heap, hkey, free = eq.new_queue(arc_cap)
-    nfree = free.shape[0]
+    nfree = 0
     edge_cap = 3 * n + 2
     edge_sites = np.empty((edge_cap, 2), dtype=np.int32)
     edge_vertices = np.full((edge_cap, 2), -1, dtype=np.int32)
@@ -167,12 +167,7 @@ def sweep(sites, counters):
             if na + 2 > arc_cap or ne + 1 > edge_cap or nv + 1 > vertices.shape[0]:
                 status = ERR_CAPACITY
                 break
-            g = arcs[x, bl.EVENT]
-            if g != -1:
-                hsize = eq.discard(sites, ev_i, heap, hkey, hsize, g, counters)
-                nfree = eq.release(ev_i, free, nfree, g)
-                arcs[x, bl.EVENT] = -1
-                counters[FALSE_ALARMS] += 1
+            # (x's pending circle event is cancelled below, with the other touched arc's)
             q = arcs[x, bl.SITE]
             serial += 1
             if nafree > 0:
