@@ -55,7 +55,7 @@ from vorobench.diagram import Diagram
 from vorobench.predicates import (INCIRCLE_CALLS, INCIRCLE_EXACT, ORIENT_CALLS, ORIENT_EXACT, incircle_counted,
                                   orient2d_counted, orient2d_many)
 
-__all__ = ["build", "cells", "IMPLEMENTATION"]
+__all__ = ["build", "cells", "supports", "IMPLEMENTATION", "AT_INFINITY", "MAX_SITES"]
 
 #: Marker in a cell's cyclic neighbour list for the arc at infinity of an unbounded cell.
 AT_INFINITY = -1
@@ -66,6 +66,9 @@ PREFILTER_REL_PAD = 1e-6
 PREFILTER_ULPS = 64.0
 #: Operation counts returned by the cell kernel (the predicate counters come separately).
 STAT_NAMES = ("clips", "prefiltered", "cuts", "vertex_tests")
+
+#: Vertices are keyed by their sorted site triple packed in one int64: n**3 < 2**63.
+MAX_SITES = 2_000_000
 
 _CUT, _ON, _KEPT = 1, 0, -1
 
@@ -408,10 +411,20 @@ def _all_collinear(sites: NDArray[np.float64]) -> bool:
     return sites.shape[0] <= 2 or not orient2d_many(sites[0], sites[1], sites[2:]).any()
 
 
+def supports(sites: NDArray[np.float64]) -> Optional[str]:
+    """None if the sites can be processed, else why not."""
+    if sites.shape[0] > MAX_SITES:
+        return f"more than {MAX_SITES} sites (vertex keys pack a site triple in an int64)"
+    return None
+
+
 def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     """The Voronoi diagram of prepared ``sites``, one half-plane intersection per cell."""
     sites = np.ascontiguousarray(sites, dtype=np.float64).reshape(-1, 2)
     n = sites.shape[0]
+    reason = supports(sites)
+    if reason is not None:
+        raise ValueError(f"halfplane cannot build this diagram: {reason}")
     if n <= 1:
         return Diagram.empty(sites)
     if _all_collinear(sites):
@@ -445,4 +458,5 @@ IMPLEMENTATION = Implementation(
     build=build,
     exact=True,
     warmup=warmup,
+    supports=supports,
 )

@@ -32,6 +32,10 @@ QHULL_REL_TOL = 1e-8
 QHULL_LOOSE = {"kuzmin", "parabola", "huge_offset"}
 QHULL_LOOSE_REL_TOL = 1e-6
 QHULL_LOOSE_COORD_TOL = 1e-1
+#: At 10^4 sites these two cost 7-12 s per comparison (Qhull's merging of thousands of
+#: cocircular sites, and compare() on vertices of degree ~10^3); they are compared at
+#: n <= 1000, and certified at every n.
+QHULL_TOO_SLOW_AT_10K = {"cocircular", "cocircular_many"}
 
 
 def agrees_with_qhull(d, points, dataset=""):
@@ -64,6 +68,10 @@ QHULL_REL_TOL = 1e-8
 QHULL_LOOSE = {"kuzmin", "parabola", "huge_offset"}
 QHULL_LOOSE_REL_TOL = 1e-6
 QHULL_LOOSE_COORD_TOL = 1e-1
+#: At 10^4 sites these two cost 7-12 s per comparison (Qhull's merging of thousands of
+#: cocircular sites, and compare() on vertices of degree ~10^3); they are compared at
+#: n <= 1000, and certified at every n.
+QHULL_TOO_SLOW_AT_10K = {"cocircular", "cocircular_many"}
 
 
 def agrees_with_qhull(d, points, dataset=""):
@@ -90,7 +98,8 @@ def agrees_with_qhull(d, points, dataset=""):
 def test_agrees_with_qhull_on_every_family(dataset, n, seed):
     points = datasets_gen.generate(dataset, n, seed=seed)
     d = impls.build("incremental", points).validate()
-    assert agrees_with_qhull(d, points, dataset)
+    if not (n >= 10000 and dataset in QHULL_TOO_SLOW_AT_10K):
+        assert agrees_with_qhull(d, points, dataset)
     certificate = certify(d)
     assert certificate.ok, str(certificate)
 
