@@ -72,9 +72,70 @@ def voronoi_edges(pts, ids, tri, opp, ntri, counters):
     ``pts`` are the points the triangulation indexes (in insertion order, for locality) and
     ``ids[v]`` the caller's site id of point v: output edges use those ids, and a vertex's
     coordinates come from its three smallest ids. Returns (vertices (V, 2),
-    edge_sites (E, 2), edge_vertices (E, 2), merged): the edge arrays in the form :func:`vorobench.dcel.assemble` takes; ``merged`` counts triangles
-    folded into a cocircular neighbour's vertex.
+    edge_sites (E, 2), edge_vertices (E, 2), merged): the edge arrays in the form
+    :func:`vorobench.dcel.assemble` takes; ``merged`` counts triangles folded into a
+    cocircular neighbour's vertex.
+
+    Two passes when no two neighbouring triangles are cocircular (one vertex per finite
+    triangle, then one edge per Delaunay edge, each interior edge tested on the way); the
+    first cocircular pair found hands over to :func:`_merged_dual`.
     """
+    n = pts.shape[0]
+    inf = n
+    vid = np.full(ntri, -1, dtype=np.int64)
+    vertices = np.empty((ntri, 2), dtype=np.float64)
+    nv = 0
+    for t in range(ntri):
+        a = tri[3 * t]
+        b = tri[3 * t + 1]
+        c = tri[3 * t + 2]
+        if a == inf or b == inf or c == inf:
+            continue
+        if ids[a] > ids[b]:
+            a, b = b, a
+        if ids[b] > ids[c]:
+            b, c = c, b
+        if ids[a] > ids[b]:
+            a, b = b, a
+        x, y = circumcentre(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1])
+        vertices[nv, 0] = x
+        vertices[nv, 1] = y
+        vid[t] = nv
+        nv += 1
+    ne = 0
+    edge_sites = np.empty((3 * ntri // 2, 2), dtype=np.int64)
+    edge_vertices = np.empty((3 * ntri // 2, 2), dtype=np.int64)
+    for e in range(3 * ntri):
+        oe = opp[e]
+        if oe < e:
+            continue
+        t = e // 3
+        a = tri[e]
+        b = tri[3 * t + (e - 3 * t + 1) % 3]
+        if a == inf or b == inf:
+            continue
+        left = vid[t]
+        t2 = oe // 3
+        right = vid[t2]
+        if left >= 0 and right >= 0:
+            c = tri[3 * t + (e - 3 * t + 2) % 3]
+            d = tri[3 * t2 + (oe - 3 * t2 + 2) % 3]
+            if incircle_counted(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1],
+                                pts[d, 0], pts[d, 1], counters) == 0:
+                return _merged_dual(pts, ids, tri, opp, ntri, counters)
+        # a's half-edge runs along perp(b - a), i.e. from the right triangle's centre to the left's
+        edge_sites[ne, 0] = ids[a]
+        edge_sites[ne, 1] = ids[b]
+        edge_vertices[ne, 0] = right
+        edge_vertices[ne, 1] = left
+        ne += 1
+    return vertices[:nv], edge_sites[:ne], edge_vertices[:ne], 0
+
+
+@njit(cache=True)
+def _merged_dual(pts, ids, tri, opp, ntri, counters):
+    """:func:`voronoi_edges` when some neighbouring triangles share their circumcircle:
+    union-find over cocircular neighbours, one vertex per group."""
     n = pts.shape[0]
     inf = n
     parent = np.arange(ntri)
