@@ -153,13 +153,13 @@ def triangulate(pts, order, counters):
     stats[0] = 3
     # ---- scratch for the cavity
     # mark[t] == 2 m: t is in the cavity of insertion m; 2 m + 1: t was tested and is not
-    mark = np.full(cap_t, -1, dtype=np.int64)
+    mark = np.full(cap_t, -1, dtype=np.int32)
     stack = np.empty(cap_t, dtype=np.int64)
     cavity = np.empty(cap_t, dtype=np.int64)
     bnd_u = np.empty(cap_t + 2, dtype=np.int64)
     bnd_v = np.empty(cap_t + 2, dtype=np.int64)
     bnd_o = np.empty(cap_t + 2, dtype=np.int64)
-    fan_from = np.empty(n + 1, dtype=np.int64)  # new triangle whose first corner is this vertex
+    fan_from = np.empty(n + 1, dtype=np.int32)  # new triangle whose first corner is this vertex
     last = 0
     for m in range(2, n):
         if m == third:
