@@ -59,8 +59,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--repeat", type=int, default=3, help="timed builds per case, at least (default 3)")
     p.add_argument("--min-time", type=float, default=0.3,
                    help="repeat short builds until this many seconds are timed (default 0.3)")
-    p.add_argument("--budget", type=float, default=5.0,
-                   help="skip builds extrapolated to take longer than this many seconds (default 5)")
+    p.add_argument("--budget", type=float, default=2.0,
+                   help="skip builds extrapolated to take longer than this many seconds (default 2)")
     p.add_argument("--timeout", type=float, default=60.0, help="seconds per build and per check (default 60)")
     p.add_argument("--resume", action="store_true", help="continue an interrupted demo in the same folder")
     p.add_argument("--title", default=None, help="report title")

@@ -101,7 +101,7 @@ def _finish(fig, axes, path: Path, handles, labels) -> Path:
                    frameon=False)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=100)
     plt.close(fig)
     return path
 
@@ -217,6 +217,6 @@ def plot_correctness(matrix: pd.DataFrame, path: Path, order: Optional[Sequence[
               frameon=False)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=100)
     plt.close(fig)
     return path

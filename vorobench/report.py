@@ -13,6 +13,7 @@ import base64
 import html
 import math
 import re
+import shlex
 import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -315,7 +316,7 @@ def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, re
               "Raw rows: [`results.csv`](results.csv) (one row per case and repeat; "
               "`pandas.read_csv`), metadata: [`results.meta.json`](results.meta.json)."]
     if argv:
-        parts += ["", "Produced by:", "", "```", "vorobench " + " ".join(argv), "```"]
+        parts += ["", "Produced by:", "", "```", "vorobench " + shlex.join(argv), "```"]
     return "\n".join(parts) + "\n"
 
 
