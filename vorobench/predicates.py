@@ -885,42 +885,75 @@ BREAKPOINT_ERRBOUND = (8.0 + 64.0 * EPSILON) * EPSILON
 _CIRCLE_TOP_SAFETY = 2.0
 
 
+#: Floats in the scratch pool of one exact evaluation (16 KiB: one allocation per exact
+#: predicate call instead of one per arithmetic step; larger needs fall back to allocation).
+_POOL_SIZE = 2048
+
+
 @njit(cache=True)
-def _xd(a, b):
+def _new_pool():
+    # w[0] holds the cursor (the next free index, as a float: exact below 2**53)
+    w = np.empty(_POOL_SIZE)
+    w[0] = 1.0
+    return w
+
+
+@njit(cache=True)
+def _take(w, k):
+    # k floats of scratch: from the pool while it lasts, else freshly allocated
+    c = int(w[0])
+    if c + k <= w.shape[0]:
+        w[0] = c + k
+        return w[c:c + k]
+    return np.empty(k)
+
+
+@njit(cache=True)
+def _xd(a, b, w):
     # exact a - b of two floats as a (<= 2 component) expansion array
-    h = np.empty(2)
+    h = _take(w, 2)
     n = diff_expansion(a, b, h)
     return h[:n]
 
 
 @njit(cache=True)
-def _xmul(e, f):
-    # exact product of two expansion arrays, compressed
-    h = np.empty(2 * e.shape[0] * f.shape[0])
-    n = expansion_product(e, e.shape[0], f, f.shape[0], h)
-    n = compress_expansion(h, n, h)
-    return h[:n]
+def _xmul(e, f, w):
+    # exact product of two expansion arrays, compressed: the longer one scaled by each
+    # component of the shorter, accumulated
+    if e.shape[0] < f.shape[0]:
+        e, f = f, e
+    m = e.shape[0]
+    acc = _take(w, 2 * m * f.shape[0])
+    nxt = _take(w, 2 * m * f.shape[0])
+    t = _take(w, 2 * m)
+    alen = scale_expansion(e, m, f[0], acc)
+    for i in range(1, f.shape[0]):
+        tlen = scale_expansion(e, m, f[i], t)
+        alen = expansion_sum(acc, alen, t, tlen, nxt)
+        acc, nxt = nxt, acc
+    alen = compress_expansion(acc, alen, acc)
+    return acc[:alen]
 
 
 @njit(cache=True)
-def _xadd(e, f):
-    h = np.empty(e.shape[0] + f.shape[0])
+def _xadd(e, f, w):
+    h = _take(w, e.shape[0] + f.shape[0])
     n = expansion_sum(e, e.shape[0], f, f.shape[0], h)
     n = compress_expansion(h, n, h)
     return h[:n]
 
 
 @njit(cache=True)
-def _xsub(e, f):
-    h = np.empty(e.shape[0] + f.shape[0])
+def _xsub(e, f, w):
+    h = _take(w, e.shape[0] + f.shape[0])
     n = expansion_diff(e, e.shape[0], f, f.shape[0], h)
     n = compress_expansion(h, n, h)
     return h[:n]
 
 
 @njit(cache=True)
-def _xscale(e, b):
-    h = np.empty(2 * e.shape[0])
+def _xscale(e, b, w):
+    h = _take(w, 2 * e.shape[0])
     n = scale_expansion(e, e.shape[0], b, h)
     n = compress_expansion(h, n, h)
     return h[:n]
@@ -932,8 +965,8 @@ def _xsign(e):
 
 
 @njit(cache=True)
-def _xneg(e):
-    h = np.empty(e.shape[0])
+def _xneg(e, w):
+    h = _take(w, e.shape[0])
     expansion_negate(e, e.shape[0], h)
     return h
 
@@ -962,15 +995,16 @@ def _midpoint_side(px, qx, sx):
 @njit(cache=True)
 def _breakpoint_poly_exact(px, py, qx, qy, sx, sy):
     # exact sign of f = (sx-px)**2 (sy-qy) - (sx-qx)**2 (sy-py) + (sy-py)(sy-qy)(qy-py)
-    dxp = _xd(sx, px)
-    dxq = _xd(sx, qx)
-    hp = _xd(sy, py)
-    hq = _xd(sy, qy)
-    dh = _xd(qy, py)
-    t1 = _xmul(_xmul(dxp, dxp), hq)
-    t2 = _xmul(_xmul(dxq, dxq), hp)
-    t3 = _xmul(_xmul(hp, hq), dh)
-    return _xsign(_xadd(_xsub(t1, t2), t3))
+    w = _new_pool()
+    dxp = _xd(sx, px, w)
+    dxq = _xd(sx, qx, w)
+    hp = _xd(sy, py, w)
+    hq = _xd(sy, qy, w)
+    dh = _xd(qy, py, w)
+    t1 = _xmul(_xmul(dxp, dxp, w), hq, w)
+    t2 = _xmul(_xmul(dxq, dxq, w), hp, w)
+    t3 = _xmul(_xmul(hp, hq, w), dh, w)
+    return _xsign(_xadd(_xsub(t1, t2, w), t3, w))
 
 
 @njit(cache=True)
@@ -1107,35 +1141,36 @@ def circle_top(ax, ay, bx, by, cx, cy):
 
 
 @njit(cache=True)
-def _circle_parts(ax, ay, bx, by, cx, cy):
+def _circle_parts(ax, ay, bx, by, cx, cy, w):
     # Exact expansions (e, nys, s) with y_top = a_y + (nys + sqrt(s)) / e, e > 0:
     # e = 2 |D|, D = orient of (b - a, c - a), nys = sign(D) * Ny, s = Nx**2 + Ny**2.
-    bx_ = _xd(bx, ax)
-    by_ = _xd(by, ay)
-    cx_ = _xd(cx, ax)
-    cy_ = _xd(cy, ay)
-    dd = _xsub(_xmul(bx_, cy_), _xmul(by_, cx_))
-    b2 = _xadd(_xmul(bx_, bx_), _xmul(by_, by_))
-    c2 = _xadd(_xmul(cx_, cx_), _xmul(cy_, cy_))
-    nx = _xsub(_xmul(cy_, b2), _xmul(by_, c2))
-    ny = _xsub(_xmul(bx_, c2), _xmul(cx_, b2))
-    s = _xadd(_xmul(nx, nx), _xmul(ny, ny))
+    bx_ = _xd(bx, ax, w)
+    by_ = _xd(by, ay, w)
+    cx_ = _xd(cx, ax, w)
+    cy_ = _xd(cy, ay, w)
+    dd = _xsub(_xmul(bx_, cy_, w), _xmul(by_, cx_, w), w)
+    b2 = _xadd(_xmul(bx_, bx_, w), _xmul(by_, by_, w), w)
+    c2 = _xadd(_xmul(cx_, cx_, w), _xmul(cy_, cy_, w), w)
+    nx = _xsub(_xmul(cy_, b2, w), _xmul(by_, c2, w), w)
+    ny = _xsub(_xmul(bx_, c2, w), _xmul(cx_, b2, w), w)
+    s = _xadd(_xmul(nx, nx, w), _xmul(ny, ny, w), w)
     if _xsign(dd) < 0:
-        dd = _xneg(dd)
-        ny = _xneg(ny)
-    e = _xscale(dd, 2.0)
+        dd = _xneg(dd, w)
+        ny = _xneg(ny, w)
+    e = _xscale(dd, 2.0, w)
     return e, ny, s
 
 
 @njit(cache=True)
 def circle_event_vs_site_exact(ax, ay, bx, by, cx, cy, sy):
     """Exact sign of (top of the circumcircle of a, b, c) - sy; a, b, c must not be collinear."""
-    e, nys, s = _circle_parts(ax, ay, bx, by, cx, cy)
-    # y_top - sy = (nys + sqrt(s) - w') / e with w' = e (sy - ay); sign(sqrt(s) - w), w = w' - nys
-    w = _xsub(_xmul(e, _xd(sy, ay)), nys)
-    if _xsign(w) < 0:
+    w = _new_pool()
+    e, nys, s = _circle_parts(ax, ay, bx, by, cx, cy, w)
+    # y_top - sy = (nys + sqrt(s) - t) / e with t = e (sy - ay); sign(sqrt(s) - d), d = t - nys
+    d = _xsub(_xmul(e, _xd(sy, ay, w), w), nys, w)
+    if _xsign(d) < 0:
         return 1
-    return _xsign(_xsub(s, _xmul(w, w)))
+    return _xsign(_xsub(s, _xmul(d, d, w), w))
 
 
 @njit(cache=True)
@@ -1154,40 +1189,41 @@ def circle_event_vs_site(ax, ay, bx, by, cx, cy, sy):
 
 
 @njit(cache=True)
-def _sqrt_sum_sign(p, u, v):
+def _sqrt_sum_sign(p, u, v, w):
     # exact sign of p + sqrt(u) - sqrt(v) for expansions p and u, v >= 0 (u, v > 0 when
     # the sign of p and of u - v disagree), by squaring with case analysis
     sp = _xsign(p)
-    suv = _xsign(_xsub(u, v))
+    suv = _xsign(_xsub(u, v, w))
     if sp == 0:
         return suv
     if suv == 0 or suv == sp:
         return sp
-    p2 = _xmul(p, p)
+    p2 = _xmul(p, p, w)
     if sp > 0:
         # p > 0 > sqrt(u) - sqrt(v): compare (p + sqrt u)**2 = p**2 + u + 2 p sqrt(u) with v
-        q = _xsub(_xadd(p2, u), v)
+        q = _xsub(_xadd(p2, u, w), v, w)
         if _xsign(q) >= 0:
             return 1
-        return _xsign(_xsub(_xscale(_xmul(p2, u), 4.0), _xmul(q, q)))
+        return _xsign(_xsub(_xscale(_xmul(p2, u, w), 4.0, w), _xmul(q, q, w), w))
     # p < 0 < sqrt(u) - sqrt(v): compare u with (|p| + sqrt v)**2 = p**2 + v + 2 |p| sqrt(v)
-    q = _xsub(_xsub(u, v), p2)
+    q = _xsub(_xsub(u, v, w), p2, w)
     if _xsign(q) <= 0:
         return -1
-    return _xsign(_xsub(_xmul(q, q), _xscale(_xmul(p2, v), 4.0)))
+    return _xsign(_xsub(_xmul(q, q, w), _xscale(_xmul(p2, v, w), 4.0, w), w))
 
 
 @njit(cache=True)
 def circle_events_order_exact(ax, ay, bx, by, cx, cy, dx, dy, ex, ey, fx, fy):
     """Exact sign of y_top(a, b, c) - y_top(d, e, f) (tops of two circumcircles); no filter."""
-    e1, n1, s1 = _circle_parts(ax, ay, bx, by, cx, cy)
-    e2, n2, s2 = _circle_parts(dx, dy, ex, ey, fx, fy)
+    w = _new_pool()
+    e1, n1, s1 = _circle_parts(ax, ay, bx, by, cx, cy, w)
+    e2, n2, s2 = _circle_parts(dx, dy, ex, ey, fx, fy, w)
     # e2 e1 (y1 - y2) = p + e2 sqrt(s1) - e1 sqrt(s2)
-    e12 = _xmul(e1, e2)
-    p = _xadd(_xmul(e12, _xd(ay, dy)), _xsub(_xmul(e2, n1), _xmul(e1, n2)))
-    u = _xmul(_xmul(e2, e2), s1)
-    v = _xmul(_xmul(e1, e1), s2)
-    return _sqrt_sum_sign(p, u, v)
+    e12 = _xmul(e1, e2, w)
+    p = _xadd(_xmul(e12, _xd(ay, dy, w), w), _xsub(_xmul(e2, n1, w), _xmul(e1, n2, w), w), w)
+    u = _xmul(_xmul(e2, e2, w), s1, w)
+    v = _xmul(_xmul(e1, e1, w), s2, w)
+    return _sqrt_sum_sign(p, u, v, w)
 
 
 @njit(cache=True)
