@@ -23,11 +23,11 @@ FAMILIES = datasets_gen.available()
 CASES = [(n, seed) for n in (10, 100, 1000) for seed in (0, 1)] + [(10000, 0)]
 #: Qhull decides in floats on lifted coordinates (~ scale**2): it merges nearly cocircular
 #: sites into one vertex, and its far-away vertices (nearly collinear triples, 1e14 away on
-#: near_grid) are off by up to ~1% of their distance (ours are checked against exact
-#: rational circumcentres in test_circumcentres_are_correctly_rounded). Against it, edges shorter than QHULL_REL_TOL x the data scale
-#: are contracted; on the families where Qhull is known to be that far off (heavy tails,
-#: near-grid, parabola, 1e9 offsets) the tolerances are looser. Exact agreement is tested
-#: between the two exact implementations (test_halfplane.py).
+#: near_grid) are off by up to ~1% of their distance (ours are checked against exact rational
+#: circumcentres below). Against it, edges shorter than QHULL_REL_TOL x the data scale are
+#: contracted; on the families where Qhull is known to be that far off (heavy tails, parabola,
+#: 1e9 offsets) the tolerances are looser. Exact agreement is tested between the two exact
+#: implementations (test_halfplane.py).
 QHULL_REL_TOL = 1e-8
 QHULL_LOOSE = {"kuzmin", "parabola", "huge_offset"}
 QHULL_LOOSE_REL_TOL = 1e-6
@@ -57,17 +57,6 @@ def agrees_with_qhull(d, points, dataset=""):
     return True
 
 
-#: Qhull decides in floats on lifted coordinates (~ scale**2): it merges nearly cocircular
-#: sites into one vertex, and its far-away vertices (nearly collinear triples, 1e14 away on
-#: near_grid) are off by up to ~1% of their distance (ours are checked against exact
-#: rational circumcentres in test_circumcentres_are_correctly_rounded). Against it, edges shorter than QHULL_REL_TOL x the data scale
-#: are contracted; on the families where Qhull is known to be that far off (heavy tails,
-#: near-grid, parabola, 1e9 offsets) the tolerances are looser. Exact agreement is tested
-#: between the two exact implementations (test_halfplane.py).
-QHULL_REL_TOL = 1e-8
-QHULL_LOOSE = {"kuzmin", "parabola", "huge_offset"}
-QHULL_LOOSE_REL_TOL = 1e-6
-QHULL_LOOSE_COORD_TOL = 1e-1
 #: At 10^4 sites these two cost 7-12 s per comparison (Qhull's merging of thousands of
 #: cocircular sites, and compare() on vertices of degree ~10^3); they are compared at
 #: n <= 1000, and certified at every n.
