@@ -182,15 +182,6 @@ def _site_matching(a: Diagram, b: Diagram) -> tuple[Optional[NDArray[np.int64]],
     return None, diffs, count
 
 
-def _structure_error(d: Diagram) -> Optional[str]:
-    """The first broken DCEL invariant (``Diagram.validate``), or None."""
-    try:
-        d.validate()
-    except Exception as exc:  # any failure of validate is a structural problem of d
-        return f"{type(exc).__name__}: {exc}"
-    return None
-
-
 def _indices_usable(d: Diagram) -> bool:
     """Whether the index arrays can be used for indexing at all (shapes and ranges)."""
     H, V, n = d.n_half_edges, d.n_vertices, d.n_sites
@@ -201,6 +192,28 @@ def _indices_usable(d: Diagram) -> bool:
         return True
     return bool(d.origin.min() >= -1 and d.origin.max() < V and d.twin.min() >= 0 and d.twin.max() < H
                 and d.next.min() >= 0 and d.next.max() < H and d.site.min() >= 0 and d.site.max() < n)
+
+
+def _structure_error(d: Diagram) -> Optional[str]:
+    """The first broken local DCEL invariant, or None. Cheap O(H) checks only (twins, cells,
+    ``next``); :func:`vorobench.certify` runs the full :meth:`Diagram.validate`."""
+    if not _indices_usable(d):
+        return "index arrays have the wrong shape or an index out of range"
+    H = d.n_half_edges
+    if H == 0:
+        return None if d.n_sites <= 1 else f"{d.n_sites} sites but no edges"
+    h = np.arange(H)
+    twin, nxt, site, origin = (np.asarray(x, np.int64) for x in (d.twin, d.next, d.site, d.origin))
+    for bad, text in (
+            (lambda: (twin == h) | (twin[twin] != h), "twin is not an involution without fixed points"),
+            (lambda: site[twin] == site, "a half-edge and its twin bound the same cell"),
+            (lambda: site[nxt] != site, "next leaves the cell"),
+            (lambda: np.bincount(nxt, minlength=H) != 1, "next is not a permutation"),
+            (lambda: origin[nxt] != origin[twin], "a half-edge's next does not start where it ends")):
+        mask = bad()
+        if mask.any():
+            return f"{text} (half-edge {int(np.flatnonzero(mask)[0])})"
+    return None
 
 
 # ---------------------------------------------------------------------------------- canonical form
@@ -313,20 +326,24 @@ def _nearly_cocircular_kernel(xy, sites, ptr, s, u, v, rel_tol, out):
                 out[k] = True
 
 
-def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optional[float], scale: float) -> _Form:
+def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optional[float], scale: float,
+               consistent: bool) -> _Form:
     """Canonical form of ``d``: contract exactly-zero edges (and, with ``rel_tol``, edges
     shorter than ``rel_tol * scale`` or between vertices of nearly cocircular sites), merge
-    their vertices, list the kept half-edges with their merged ends."""
+    their vertices, list the kept half-edges with their merged ends. ``consistent``: the
+    local DCEL invariants hold, so origins alone give every vertex-cell incidence."""
     sites = np.asarray(d.sites, np.float64)
-    site = site_map[np.asarray(d.site, np.int64)]
-    common_sites = np.empty_like(sites)
-    common_sites[site_map] = sites
+    identity = bool(np.array_equal(site_map, np.arange(site_map.size)))
+    site = np.asarray(d.site, np.int64) if identity else site_map[np.asarray(d.site, np.int64)]
+    common_sites = sites if identity else np.empty_like(sites)
+    if not identity:
+        common_sites[site_map] = sites
     origin = np.asarray(d.origin, np.int64)
     twin = np.asarray(d.twin, np.int64)
     nxt = np.asarray(d.next, np.int64)
     V, H = d.n_vertices, d.n_half_edges
     dest = origin[twin] if H else origin
-    ptr, s = vertex_site_lists(site, origin, dest, V, max(n, 1))
+    ptr, s = vertex_site_lists(site, origin, None if consistent else dest, V, max(n, 1))
     # Candidate edges for contraction: one half-edge per pair, both ends finite.
     e = np.flatnonzero((np.arange(H) < twin) & (origin >= 0) & (dest >= 0))
     u, v = origin[e], dest[e]
@@ -347,29 +364,34 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optiona
         for k in np.flatnonzero(is_short)[:_MAX_SHORT_LISTED]:
             short.append((int(min(a[k], b[k])), int(max(a[k], b[k])), float(length[k])))
         contract |= is_short
-    labels = _merge_labels(V, u[contract & ~loop], v[contract & ~loop])
+    merge = contract & ~loop
+    labels = _merge_labels(V, u[merge], v[merge])
     M = int(labels.max()) + 1 if V else 0
-    # Merged vertices: union of the members' site lists, mean of their coordinates.
-    member = np.repeat(np.arange(V), np.diff(ptr))
-    m_ptr, m_sites = vertex_site_lists(s, labels[member], np.full(member.size, -1, np.int64), M, max(n, 1))
     xy = np.asarray(d.vertices, np.float64).reshape(-1, 2)
-    used = np.diff(ptr) > 0
-    weight = np.bincount(labels[used], minlength=M).astype(np.float64)
-    m_xy = np.zeros((M, 2))
-    if M:
+    if not merge.any():                       # nothing merged: the vertices are their own classes
+        m_ptr, m_sites, m_xy, m_extent = ptr, s, xy, np.zeros(M)
+    else:
+        # Merged vertices: union of the members' site lists, mean of their coordinates.
+        member = np.repeat(np.arange(V), np.diff(ptr))
+        m_ptr, m_sites = vertex_site_lists(s, labels[member], None, M, max(n, 1))
+        used = np.diff(ptr) > 0
+        weight = np.bincount(labels[used], minlength=M).astype(np.float64)
+        m_xy = np.zeros((M, 2))
         for k in range(2):
             m_xy[:, k] = np.bincount(labels[used], weights=xy[used, k], minlength=M) / np.maximum(weight, 1)
-    m_extent = np.zeros(M)
-    if M:
+        m_extent = np.zeros(M)
         np.maximum.at(m_extent, labels[used], np.hypot(*(xy[used] - m_xy[labels[used]]).T))
     # Kept half-edges with merged ends and the neighbour that follows along the cell.
+    nb_all = site[twin] if H else site
+    if not contract.any():                    # every half-edge kept, every vertex its own class
+        return _Form(m_ptr, m_sites, m_xy, m_extent, np.arange(H, dtype=np.int64), site, nb_all, origin, dest,
+                     nb_all[nxt] if H else nb_all, 0, short, n_short)
     removed = np.zeros(H, dtype=bool)
     removed[e[contract]] = True
     removed[twin[e[contract]]] = True
     kept = ~removed
-    succ = _successor(nxt, kept) if H else np.zeros(0, np.int64)
+    succ = _successor(nxt, kept)
     h = np.flatnonzero(kept)
-    nb_all = site[twin] if H else site
     succ_h = succ[h]
     succ_nb = np.where(succ_h >= 0, nb_all[np.maximum(succ_h, 0)], -1) if h.size else np.zeros(0, np.int64)
     start = np.where(origin[h] >= 0, labels[np.maximum(origin[h], 0)] if V else -1, -1)
@@ -486,32 +508,34 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
     if ma.size:
         pa, pb = fa.m_xy[ma], fb.m_xy[mb]
         err = np.hypot(*(pa - pb).T)
-        first = fa.m_ptr[ma]
-        last = fa.m_ptr[ma + 1] - 1
-        s0, s1, s2 = (sites[fa.m_sites[np.minimum(first + k, last)]] for k in range(3))
-        radius = np.hypot(*(pa - s0).T)
-        shortest = np.minimum(np.minimum(np.hypot(*(s0 - s1).T), np.hypot(*(s1 - s2).T)), np.hypot(*(s0 - s2).T))
-        shortest = np.where(shortest > 0, shortest, scale)
+        radius = np.hypot(*(pa - sites[fa.m_sites[fa.m_ptr[ma]]]).T)
         local = np.maximum(scale, radius)
-        magnitude = np.maximum(np.abs(pa).max(1), np.abs(pb).max(1))
-        # A vertex merged under tolerance may lie anywhere within its members' spread.
-        allowed = circumcentre_tolerance(coord_tol, local, radius, shortest, magnitude) \
-            + fa.m_extent[ma] + fb.m_extent[mb]
         rel = err / local
         max_err = float(rel.max())
-        max_ratio = float((err / allowed).max())
-        bad = np.flatnonzero(err > allowed)
-        counts["coordinate_mismatches"] = int(bad.size)
-        for k in bad[:_MAX_LISTED]:
-            diffs.append(Difference("coordinate_mismatches", _site_tuple(fa, int(ma[k])),
-                                    f"vertex at {tuple(pa[k].tolist())} in {la}, {tuple(pb[k].tolist())} in {lb} "
-                                    f"(error {rel[k]:.3g} of the local scale, {err[k] / allowed[k]:.3g} x allowed)",
-                                    [tuple(pa[k].tolist()), tuple(pb[k].tolist())]))
+        # The allowed error is at least coord_tol * local (plus extents); work it out in full
+        # only for the vertices above that floor.
+        extent = fa.m_extent[ma] + fb.m_extent[mb]
+        floor = coord_tol * local + extent
+        max_ratio = float((err / floor).max())
+        cand = np.flatnonzero(err > floor)
+        if cand.size:
+            first, last = fa.m_ptr[ma[cand]], fa.m_ptr[ma[cand] + 1] - 1
+            s0, s1, s2 = (sites[fa.m_sites[np.minimum(first + k, last)]] for k in range(3))
+            shortest = np.minimum(np.minimum(np.hypot(*(s0 - s1).T), np.hypot(*(s1 - s2).T)), np.hypot(*(s0 - s2).T))
+            shortest = np.where(shortest > 0, shortest, scale)
+            magnitude = np.maximum(np.abs(pa[cand]).max(1), np.abs(pb[cand]).max(1))
+            # A vertex merged under tolerance may lie anywhere within its members' spread.
+            allowed = circumcentre_tolerance(coord_tol, local[cand], radius[cand], shortest, magnitude) + extent[cand]
+            ratio = err[cand] / allowed
+            max_ratio = float(max(ratio.max(), (err / floor)[err <= floor].max(initial=0.0)))
+            bad = cand[ratio > 1]
+            counts["coordinate_mismatches"] = int(bad.size)
+            for k, r in zip(bad[:_MAX_LISTED], ratio[ratio > 1][:_MAX_LISTED]):
+                diffs.append(Difference("coordinate_mismatches", _site_tuple(fa, int(ma[k])),
+                                        f"vertex at {tuple(pa[k].tolist())} in {la}, {tuple(pb[k].tolist())} in {lb} "
+                                        f"(error {rel[k]:.3g} of the local scale, {r:.3g} x allowed)",
+                                        [tuple(pa[k].tolist()), tuple(pb[k].tolist())]))
     # Half-edges by (cell, neighbour); each carries its ends and the next neighbour.
-    cv_start_a = np.where(fa.start >= 0, fa.m_cv[np.maximum(fa.start, 0)] if fa.m_cv.size else -1, -1)
-    cv_end_a = np.where(fa.end >= 0, fa.m_cv[np.maximum(fa.end, 0)] if fa.m_cv.size else -1, -1)
-    cv_start_b = np.where(fb.start >= 0, fb.m_cv[np.maximum(fb.start, 0)] if fb.m_cv.size else -1, -1)
-    cv_end_b = np.where(fb.end >= 0, fb.m_cv[np.maximum(fb.end, 0)] if fb.m_cv.size else -1, -1)
     key_a = fa.cell * n + fa.nb
     key_b = fb.cell * n + fb.nb
     oa, ob = argsort_keys(key_a), argsort_keys(key_b)
@@ -537,8 +561,7 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
         only_a = oa[first_a[~in_b]]
         only_b = ob[first_b[~in_a]]
     hl_a, hl_b = [fa.h[only_a]], [fb.h[only_b]]
-    for kind, f, only, cs, ce, label in (("edges_only_in_a", fa, only_a, cv_start_a, cv_end_a, la),
-                                         ("edges_only_in_b", fb, only_b, cv_start_b, cv_end_b, lb)):
+    for kind, f, only, label in (("edges_only_in_a", fa, only_a, la), ("edges_only_in_b", fb, only_b, lb)):
         lower = only[f.cell[only] < f.nb[only]]
         # An edge counts once; a pair present in one direction only counts by that half-edge.
         counts[kind] = int(sorted_unique(np.minimum(f.cell[only], f.nb[only]) * n
@@ -548,9 +571,12 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
                                     f"edge from {_end_text(f, int(f.start[k]))} to {_end_text(f, int(f.end[k]))} "
                                     f"only in {label}", _edge_points(f, k)))
     # Matched half-edges: same ends and the same next neighbour?
-    diff_ends = (cv_start_a[ia] != cv_start_b[ib]) | (cv_end_a[ia] != cv_end_b[ib])
-    lower = fa.cell[ia] < fa.nb[ia]
-    bad_edges = np.flatnonzero(diff_ends & lower)
+    diff_ends = np.zeros(ia.size, dtype=bool)
+    succ_differs = np.zeros(ia.size, dtype=bool)
+    _matched_kernel(ia, ib, fa.start, fa.end, fb.start, fb.end, fa.m_cv, fb.m_cv, fa.succ_nb, fb.succ_nb,
+                    diff_ends, succ_differs)
+    bad_he = np.flatnonzero(diff_ends)
+    bad_edges = bad_he[fa.cell[ia[bad_he]] < fa.nb[ia[bad_he]]]
     counts["edges_with_different_ends"] = int(bad_edges.size)
     for k in bad_edges[:_MAX_LISTED]:
         x, y = ia[k], ib[k]
@@ -558,10 +584,8 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
                                 f"{la}: {_end_text(fa, int(fa.start[x]))} -> {_end_text(fa, int(fa.end[x]))}; "
                                 f"{lb}: {_end_text(fb, int(fb.start[y]))} -> {_end_text(fb, int(fb.end[y]))}",
                                 _edge_points(fa, x) + _edge_points(fb, y)))
-    bad_he = np.flatnonzero(diff_ends)
     hl_a.append(fa.h[ia[bad_he]])
     hl_b.append(fb.h[ib[bad_he]])
-    succ_differs = fa.succ_nb[ia] != fb.succ_nb[ib]
     bad_cells = sorted_unique(np.concatenate([fa.cell[ia[succ_differs]], fa.cell[only_a], fb.cell[only_b]]))
     counts["cells_with_different_neighbours"] = int(bad_cells.size)
     for c in bad_cells[:_MAX_LISTED]:
@@ -572,6 +596,20 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
     hl_b.append(fb.h[ib[succ_differs]])
     return _Diff(counts, diffs, sorted_unique(np.concatenate(hl_a)), sorted_unique(np.concatenate(hl_b)),
                  max_err, max_ratio)
+
+
+@njit(cache=True)
+def _matched_kernel(ia, ib, start_a, end_a, start_b, end_b, cv_a, cv_b, succ_a, succ_b, ends_differ, succ_differ):
+    """For matched half-edges ia[k] (in a) and ib[k] (in b): do their end vertices (by canonical
+    vertex id, -1 = infinity) differ, and does the neighbour after them along the cell?"""
+    for k in range(ia.size):
+        x, y = ia[k], ib[k]
+        sa = cv_a[start_a[x]] if start_a[x] >= 0 else -1
+        sb = cv_b[start_b[y]] if start_b[y] >= 0 else -1
+        ea = cv_a[end_a[x]] if end_a[x] >= 0 else -1
+        eb = cv_b[end_b[y]] if end_b[y] >= 0 else -1
+        ends_differ[k] = sa != sb or ea != eb
+        succ_differ[k] = succ_a[x] != succ_b[y]
 
 
 def _first_of_runs(sorted_keys: NDArray[np.int64]) -> NDArray[np.int64]:
@@ -613,23 +651,25 @@ def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coor
         counts["site_mismatch"] = site_count
         return Comparison(False, "differs", counts, site_diffs, **base)
     reordered = not np.array_equal(site_map, np.arange(site_map.size))
-    structure = {name: msg for name, msg in ((la, _structure_error(a)), (lb, _structure_error(b))) if msg}
-    counts["invalid_structure"] = len(structure)
+    err_a, err_b = _structure_error(a), _structure_error(b)
+    structure = {name: msg for name, msg in ((la, err_a), (lb, err_b)) if msg}
+    counts["invalid_structure"] = int(err_a is not None) + int(err_b is not None)
     if not (_indices_usable(a) and _indices_usable(b)):
         return Comparison(False, "differs", counts, [], sites_reordered=reordered, structure_errors=structure, **base)
     identity = np.arange(n, dtype=np.int64)
     sites = np.asarray(a.sites, np.float64)
     result = None
     for stage, tol in (("exact", None), ("within_tolerance", rel_tol)):
-        forms = [_canonical(a, identity, n, tol, scale), _canonical(b, site_map, n, tol, scale)]
+        forms = [_canonical(a, identity, n, tol, scale, err_a is None),
+                 _canonical(b, site_map, n, tol, scale, err_b is None)]
         _joint_vertex_ids(forms, n)
         diff = _differences(forms[0], forms[1], sites, n, scale, coord_tol, (la, lb))
         result = (stage, forms, diff)
         if diff.combinatorial == 0 or rel_tol <= 0:
             break
     stage, forms, diff = result
-    diff.counts["invalid_structure"] = len(structure)
-    ok = diff.combinatorial == 0 and diff.counts["coordinate_mismatches"] == 0 and not structure
+    diff.counts["invalid_structure"] = counts["invalid_structure"]
+    ok = diff.combinatorial == 0 and diff.counts["coordinate_mismatches"] == 0 and err_a is None and err_b is None
     short = [dict(diagram=lbl, sites=[x, y], length=length)
              for lbl, f in zip((la, lb), forms) for x, y, length in f.short]
     return Comparison(

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Optional
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -10,16 +12,21 @@ from vorobench.sorting import sorted_unique
 __all__ = ["vertex_site_lists"]
 
 
-def vertex_site_lists(site: NDArray[np.integer], origin: NDArray[np.integer], dest: NDArray[np.integer],
+def vertex_site_lists(site: NDArray[np.integer], origin: NDArray[np.integer], dest: Optional[NDArray[np.integer]],
                       V: int, n: int) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
     """CSR ``(ptr, sites)``: the sorted, distinct sites whose cells touch each of V vertices.
 
     A half-edge h of cell ``site[h]`` touches its ``origin`` and ``dest`` (-1 = infinity,
-    ignored); both ends are used so that a broken ``next`` cannot hide an incidence.
-    Vertex v's sites are ``sites[ptr[v]:ptr[v + 1]]``.
+    ignored). Pass ``dest`` when ``next`` may be broken, so that it cannot hide an incidence;
+    with ``dest=None`` only origins are used, which suffices when ``origin[next] == dest``
+    (each cell's boundary then leaves every vertex it touches). Vertex v's sites are
+    ``sites[ptr[v]:ptr[v + 1]]``.
     """
-    vs = np.concatenate([np.asarray(origin, np.int64), np.asarray(dest, np.int64)])
-    ss = np.concatenate([np.asarray(site, np.int64), np.asarray(site, np.int64)])
+    if dest is None:
+        vs, ss = np.asarray(origin, np.int64), np.asarray(site, np.int64)
+    else:
+        vs = np.concatenate([np.asarray(origin, np.int64), np.asarray(dest, np.int64)])
+        ss = np.concatenate([np.asarray(site, np.int64), np.asarray(site, np.int64)])
     keep = vs >= 0
     base = max(int(n), 1)
     code = sorted_unique(vs[keep] * base + ss[keep])
