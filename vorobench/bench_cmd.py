@@ -114,13 +114,22 @@ def execute(impl_names: Optional[Sequence[str]], datasets: Sequence[str], sizes:
                                     progress=progress, console=console, verbose=verbose)
     except KeyboardInterrupt:
         saved = len(store.done_keys())
+        _finish_metadata(out, config.run_id, interrupted=True)
         console.print(f"[yellow]interrupted[/yellow]: {saved} cases are saved in {out}; "
                       "rerun with --resume to finish")
         return 130, []
     counts = runner.exit_status(outcomes)
+    _finish_metadata(out, config.run_id, interrupted=False, statuses=counts)
     summary = ", ".join(f"{v} {k}" for k, v in sorted(counts.items())) or "nothing to run"
     console.print(f"{len(outcomes)} cases run ({summary}); results in {out}")
     return 0, outcomes
+
+
+def _finish_metadata(out: Path, run_id: str, **fields) -> None:
+    from vorobench import results, sysinfo
+
+    finished = _dt.datetime.now().astimezone().isoformat(timespec="seconds")
+    results.update_run_metadata(out, run_id, finished=finished, load_average_end=sysinfo.load_average(), **fields)
 
 
 def config_from_args(args: argparse.Namespace):

@@ -169,6 +169,29 @@ def reading(cases, sizes, exponents, ratios, reference: str) -> list[str]:
 
 # ------------------------------------------------------------------------------ writing
 
+def _load_text(run: dict) -> str:
+    start, end = run.get("load_average"), run.get("load_average_end")
+    if not start:
+        return ""
+    text = f"{start[0]:g} at the start"
+    return text + (f", {end[0]:g} at the end" if end else "")
+
+
+def busy_machine_note(meta: dict) -> Optional[str]:
+    """A warning when other processes competed for the CPU during the run (load above cores)."""
+    runs = meta.get("runs", [])
+    if not runs:
+        return None
+    r = runs[-1]
+    loads = [x[0] for x in (r.get("load_average"), r.get("load_average_end")) if x]
+    cores = r.get("cores") or 0
+    if loads and cores and max(loads) > cores:
+        return (f"**The machine was busy**: load average up to {max(loads):g} on {cores} cores, so other "
+                "processes competed for the CPU. Times carry noise of tens of percent (and fitted exponents "
+                "with them); the counters and verdicts do not depend on it.")
+    return None
+
+
 def _meta_rows(meta: dict) -> list[list[object]]:
     runs = meta.get("runs", [])
     if not runs:
@@ -176,10 +199,12 @@ def _meta_rows(meta: dict) -> list[list[object]]:
     r = runs[-1]
     v = r.get("versions", {})
     commit = (r.get("commit") or "?")[:12] + (" (uncommitted changes)" if r.get("dirty") else "")
+    load = _load_text(r)
     rows = [
-        ["date", r.get("date", "?")],
+        ["date", r.get("date", "?") + (f" to {r['finished']}" if r.get("finished") else "")],
         ["commit", commit],
-        ["machine", f"{r.get('cpu', '?')}, {r.get('cores', '?')} cores, {r.get('hostname', '?')}"],
+        ["machine", f"{r.get('cpu', '?')}, {r.get('cores', '?')} cores, {r.get('hostname', '?')}"
+                    + (f"; load average {load}" if load else "")],
         ["software", f"Python {r.get('python', '?')}, numpy {v.get('numpy')}, scipy {v.get('scipy')}, "
                      f"numba {v.get('numba')}"],
         ["cases", f"repeat {r.get('repeat')}, timeout {r.get('timeout')} s per build, reference "
@@ -245,6 +270,9 @@ def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, re
                  f"{', '.join(_fmt_n(n) for n in ns)}; {len(df)} result rows.")
     parts += ["", "## Reading", ""]
     parts += [f"* {p}" for p in reading(cases, sizes, exps, ratios, reference)]
+    note = busy_machine_note(meta)
+    if note:
+        parts.append(f"* {note}")
     parts += ["", "## Run", "", _md_table(["", ""], _meta_rows(meta)), ""]
 
     parts += ["## Build time", "",

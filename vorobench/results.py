@@ -25,6 +25,7 @@ __all__ = [
     "metadata_path",
     "read_metadata",
     "append_run_metadata",
+    "update_run_metadata",
     "to_parquet",
     "case_key",
 ]
@@ -172,3 +173,15 @@ def append_run_metadata(results_path: str | os.PathLike, run: dict[str, Any]) ->
     tmp.write_text(json.dumps(meta, indent=2, default=str) + "\n")
     os.replace(tmp, p)
     return p
+
+
+def update_run_metadata(results_path: str | os.PathLike, run_id: str, **fields: Any) -> None:
+    """Add fields (end time, load at the end, counts) to the sidecar entry of run ``run_id``."""
+    p = metadata_path(results_path)
+    meta = read_metadata(results_path)
+    for run in meta.get("runs", []):
+        if run.get("run_id") == run_id:
+            run.update(fields)
+    tmp = p.with_name(f".{p.name}.tmp")
+    tmp.write_text(json.dumps(meta, indent=2, default=str) + "\n")
+    os.replace(tmp, p)

@@ -242,7 +242,8 @@ def _skip_reason(case: Case, history: dict, config: RunConfig) -> Optional[str]:
         return f"n={n_last} already ended in {st_last}"
     if st_last == "skipped":
         return f"n={n_last} was skipped"
-    if config.budget and t_last:
+    # The reference is never skipped for the budget: every other case needs it for its ratio.
+    if config.budget and t_last and case.impl != config.reference:
         timed = [(n, t) for n, st, t in smaller if st == "ok" and t]
         exponent = 1.0
         if len(timed) >= 2 and timed[-1][0] > timed[-2][0]:

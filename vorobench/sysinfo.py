@@ -11,7 +11,7 @@ from importlib import metadata
 from pathlib import Path
 from typing import Optional
 
-__all__ = ["cpu_model", "git_commit", "package_versions", "run_metadata"]
+__all__ = ["cpu_model", "git_commit", "load_average", "package_versions", "run_metadata"]
 
 #: Distributions whose versions change timings (or results) and so are recorded.
 _PACKAGES = ("vorobench", "numpy", "scipy", "numba", "llvmlite", "pandas", "matplotlib")
@@ -56,6 +56,15 @@ def package_versions() -> dict[str, Optional[str]]:
     return out
 
 
+def load_average() -> Optional[list[float]]:
+    """The 1, 5 and 15 minute load averages (None where the OS has none): above the core count,
+    other processes compete for the CPU and timings are noisy."""
+    try:
+        return [round(x, 2) for x in os.getloadavg()]
+    except (OSError, AttributeError):
+        return None
+
+
 def run_metadata() -> dict[str, object]:
     """Everything needed to interpret a run later: date, commit, versions, machine."""
     git = git_commit()
@@ -71,4 +80,5 @@ def run_metadata() -> dict[str, object]:
         "machine": platform.machine(),
         "platform": platform.platform(),
         "hostname": socket.gethostname(),
+        "load_average": load_average(),
     }

@@ -116,3 +116,13 @@ def test_report_of_a_run_where_nothing_succeeded(tmp_path):
     rep = tmp_path / "rep"
     assert main(["report", str(path), "-o", str(rep)]) == 0
     assert "1 case(s) failed" in (rep / "README.md").read_text()
+
+
+def test_busy_machine_is_mentioned(results_csv, tmp_path):
+    from vorobench.report import busy_machine_note
+
+    results.update_run_metadata(results_csv, "r1", load_average=[5.5, 5.0, 4.0], load_average_end=[3.0, 4.0, 4.0])
+    note = busy_machine_note(results.read_metadata(results_csv))
+    assert note is not None and "5.5 on 2 cores" in note
+    results.update_run_metadata(results_csv, "r1", load_average=[0.5, 0.5, 0.5], load_average_end=[1.0, 1.0, 1.0])
+    assert busy_machine_note(results.read_metadata(results_csv)) is None

@@ -188,3 +188,11 @@ def test_short_builds_are_repeated_to_fill_min_time():
     assert outcome.status == "ok"
     assert 7 <= len(outcome.rows) <= 9
     assert [r["repeat"] for r in outcome.rows] == list(range(len(outcome.rows)))
+
+
+def test_the_reference_is_never_skipped_for_the_budget():
+    history = {("qhull", "uniform", 0): [(1000, "ok", 1.0), (2000, "ok", 4.0)],
+               ("other", "uniform", 0): [(1000, "ok", 1.0), (2000, "ok", 4.0)]}
+    cfg = RunConfig(budget=1.0, reference="qhull")
+    assert runner._skip_reason(Case("other", "uniform", 4000), history, cfg) is not None
+    assert runner._skip_reason(Case("qhull", "uniform", 4000), history, cfg) is None
