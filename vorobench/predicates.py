@@ -75,6 +75,8 @@ functions are compiled lazily for the array types they are called with.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit, types
 
@@ -960,6 +962,14 @@ def _xscale(e, b, w):
 
 
 @njit(cache=True)
+def _xscaled(e, scale):
+    # e times a power of two, in place (exact while no component leaves the normal range)
+    for i in range(e.shape[0]):
+        e[i] *= scale
+    return e
+
+
+@njit(cache=True)
 def _xsign(e):
     return expansion_sign(e, e.shape[0])
 
@@ -1141,13 +1151,14 @@ def circle_top(ax, ay, bx, by, cx, cy):
 
 
 @njit(cache=True)
-def _circle_parts(ax, ay, bx, by, cx, cy, w):
+def _circle_parts(ax, ay, bx, by, cx, cy, scale, w):
     # Exact expansions (e, nys, s) with y_top = a_y + (nys + sqrt(s)) / e, e > 0:
-    # e = 2 |D|, D = orient of (b - a, c - a), nys = sign(D) * Ny, s = Nx**2 + Ny**2.
-    bx_ = _xd(bx, ax, w)
-    by_ = _xd(by, ay, w)
-    cx_ = _xd(cx, ax, w)
-    cy_ = _xd(cy, ay, w)
+    # e = 2 |D|, D = orient of (b - a, c - a), nys = sign(D) * Ny, s = Nx**2 + Ny**2,
+    # all computed from the differences times ``scale`` (a power of two: exact).
+    bx_ = _xscaled(_xd(bx, ax, w), scale)
+    by_ = _xscaled(_xd(by, ay, w), scale)
+    cx_ = _xscaled(_xd(cx, ax, w), scale)
+    cy_ = _xscaled(_xd(cy, ay, w), scale)
     dd = _xsub(_xmul(bx_, cy_, w), _xmul(by_, cx_, w), w)
     b2 = _xadd(_xmul(bx_, bx_, w), _xmul(by_, by_, w), w)
     c2 = _xadd(_xmul(cx_, cx_, w), _xmul(cy_, cy_, w), w)
@@ -1165,7 +1176,7 @@ def _circle_parts(ax, ay, bx, by, cx, cy, w):
 def circle_event_vs_site_exact(ax, ay, bx, by, cx, cy, sy):
     """Exact sign of (top of the circumcircle of a, b, c) - sy; a, b, c must not be collinear."""
     w = _new_pool()
-    e, nys, s = _circle_parts(ax, ay, bx, by, cx, cy, w)
+    e, nys, s = _circle_parts(ax, ay, bx, by, cx, cy, 1.0, w)
     # y_top - sy = (nys + sqrt(s) - t) / e with t = e (sy - ay); sign(sqrt(s) - d), d = t - nys
     d = _xsub(_xmul(e, _xd(sy, ay, w), w), nys, w)
     if _xsign(d) < 0:
@@ -1216,11 +1227,19 @@ def _sqrt_sum_sign(p, u, v, w):
 def circle_events_order_exact(ax, ay, bx, by, cx, cy, dx, dy, ex, ey, fx, fy):
     """Exact sign of y_top(a, b, c) - y_top(d, e, f) (tops of two circumcircles); no filter."""
     w = _new_pool()
-    e1, n1, s1 = _circle_parts(ax, ay, bx, by, cx, cy, w)
-    e2, n2, s2 = _circle_parts(dx, dy, ex, ey, fx, fy, w)
-    # e2 e1 (y1 - y2) = p + e2 sqrt(s1) - e1 sqrt(s2)
+    # y1 - y2 is homogeneous of degree 1 in the coordinate differences: scale them all by one
+    # power of two so the largest is about 1, which keeps the degree-20 products of the last
+    # squaring step inside the normal float range (exactness needs no underflow).
+    big = max(abs(bx - ax), abs(by - ay), abs(cx - ax), abs(cy - ay),
+              abs(ex - dx), abs(ey - dy), abs(fx - dx), abs(fy - dy), abs(ay - dy))
+    scale = 1.0
+    if big > 0.0:
+        scale = math.ldexp(1.0, -math.frexp(big)[1])
+    e1, n1, s1 = _circle_parts(ax, ay, bx, by, cx, cy, scale, w)
+    e2, n2, s2 = _circle_parts(dx, dy, ex, ey, fx, fy, scale, w)
+    # e2 e1 (y1 - y2) = p + e2 sqrt(s1) - e1 sqrt(s2)   (all times powers of scale)
     e12 = _xmul(e1, e2, w)
-    p = _xadd(_xmul(e12, _xd(ay, dy, w), w), _xsub(_xmul(e2, n1, w), _xmul(e1, n2, w), w), w)
+    p = _xadd(_xmul(e12, _xscaled(_xd(ay, dy, w), scale), w), _xsub(_xmul(e2, n1, w), _xmul(e1, n2, w), w), w)
     u = _xmul(_xmul(e2, e2, w), s1, w)
     v = _xmul(_xmul(e1, e1, w), s2, w)
     return _sqrt_sum_sign(p, u, v, w)

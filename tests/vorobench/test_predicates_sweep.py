@@ -246,3 +246,19 @@ def test_circle_events_order_small_integers(pts):
         want_site = _dsign(reference_circle_top(*t1) - Decimal(sy))
     assert circle_events_order(*t1.ravel(), *t2.ravel()) == want
     assert circle_event_vs_site(*t1.ravel(), sy) == want_site
+
+
+@pytest.mark.parametrize("k", [-100, -30, 30, 100])
+def test_circle_predicates_are_invariant_under_power_of_two_scaling(k):
+    # exact signs of homogeneous comparisons cannot change when every coordinate is scaled by 2**k
+    rng = np.random.default_rng(5)
+    ts = _triples(rng, 60)
+    cases = [(ts[i].ravel(), ts[i + 1].ravel()) for i in range(0, 60, 2)]
+    a = np.array([-2.0, -2.0, 6.0, 2.0, 4.0, 6.0])
+    cases += [(a, a + [100, 0, 100, 0, 100, 0]), (a, np.array([1.0, 7.0, -4.0, 2.0, 1.0, -3.0]))]
+    s = 2.0 ** k
+    for t1, t2 in cases:
+        want = circle_events_order_exact(*t1, *t2)
+        assert circle_events_order_exact(*(t1 * s), *(t2 * s)) == want
+        assert circle_events_order(*(t1 * s), *(t2 * s)) == want
+        assert circle_event_vs_site(*(t1 * s), t2[1] * s) == circle_event_vs_site(*t1, t2[1])
