@@ -103,7 +103,7 @@ def reading(cases, sizes, exponents, ratios, reference: str) -> list[str]:
     """Bullet points that say what the numbers mean: who is fastest, how things grow, what failed."""
     import numpy as np
 
-    from vorobench.analysis import failures, verdict_rank
+    from vorobench.analysis import failures
 
     points: list[str] = []
     # Fastest implementation per dataset at the largest n that several implementations reached.

@@ -37,7 +37,7 @@ STATUSES = ("ok", "crashed", "timeout", "oom", "error", "unsupported", "skipped"
 #: Leading columns, in order; ``stat_*`` columns follow.
 COLUMNS = (
     "run_id", "impl", "dataset", "n", "seed", "repeat", "status", "verdict", "check_passed", "blame",
-    "time_s", "warmup_s", "setup_s", "check_s",
+    "time_s", "warmup_s", "setup_s", "check_s", "case_s",
     "n_points", "n_sites", "V", "E",
     "rss_base_mb", "peak_rss_mb", "mem_mb",
     "phase", "error", "verdict_detail", "finished_at",

@@ -197,11 +197,14 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
                 proc.join(10)
                 status, info["error"] = _describe_exit(proc.exitcode)
     finally:
+        if status == "ok":
+            proc.join(5)                    # a finished worker is only exiting: let it
         if proc.is_alive():
             proc.kill()
         proc.join(10)
         receiver.close()
     seconds = time.perf_counter() - started
+    info["case_s"] = seconds
     return CaseOutcome(case, status, _rows(case, config, status, step, info, repeats), seconds)
 
 

@@ -50,6 +50,7 @@ def test_every_case_is_recorded_and_healthy_rows_kept(faulty_run):
         assert (rows["warmup_s"] > 0).all()
         assert (rows["n_sites"] == 80).all()
         assert (rows["V"] > 0).all() and (rows["E"] > 0).all()
+        assert (rows["case_s"] > rows["time_s"].sum() + rows["warmup_s"]).all()   # the whole case, start-up included
 
 
 def test_hard_crashes_are_recorded(faulty_run):
