@@ -335,7 +335,8 @@ def _one_line(outcome: CaseOutcome) -> str:
     if outcome.status == "ok":
         t = outcome.median_time
         verdict = outcome.verdict or ""
-        colour = "green" if verdict in ("exact", "within_tolerance", "skipped", "no_reference") else "yellow"
+        verdict = "not checked" if verdict == "skipped" else verdict
+        colour = "green" if verdict in ("exact", "within_tolerance", "certified", "not checked") else "yellow"
         return f"[green]ok[/green] {c}: median {t:.4g} s  [{colour}]{verdict}[/{colour}]"
     colour = "yellow" if outcome.status in ("unsupported", "skipped") else "red"
     return f"[{colour}]{outcome.status}[/{colour}] {c}: {outcome.error or ''}"

@@ -197,3 +197,10 @@ def test_the_reference_is_never_skipped_for_the_budget():
     cfg = RunConfig(budget=1.0, reference="qhull")
     assert runner._skip_reason(Case("other", "uniform", 4000), history, cfg) is not None
     assert runner._skip_reason(Case("qhull", "uniform", 4000), history, cfg) is None
+
+
+def test_memory_limit_turns_a_large_allocation_into_oom(tmp_path):
+    out = tmp_path / "r.csv"
+    assert _bench(out, "hungry", "--sizes", "50", "--repeat", "1", "--no-check", "--memory-limit", "100") == 0
+    row = pd.read_csv(out).iloc[0]
+    assert row["status"] == "oom" and "MemoryError" in row["error"]
