@@ -12,6 +12,9 @@ Degenerate cases:
   it also merges *nearly* cocircular sites, since its decisions are floating point. That is
   why this implementation is marked not exact: against exact constructions it is expected to
   agree within tolerance.
+* Nearly collinear hull sites: Qhull may merge them into one non-convex facet whose ridges
+  cannot be closed into cells; then Qhull runs again with joggled input ("QJ", its own
+  documented remedy), and ``stats["joggled"] = 1`` says so.
 * Large offsets: sites are translated so that their bounding box is centred at the origin
   before Qhull runs, and vertices translated back. Without this, 2,000 uniform points offset
   by 1e6 give 62 vertices instead of about 3,980, silently (advice of scipy's maintainers).
@@ -26,12 +29,13 @@ from typing import Optional
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.spatial import QhullError, Voronoi
+from scipy.spatial import Delaunay, QhullError, Voronoi
 
 from impls.base import Implementation
 from vorobench.dcel import assemble, collinear_diagram
-from vorobench.diagram import Diagram
+from vorobench.diagram import Diagram, InvalidDiagramError
 from vorobench.predicates import orient2d_many
+from vorobench.tolerances import RIDGE_DIRECTION_REL_TOL, data_scale
 
 __all__ = ["build", "IMPLEMENTATION"]
 
@@ -74,7 +78,12 @@ def _third_sites(ridge_points: NDArray[np.int64], ridge_vertices: NDArray[np.int
 
 
 def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
-    """The Voronoi diagram of prepared ``sites`` through Qhull."""
+    """The Voronoi diagram of prepared ``sites`` through Qhull.
+
+    When Qhull's merged output does not close up into cells (nearly collinear hull sites
+    merged into one non-convex facet), Qhull runs again with its joggle option (``QJ``),
+    which gives simplicial output; ``stats["joggled"]`` records it.
+    """
     n = sites.shape[0]
     if n <= 1:
         return Diagram.empty(sites)
@@ -82,9 +91,58 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
         if stats is not None:
             stats.update(collinear=1)
         return collinear_diagram(sites)
+    try:
+        diagram = _build_from_qhull(sites, stats, "Qbb Qc Qz")
+        joggled = 0
+    except (InvalidDiagramError, RuntimeError):
+        diagram = _build_from_joggled_delaunay(sites)
+        joggled = 1
+    if stats is not None:
+        stats.update(joggled=joggled)
+    return diagram
+
+
+def _circumcentres(a: NDArray[np.float64], b: NDArray[np.float64], c: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Circumcentres of triangles (a, b, c), computed relative to a to limit cancellation."""
+    ab, ac = b - a, c - a
+    d = 2.0 * (ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0])
+    ab2, ac2 = (ab ** 2).sum(axis=1), (ac ** 2).sum(axis=1)
+    ux = (ac[:, 1] * ab2 - ab[:, 1] * ac2) / d
+    uy = (ab[:, 0] * ac2 - ac[:, 0] * ab2) / d
+    return a + np.stack([ux, uy], axis=1)
+
+
+def _build_from_joggled_delaunay(sites: NDArray[np.float64]) -> Diagram:
+    """Dual of Qhull's joggled (simplicial) Delaunay triangulation.
+
+    scipy orients 2-D simplices counter-clockwise and gives each one's neighbours, so the
+    orientation of every Voronoi edge is combinatorial: the edge between a and b (triangle T
+    on the left of a->b, T' across) runs from T's neighbour T' to T; a hull edge comes from
+    infinity. Vertices are the circumcentres of the original (not joggled) sites.
+    """
+    centre = 0.5 * (sites.min(axis=0) + sites.max(axis=0))
+    tri = Delaunay(sites - centre, qhull_options="Qbb Qc QJ")
+    simplices = np.asarray(tri.simplices, dtype=np.int64)
+    neighbours = np.asarray(tri.neighbors, dtype=np.int64)
+    T = simplices.shape[0]
+    tid = np.arange(T)
+    vertices = _circumcentres(sites[simplices[:, 0]], sites[simplices[:, 1]], sites[simplices[:, 2]])
+    pairs, ends = [], []
+    for k in range(3):
+        a, b = simplices[:, (k + 1) % 3], simplices[:, (k + 2) % 3]   # edge opposite corner k
+        across = neighbours[:, k]
+        once = (across < 0) | (tid < across)
+        pairs.append(np.stack([a[once], b[once]], axis=1))
+        ends.append(np.stack([across[once], tid[once]], axis=1))
+    return assemble(sites, vertices, np.concatenate(pairs), np.concatenate(ends))
+
+
+def _build_from_qhull(sites: NDArray[np.float64], stats: Optional[dict], options: str) -> Diagram:
+    """Run Qhull with ``options`` and convert its ridges to the DCEL."""
+    n = sites.shape[0]
     centre = 0.5 * (sites.min(axis=0) + sites.max(axis=0))
     try:
-        vor = Voronoi(sites - centre)
+        vor = Voronoi(sites - centre, qhull_options=options)
     except QhullError as exc:  # pragma: no cover - Qhull's own failures are reported as such
         raise RuntimeError(f"Qhull failed on {n} sites: {str(exc).splitlines()[0]}") from exc
     vertices = vor.vertices + centre
@@ -103,6 +161,18 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     end0_is_start = np.where(rv[:, 0] >= 0, side[:, 0] < 0, side[:, 1] > 0)
     if np.any((rv >= 0) & (side == 0)):
         raise RuntimeError("Qhull returned a vertex collinear with one of its ridges")
+    # Qhull may merge nearly collinear hull sites into one non-convex facet, where the third
+    # site can lie on the wrong side; a ridge long enough for its float direction to be
+    # unambiguous is oriented by that direction instead.
+    both = np.flatnonzero((rv[:, 0] >= 0) & (rv[:, 1] >= 0))
+    v0, v1 = vertices[rv[both, 0]], vertices[rv[both, 1]]
+    step = v1 - v0
+    pq = sites[q[both]] - sites[p[both]]
+    along = step[:, 1] * pq[:, 0] - step[:, 0] * pq[:, 1]        # step . perp(q - p)
+    length = np.hypot(step[:, 0], step[:, 1])
+    magnitude = np.maximum(np.abs(v0).max(axis=1), np.abs(v1).max(axis=1)) + data_scale(sites)
+    clear = (length > RIDGE_DIRECTION_REL_TOL * magnitude) & (np.abs(along) > 0.5 * length * np.hypot(pq[:, 0], pq[:, 1]))
+    end0_is_start[both[clear]] = along[clear] > 0
     start = np.where(end0_is_start, rv[:, 0], rv[:, 1])
     end = np.where(end0_is_start, rv[:, 1], rv[:, 0])
     if stats is not None:

@@ -21,6 +21,7 @@ __all__ = [
     "PROBE_REL_TOL",
     "NEAR_DEGENERATE_REL_TOL",
     "ROUNDOFF_ULPS",
+    "RIDGE_DIRECTION_REL_TOL",
     "data_scale",
     "length_tolerance",
     "allowed_error",
@@ -48,6 +49,10 @@ PROBE_REL_TOL = 1e-9
 #: near-degenerate error, tolerated in the ``within_tolerance`` verdict (never for exact
 #: code). Qhull's precision is relative to the bounding box, not to the local spacing.
 NEAR_DEGENERATE_REL_TOL = 1e-8
+
+#: qhull adapter: a finite ridge whose end vertices are further apart than this fraction of
+#: their magnitude is oriented by its float direction; shorter ones combinatorially.
+RIDGE_DIRECTION_REL_TOL = 1e-9
 
 #: Absolute slack, in units of float64 epsilon times the coordinates' magnitude.
 ROUNDOFF_ULPS = 64.0
