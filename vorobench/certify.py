@@ -442,16 +442,17 @@ _PROBE_NEIGHBOURS = 3
 
 
 @njit(cache=True)
-def _probe_kernel(pts, cell, inside, cptr, by_cell, sites, xy, site, twin, origin, scale, rel_tol, bad):
-    """bad[i]: probe pts[i] is outside the polygon of cell[i] (if inside[i]) or strictly inside
-    it (if not), beyond the tolerance, as the diagram draws the cell: each half-edge h bounds
-    it by the line through its finite end (the diagram's own vertex), or through the sites'
-    midpoint for a full line, in direction perp(b - a), with the cell on its left."""
+def _probe_kernel(pts, cell, cptr, by_cell, sites, xy, site, twin, origin, scale, rel_tol, outside, strictly_inside):
+    """Where probe pts[i] lies relative to the polygon of cell[i] as the diagram draws it: each
+    half-edge h bounds the cell by the line through its finite end (the diagram's own
+    vertex), or through the sites' midpoint for a full line, in direction perp(b - a), with
+    the cell on its left. outside[i]: beyond the tolerance outside some line;
+    strictly_inside[i]: inside every line by more than the tolerance."""
     for i in range(pts.shape[0]):
         c = cell[i]
         px, py = pts[i, 0], pts[i, 1]
         if cptr[c + 1] == cptr[c]:
-            bad[i] = inside[i]
+            outside[i] = True
             continue
         out, strictly_in = False, True
         for j in range(cptr[c], cptr[c + 1]):
@@ -470,7 +471,7 @@ def _probe_kernel(pts, cell, inside, cptr, by_cell, sites, xy, site, twin, origi
                 out = True
             if side <= tol:
                 strictly_in = False
-        bad[i] = out if inside[i] else strictly_in
+        outside[i], strictly_inside[i] = out, strictly_in
 
 
 def _check_probes(ctx: _Context) -> Check:
@@ -479,24 +480,31 @@ def _check_probes(ctx: _Context) -> Check:
         return Check("probes", True, f"n = {n}: one cell is the whole plane")
     random = _random_probes(ctx)
     k = min(n, 1 + _PROBE_NEIGHBOURS)
-    _, near = ctx.tree.query(random, k=k, workers=-1)
+    dist, near = ctx.tree.query(random, k=k, workers=-1)
+    dist = dist.reshape(random.shape[0], k)
     near = near.reshape(random.shape[0], k).astype(np.int64)
-    # Rows: each random probe in its nearest cell and not strictly inside the next k - 1;
-    # every site in its own cell (its nearest site is itself: sites are distinct).
+    # Sites as near as the nearest one, to float precision, are ties: the probe may be in any
+    # of their cells (on their common boundary, as far as floats can tell).
+    tie = dist - dist[:, :1] <= length_tolerance(PROBE_REL_TOL, ctx.scale, np.abs(random).max(1))[:, None]
+    # Rows: each random probe against its k nearest cells; every site against its own cell
+    # (its nearest site is itself: sites are distinct).
     pts = np.concatenate([np.repeat(random, k, axis=0), ctx.sites])
     cell = np.concatenate([near.reshape(-1), np.arange(n, dtype=np.int64)])
-    inside = np.concatenate([np.tile(np.arange(k) == 0, random.shape[0]), np.ones(n, dtype=bool)])
     by_cell = argsort_keys(ctx.site)
     cptr = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.bincount(ctx.site, minlength=n), out=cptr[1:])
-    bad = np.zeros(pts.shape[0], dtype=bool)
+    outside = np.zeros(pts.shape[0], dtype=bool)
+    strictly_inside = np.zeros(pts.shape[0], dtype=bool)
     xy = ctx.xy if ctx.V else np.zeros((1, 2))
-    _probe_kernel(pts, cell, inside, cptr, by_cell, ctx.sites, xy, ctx.site, ctx.twin, ctx.origin,
-                  ctx.scale, PROBE_REL_TOL, bad)
+    _probe_kernel(pts, cell, cptr, by_cell, ctx.sites, xy, ctx.site, ctx.twin, ctx.origin,
+                  ctx.scale, PROBE_REL_TOL, outside, strictly_inside)
     m = random.shape[0] * k
-    bad_own = np.flatnonzero(bad[:m] & inside[:m]) // k
-    bad_other = np.flatnonzero(bad[:m] & ~inside[:m])
-    bad_sites = np.flatnonzero(bad[m:])
+    out_q = outside[:m].reshape(-1, k)
+    in_q = strictly_inside[:m].reshape(-1, k)
+    bad_own = np.flatnonzero(~(tie & ~out_q).any(axis=1))      # in no cell of a nearest site
+    claims = in_q & ~tie                                        # strictly inside a farther site's cell
+    bad_other = np.flatnonzero(claims.reshape(-1))
+    bad_sites = np.flatnonzero(outside[m:])
     if bad_own.size or bad_other.size or bad_sites.size:
         parts, ids = [], []
         if bad_sites.size:
@@ -512,7 +520,7 @@ def _check_probes(ctx: _Context) -> Check:
             parts.append(f"{bad_other.size} times a cell claims a random probe nearer to another site (first: "
                          f"({random[q, 0]:.6g}, {random[q, 1]:.6g}) inside cell {int(near[q, j])}, nearest site "
                          f"{int(near[q, 0])})")
-            ids += _ids(cell[bad_other])
+            ids += _ids(near.reshape(-1)[bad_other])
         return Check("probes", False, "; ".join(parts), [int(i) for i in dict.fromkeys(ids)][:_MAX_IDS], "site")
     return Check("probes", True, f"{ctx.probes} random probes lie in their nearest site's cell and no other of "
                                  f"the {k} nearest; all {n} sites lie in their own cell")
