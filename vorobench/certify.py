@@ -218,10 +218,10 @@ def _check_vertices(ctx: _Context) -> Check:
     # merging nearly cocircular sites): relative to the data scale.
     tol = length_tolerance(EQUIDISTANCE_REL_TOL, r_max, mag)
     tol_near = length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(ctx.scale, r_max), mag)
-    unequal = r_max - r_min > tol
+    unequal = ~(r_max - r_min <= tol)           # NaN coordinates count as violations
     # Empty circle: no site strictly closer than the vertex's own (k-d tree nearest site).
     nearest, _ = ctx.tree.query(ctx.xy[used], workers=-1)
-    closer = nearest < r_min - tol
+    closer = ~(nearest >= r_min - tol)
     spread = (r_max - r_min) / np.maximum(r_max, 1e-300)
     problems = []
     if few.size:
@@ -234,7 +234,7 @@ def _check_vertices(ctx: _Context) -> Check:
         problems.append(f"{int(closer.sum())} vertices have a site strictly closer than their own "
                         f"(empty circle violated)")
     if problems:
-        within = few.size == 0 and not ((r_max - r_min > tol_near) | (nearest < r_min - tol_near)).any()
+        within = few.size == 0 and bool(((r_max - r_min <= tol_near) & (nearest >= r_min - tol_near)).all())
         if within:
             problems.append("all within the near-degenerate tolerance of the data scale")
         bad = sorted_unique(np.concatenate([few, used[unequal], used[closer]]))
@@ -266,7 +266,7 @@ def _edge_kernel(sites, xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, m
                     worst[k] = max(worst[k], dist)
             px, py = xy[w, 0], xy[w, 1]
             da, db = np.hypot(px - ax, py - ay), np.hypot(px - bx, py - by)
-            if abs(da - db) > gap[k]:
+            if not abs(da - db) <= gap[k]:          # NaN (a non-finite vertex) sticks
                 gap[k] = abs(da - db)
                 radius[k] = max(da, db)
                 magnitude[k] = max(abs(px), abs(py), abs(ax), abs(ay), abs(bx), abs(by))
@@ -282,8 +282,8 @@ def _check_edges(ctx: _Context) -> Check:
     wrong_way = np.zeros(e.size, dtype=bool)
     worst, gap, radius, mag = (np.zeros(e.size) for _ in range(4))
     _edge_kernel(ctx.sites, ctx.xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, mag)
-    off = gap > length_tolerance(EQUIDISTANCE_REL_TOL, radius, mag)
-    off_far = gap > length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(ctx.scale, radius), mag)
+    off = ~(gap <= length_tolerance(EQUIDISTANCE_REL_TOL, radius, mag))     # NaN is off
+    off_far = ~(gap <= length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(ctx.scale, radius), mag))
     problems = []
     within = True
     if wrong_way.any():
@@ -467,9 +467,9 @@ def _probe_kernel(pts, cell, cptr, by_cell, sites, xy, site, twin, origin, scale
             side = (dx * (py - ay) - dy * (px - ax)) / np.hypot(dx, dy)   # signed distance, + = left
             radius = np.hypot(ax - sites[a, 0], ay - sites[a, 1])
             tol = allowed_error(rel_tol, max(scale, radius), max(abs(px), abs(py), abs(ax), abs(ay)))
-            if side < -tol:
+            if not side >= -tol:                 # NaN counts as outside
                 out = True
-            if side <= tol:
+            if not side > tol:
                 strictly_in = False
         outside[i], strictly_inside[i] = out, strictly_in
 

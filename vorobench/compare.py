@@ -199,6 +199,9 @@ def _structure_error(d: Diagram) -> Optional[str]:
     ``next``); :func:`vorobench.certify` runs the full :meth:`Diagram.validate`."""
     if not _indices_usable(d):
         return "index arrays have the wrong shape or an index out of range"
+    finite = np.isfinite(np.asarray(d.vertices, np.float64)).all(axis=1)
+    if not finite.all():
+        return f"vertex {int(np.flatnonzero(~finite)[0])} is not finite ({int((~finite).sum())} in all)"
     H = d.n_half_edges
     if H == 0:
         return None if d.n_sites <= 1 else f"{d.n_sites} sites but no edges"
@@ -380,7 +383,8 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optiona
         for k in range(2):
             m_xy[:, k] = np.bincount(labels[used], weights=xy[used, k], minlength=M) / np.maximum(weight, 1)
         m_extent = np.zeros(M)
-        np.maximum.at(m_extent, labels[used], np.hypot(*(xy[used] - m_xy[labels[used]]).T))
+        with np.errstate(invalid="ignore"):
+            np.maximum.at(m_extent, labels[used], np.hypot(*(xy[used] - m_xy[labels[used]]).T))
     # Kept half-edges with merged ends and the neighbour that follows along the cell.
     nb_all = site[twin] if H else site
     if not contract.any():                    # every half-edge kept, every vertex its own class
@@ -517,7 +521,7 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
         extent = fa.m_extent[ma] + fb.m_extent[mb]
         floor = coord_tol * local + extent
         max_ratio = float((err / floor).max())
-        cand = np.flatnonzero(err > floor)
+        cand = np.flatnonzero(~(err <= floor))          # NaN coordinates are candidates too
         if cand.size:
             first, last = fa.m_ptr[ma[cand]], fa.m_ptr[ma[cand] + 1] - 1
             s0, s1, s2 = (sites[fa.m_sites[np.minimum(first + k, last)]] for k in range(3))
@@ -528,9 +532,10 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
             allowed = circumcentre_tolerance(coord_tol, local[cand], radius[cand], shortest, magnitude) + extent[cand]
             ratio = err[cand] / allowed
             max_ratio = float(max(ratio.max(), (err / floor)[err <= floor].max(initial=0.0)))
-            bad = cand[ratio > 1]
+            over = ~(ratio <= 1)
+            bad = cand[over]
             counts["coordinate_mismatches"] = int(bad.size)
-            for k, r in zip(bad[:_MAX_LISTED], ratio[ratio > 1][:_MAX_LISTED]):
+            for k, r in zip(bad[:_MAX_LISTED], ratio[over][:_MAX_LISTED]):
                 diffs.append(Difference("coordinate_mismatches", _site_tuple(fa, int(ma[k])),
                                         f"vertex at {tuple(pa[k].tolist())} in {la}, {tuple(pb[k].tolist())} in {lb} "
                                         f"(error {rel[k]:.3g} of the local scale, {r:.3g} x allowed)",

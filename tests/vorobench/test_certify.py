@@ -214,3 +214,13 @@ def test_report_and_dict():
     assert data["ok"] is False and data["verdict"] == "not_certified"
     assert [c["name"] for c in data["checks"]] == list(CHECKS)
     assert "CERTIFIED" in str(certify(d))
+
+
+def test_non_finite_vertex_fails_every_geometric_check():
+    """NaN compares false: the checks must still count it as a violation."""
+    d = qhull("uniform", 50)
+    vertices = d.vertices.copy()
+    vertices[3] = np.nan
+    cert = certify(with_arrays(d, vertices=vertices))
+    assert {"structure", "vertices", "edges"} <= failed(cert)
+    assert 3 in cert.check("vertices").offending

@@ -268,3 +268,12 @@ def test_assert_diagrams_equal_message_names_the_difference():
     with pytest.raises(AssertionError, match="coordinate"):
         assert_diagrams_equal(d, with_arrays(d, vertices=vertices))
     assert assert_diagrams_equal(d, renumbered(d), exact=True).verdict == "exact"
+
+
+def test_non_finite_vertex_is_reported():
+    d = qhull("uniform", 50)
+    vertices = d.vertices.copy()
+    vertices[3] = np.nan
+    c = compare(d, with_arrays(d, vertices=vertices))
+    assert not c.equal and c.counts["coordinate_mismatches"] == 1 and c.counts["invalid_structure"] == 1
+    assert "not finite" in str(c)
