@@ -220,7 +220,9 @@ def _check_vertices(ctx: _Context) -> Check:
     tol_near = length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(ctx.scale, r_max), mag)
     unequal = ~(r_max - r_min <= tol)           # NaN coordinates count as violations
     # Empty circle: no site strictly closer than the vertex's own (k-d tree nearest site).
-    nearest, _ = ctx.tree.query(ctx.xy[used], workers=-1)
+    nearest = np.full(used.size, np.nan)
+    finite = np.isfinite(ctx.xy[used]).all(axis=1)
+    nearest[finite] = ctx.tree.query(ctx.xy[used[finite]], workers=-1)[0]
     closer = ~(nearest >= r_min - tol)
     spread = (r_max - r_min) / np.maximum(r_max, 1e-300)
     problems = []
