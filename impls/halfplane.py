@@ -26,10 +26,15 @@ parallel to the new bisector (== 0) it shares the fate of its finite vertex. A v
 on the bisector (incircle == 0) is kept and the bisector adds no edge there, so cells never
 hold zero-length edges. The first two clips use two sites not collinear with i, so a cell is
 never a strip (all-collinear input gives the n - 1 parallel lines directly).
-Prefilter (speed only, never a decision): a site farther from i than twice the distance of
-the cell's farthest vertex cannot cut it; the radius is padded by 1e-6 relative plus a few
-ulps of the coordinates, far beyond the circumcentre's error. Anything nearer goes to the
-exact tests. Sites near i in Hilbert order are clipped first so cells shrink fast.
+Filters (speed only, never a decision): vertex v is cut exactly when j lies inside the
+circle centred at v through i. Each vertex's circle is computed once (rounded centre, radius
+padded by 1e-6 relative plus a few ulps of the coordinates, far beyond the circumcentre's
+error), so a site clearly outside it leaves v strictly kept without an incircle call, like
+the float stage of the predicates. A site farther from i than twice the largest padded
+radius is outside every circle (|v - j| >= |j - i| - |v - i| > |v - i|): it is skipped for a
+bounded cell, and for an unbounded one only the two ends at infinity are tested (exact
+orient2d). Whatever the filters cannot settle goes to the exact tests. Sites near i in
+Hilbert order are clipped first so cells shrink fast.
 Gluing: a vertex is first the sorted site triple of its cell's own bisectors. With 4 or more
 cocircular sites, different cells see the same point as different triples; the two cells of
 each edge must agree on its ends, so triples are merged along edges (union-find) into one
@@ -65,7 +70,7 @@ NEAR_WINDOW = 24
 PREFILTER_REL_PAD = 1e-6
 PREFILTER_ULPS = 64.0
 #: Operation counts returned by the cell kernel (the predicate counters come separately).
-STAT_NAMES = ("clips", "prefiltered", "cuts", "vertex_tests")
+STAT_NAMES = ("clips", "prefiltered", "cuts", "vertex_tests")  # prefiltered: no incircle needed
 
 #: Vertices are keyed by their sorted site triple packed in one int64: n**3 < 2**63.
 MAX_SITES = 2_000_000
@@ -81,10 +86,12 @@ def _vertex_status(sites, i, a, b, j, counters):
 
 
 @njit(cache=True)
-def _clip(sites, i, j, nb, k, out, status, counters, stats):
+def _clip(sites, i, j, nb, k, out, status, far, circles, counters, stats):
     """Clip the cell nb[:k] (cyclic, CCW, AT_INFINITY marks the arc at infinity) by the
     bisector of (i, j). Writes the new list into ``out``; returns its length, or -1 if the
-    bisector cuts nothing."""
+    bisector cuts nothing. ``far``: j is known to be too far to cut any finite vertex (see
+    the prefilter), so only the ends at infinity are tested. ``circles[m]``: centre and
+    padded squared radius of vertex m's circle, for the float filter of each vertex test."""
     cut = 0
     for m in range(k):
         a = nb[m]
@@ -92,7 +99,15 @@ def _clip(sites, i, j, nb, k, out, status, counters, stats):
         if a == AT_INFINITY or b == AT_INFINITY:
             status[m] = 2                      # an end at infinity: decided below
             continue
+        if far:
+            status[m] = _KEPT
+            continue
         stats[3] += 1
+        dx = sites[j, 0] - circles[m, 0]
+        dy = sites[j, 1] - circles[m, 1]
+        if (dx * dx + dy * dy) * (1.0 - 1e-12) > circles[m, 2]:
+            status[m] = _KEPT                  # clearly outside the vertex's circle
+            continue
         s = _vertex_status(sites, i, a, b, j, counters)
         status[m] = s
         if s == _CUT:
@@ -146,23 +161,37 @@ def _clip(sites, i, j, nb, k, out, status, counters, stats):
 
 
 @njit(cache=True)
-def _squared_radius(sites, i, nb, k):
-    """Squared distance from site i to its cell's farthest vertex; inf if unbounded."""
-    r2 = 0.0
+def _vertex_circles(sites, i, nb, k, slack, circles):
+    """Fill circles[m] = (x, y, r**2) for each finite vertex m (centre, and its distance to
+    site i padded for rounding: PREFILTER_REL_PAD relative plus ``slack``); return the largest
+    padded radius, squared (0 if there is no finite vertex)."""
+    r2max = 0.0
     for m in range(k):
         a = nb[m]
         b = nb[(m + 1) % k]
         if a == AT_INFINITY or b == AT_INFINITY:
-            return np.inf
+            continue
         x, y = circumcentre(sites[i, 0], sites[i, 1], sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1])
         dx = x - sites[i, 0]
         dy = y - sites[i, 1]
-        r2 = max(r2, dx * dx + dy * dy)
-    return r2
+        r = np.sqrt(dx * dx + dy * dy) * (1.0 + PREFILTER_REL_PAD) + slack
+        circles[m, 0] = x
+        circles[m, 1] = y
+        circles[m, 2] = r * r
+        r2max = max(r2max, r * r)
+    return r2max
 
 
 @njit(cache=True)
-def _cell(sites, i, sequence, seen, nb, out, status, counters, stats, slack):
+def _reach(r2, slack):
+    """Squared distance from site i beyond which a site is outside every vertex circle:
+    (2 r + slack)**2 for the largest padded radius r, rounded up."""
+    d = 2.0 * np.sqrt(r2) + slack
+    return d * d * (1.0 + 1e-12)
+
+
+@njit(cache=True)
+def _cell(sites, i, sequence, seen, nb, out, status, circles, counters, stats, slack):
     """Neighbour list of cell i (written to nb); returns its length (AT_INFINITY included)."""
     n = sites.shape[0]
     # two first sites not collinear with i: the cell becomes a wedge, never a strip
@@ -189,12 +218,14 @@ def _cell(sites, i, sequence, seen, nb, out, status, counters, stats, slack):
         nb[0], nb[1] = j2, j1
     nb[2] = AT_INFINITY
     k = 3
-    stats[0] += 2
+    stats[0] += n - 1                          # every other site is clipped against
     stats[2] += 2
     seen[i] = i
     seen[j1] = i
     seen[j2] = i
-    r2 = np.inf
+    reach = _reach(_vertex_circles(sites, i, nb, k, slack, circles), slack)
+    bounded = False
+    prefiltered = 0
     xi = sites[i, 0]
     yi = sites[i, 1]
     for t in range(sequence.shape[0] + n):
@@ -202,24 +233,25 @@ def _cell(sites, i, sequence, seen, nb, out, status, counters, stats, slack):
         if seen[j] == i:
             continue
         seen[j] = i
-        stats[0] += 1
-        if r2 < np.inf:
-            dx = sites[j, 0] - xi
-            dy = sites[j, 1] - yi
-            d = np.sqrt(dx * dx + dy * dy) * (1.0 - 1e-12) - slack
-            if d > 0.0 and d * d > 4.0 * r2:
-                stats[1] += 1
+        dx = sites[j, 0] - xi
+        dy = sites[j, 1] - yi
+        far = dx * dx + dy * dy > reach
+        if far:
+            prefiltered += 1
+            if bounded:
                 continue
-        length = _clip(sites, i, j, nb, k, out, status, counters, stats)
+        length = _clip(sites, i, j, nb, k, out, status, far, circles, counters, stats)
         if length < 0:
             continue
         for m in range(length):
             nb[m] = out[m]
         k = length
-        r2 = _squared_radius(sites, i, nb, k)
-        if r2 < np.inf:
-            r = np.sqrt(r2) * (1.0 + PREFILTER_REL_PAD) + slack
-            r2 = r * r
+        bounded = True
+        for m in range(k):
+            if nb[m] == AT_INFINITY:
+                bounded = False
+        reach = _reach(_vertex_circles(sites, i, nb, k, slack, circles), slack)
+    stats[1] += prefiltered
     return k
 
 
@@ -240,6 +272,7 @@ def cells(sites, order, counters):
     nb = np.empty(n + 2, dtype=np.int64)
     out = np.empty(n + 2, dtype=np.int64)
     status = np.empty(n + 2, dtype=np.int64)
+    circles = np.empty((n + 2, 3), dtype=np.float64)
     sequence = np.empty(2 * NEAR_WINDOW, dtype=np.int64)
     magnitude = 0.0
     for t in range(n):
@@ -259,7 +292,7 @@ def cells(sites, order, counters):
             if pos - w >= 0:
                 sequence[ls] = order[pos - w]
                 ls += 1
-        k = _cell(sites, i, sequence[:ls], seen, nb, out, status, counters, stats, slack)
+        k = _cell(sites, i, sequence[:ls], seen, nb, out, status, circles, counters, stats, slack)
         # store it rotated so that an unbounded cell's list ends at the arc at infinity
         start = 0
         for m in range(k):

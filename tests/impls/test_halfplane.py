@@ -136,7 +136,7 @@ def test_stats_count_every_pair():
     impls.build("halfplane", datasets_gen.generate("uniform", 500, seed=1), stats)
     assert stats["clips"] == 500 * 499                 # the definition: every ordered pair
     assert stats["prefiltered"] < stats["clips"]
-    assert stats["incircle_calls"] == stats["vertex_tests"]
+    assert 0 < stats["incircle_calls"] <= stats["vertex_tests"]   # the float circle test settles most
     assert 0 <= stats["incircle_exact"] <= stats["incircle_calls"]
 
 
