@@ -871,6 +871,11 @@ __all__ += [
     "breakpoint_side_exact",
     "breakpoint_side",
     "circle_top",
+    "circle_top_relative",
+    "circle_top_to_y",
+    "tops_order_filter",
+    "circle_exact_key",
+    "tops_key_order",
     "circle_event_vs_site_exact",
     "circle_event_vs_site",
     "circle_events_order_exact",
@@ -1105,13 +1110,13 @@ def breakpoint_side(px, py, qx, qy, sx, sy):
 
 
 @njit(cache=True)
-def circle_top(ax, ay, bx, by, cx, cy):
-    """Float circumcircle of a, b, c: ``(y_top, err, vx, vy)``.
+def circle_top_relative(ax, ay, bx, by, cx, cy):
+    """Float circumcircle of a, b, c relative to a: ``(q, err_q, vx, vy)``.
 
-    ``y_top`` approximates the top of the circle (the circle event's sweep position), with
-    ``|y_top - exact| <= err`` (a running error bound, times a safety factor 2); ``err`` is
-    ``inf`` when the float orientation cannot be trusted (nearly collinear). ``(vx, vy)`` is the
-    circumcentre, computed relative to a (not exact). Not exact; the comparisons below are.
+    ``q`` approximates y_top - a_y, where y_top is the top of the circle (the circle event's
+    sweep position), with ``|q - exact| <= err_q`` (a running error bound, times a safety
+    factor 2); ``err_q`` is ``inf`` when the float orientation cannot be trusted (nearly
+    collinear). ``(vx, vy)`` is the circumcentre, computed relative to a (not exact).
     """
     u = EPSILON
     bx_ = bx - ax
@@ -1145,9 +1150,48 @@ def circle_top(ax, ay, bx, by, cx, cy):
     err_m = err_ny + err_r + u * abs(m)
     q = m / ae
     err_q = (abs(m) * err_e + ae * err_m) / (ae * (ae - err_e)) + u * abs(q)
-    y = ay + q
-    err = _CIRCLE_TOP_SAFETY * (err_q + u * abs(y))
+    return q, _CIRCLE_TOP_SAFETY * err_q, vx, vy
+
+
+@njit(cache=True)
+def circle_top(ax, ay, bx, by, cx, cy):
+    """Float circumcircle of a, b, c: ``(y_top, err, vx, vy)``.
+
+    ``y_top`` approximates the top of the circle, with ``|y_top - exact| <= err`` (safety
+    factor 2 included; ``inf`` when nearly collinear); ``(vx, vy)`` is the circumcentre.
+    Not exact; the comparisons below are.
+    """
+    q, err_q, vx, vy = circle_top_relative(ax, ay, bx, by, cx, cy)
+    y, err = circle_top_to_y(ay, q, err_q)
     return y, err, vx, vy
+
+
+@njit(cache=True)
+def circle_top_to_y(ay, q, err_q):
+    """``(y_top, err)`` from the relative top of :func:`circle_top_relative`: y_top = fl(ay + q)
+    and its error bound (the rounding of the sum added, with the safety factor)."""
+    y = ay + q
+    return y, err_q + _CIRCLE_TOP_SAFETY * EPSILON * abs(y)
+
+
+@njit(cache=True)
+def tops_order_filter(ay, q, err_q, dy, r, err_r):
+    """Float-filtered sign of (ay + q) - (dy + r) for two tops given relative to their own base
+    heights (from :func:`circle_top_relative`; a site is ``r = err_r = 0``), or ``UNDECIDED``.
+
+    Differences of the bases and of the offsets are taken separately, so large common
+    coordinates (offsets of 1e9) do not swamp the bound.
+    """
+    u = EPSILON
+    base = ay - dy
+    rel = q - r
+    d = base + rel
+    bound = err_q + err_r + 2.0 * u * (abs(base) + abs(rel))
+    if d > bound:
+        return 1
+    if -d > bound:
+        return -1
+    return _UNDECIDED
 
 
 @njit(cache=True)
@@ -1242,6 +1286,54 @@ def circle_events_order_exact(ax, ay, bx, by, cx, cy, dx, dy, ex, ey, fx, fy):
     p = _xadd(_xmul(e12, _xscaled(_xd(ay, dy, w), scale), w), _xsub(_xmul(e2, n1, w), _xmul(e1, n2, w), w), w)
     u = _xmul(_xmul(e2, e2, w), s1, w)
     v = _xmul(_xmul(e1, e1, w), s2, w)
+    return _sqrt_sum_sign(p, u, v, w)
+
+
+@njit(cache=True)
+def circle_exact_key(ax, ay, bx, by, cx, cy):
+    """``(ok, cy, r2, q, err_q)`` for non-collinear a, b, c, from exact arithmetic.
+
+    ``q`` approximates y_top - a_y to a few ulps of its terms, with the bound ``err_q``
+    (tighter than :func:`circle_top_relative` when the float circumcircle is ill-conditioned,
+    e.g. nearly collinear sites). If the centre's y and the squared radius are exactly
+    representable floats (integer and dyadic lattices, where ties abound) ``ok`` is True and
+    the top is exactly ``cy + sqrt(r2)``; see :func:`tops_key_order`.
+    """
+    w = _new_pool()
+    e, nys, s = _circle_parts(ax, ay, bx, by, cx, cy, 1.0, w)
+    # each estimate is within ~2 ulps of its exact value (nonoverlapping components)
+    ee = estimate(e, e.shape[0])
+    nn = estimate(nys, nys.shape[0])
+    ss = estimate(s, s.shape[0])
+    r = np.sqrt(ss)
+    q = (nn + r) / ee
+    u = EPSILON
+    err_q = _CIRCLE_TOP_SAFETY * (8.0 * u * (abs(nn) + r) / ee + 4.0 * u * abs(q))
+    # centre y = ay + nys / e exactly iff c * e == nys and ay + c rounds to nothing
+    c = nn / ee
+    if _xsign(_xsub(_xscale(e, c, w), nys, w)) != 0:
+        return False, 0.0, 0.0, q, err_q
+    cyy, low = two_sum(ay, c)
+    if low != 0.0:
+        return False, 0.0, 0.0, q, err_q
+    r2 = ss / (ee * ee)
+    if _xsign(_xsub(_xscale(_xmul(e, e, w), r2, w), s, w)) != 0:
+        return False, 0.0, 0.0, q, err_q
+    return True, cyy, r2, q, err_q
+
+
+@njit(cache=True)
+def tops_key_order(c1, r1, c2, r2):
+    """Exact sign of (c1 + sqrt(r1)) - (c2 + sqrt(r2)) for floats r1, r2 >= 0: two circle tops
+    from :func:`circle_exact_key`, or a site at height c2 with r2 = 0."""
+    if c1 == c2 and r1 == r2:
+        return 0
+    w = _new_pool()
+    p = _xd(c1, c2, w)
+    u = _take(w, 1)
+    u[0] = r1
+    v = _take(w, 1)
+    v[0] = r2
     return _sqrt_sum_sign(p, u, v, w)
 
 

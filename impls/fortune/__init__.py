@@ -77,7 +77,7 @@ _ERRORS = {1: "the search for the arc above a site left the beach line",
 
 _STATS_KEPT = ("site_events", "circle_events", "false_alarms", "vertices", "max_beach_line",
                "breakpoint_tests", "breakpoint_exact", "event_comparisons", "event_comparisons_exact",
-               "orient2d_calls", "orient2d_exact")
+               "orient2d_calls", "orient2d_exact", "exact_keys")
 
 
 def _event_order(sites: NDArray[np.float64]) -> NDArray[np.int64]:

@@ -1,16 +1,21 @@
 """Circle events in an indexed binary min-heap, ordered exactly by the top of their circle.
 
 Site events need no queue: the sites are pre-sorted by (y, x) and the sweep compares the next
-site with the heap's top. A circle event of arcs (a, b, c) lives in row e of ``ev_i``
-(sites A, B, C, the vanishing ARC, its heap position POS) and ``ev_f`` (float top Y with its
-error bound ERR, the circumcentre VX, VY). Rows are recycled through a free list (a stack,
-so the live rows stay few and cache-resident). The heap stores row ids with a copy of their
-float keys next to them (``hy``, ``herr``: comparisons touch one contiguous array); POS makes
-removal of an invalidated event O(log n).
+site with the heap's top. A circle event of arcs (a, b, c) lives in row e of ``ev_i`` (sites
+A, B, C, the vanishing ARC, its heap position POS, sequence number SEQ, exact-key state KEY)
+and ``ev_f`` (float top Y with its error bound ERR, the circumcentre VX, VY, the top relative
+to a_y, Q with bound ERRQ, and the exact key CY, R2). Rows are recycled through a free stack,
+so the live rows stay few and cache-resident. The heap stores row ids with a copy of their
+float keys next to them (``hkey``: comparisons touch one contiguous array); POS makes removal
+of a cancelled event O(log n).
 
-Order: the float tops decide when their error intervals are disjoint; otherwise
-:func:`~vorobench.predicates.circle_events_order_exact` does; exact ties go to the older
-event (smaller row id is not stable under recycling, so a sequence number SEQ is kept).
+Order, in stages: (1) the float tops when their error intervals are disjoint; (2) the same
+with the base heights a_y subtracted separately (large offsets); (3) once per event, exact
+arithmetic refines its relative top (ill-conditioned, nearly collinear triples) and finds its
+exact key when the centre's y and squared radius are floats exactly (lattices, where ties
+abound), then (2) again; (4) exact keys compared as cy + sqrt(r2) in a few exact operations,
+else :func:`~vorobench.predicates.circle_events_order_exact`. Exact ties go to the older event
+(smaller SEQ), which keeps the order total.
 """
 
 from __future__ import annotations
@@ -18,20 +23,27 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from vorobench.predicates import circle_event_vs_site_exact, circle_events_order_exact
+from vorobench.predicates import (UNDECIDED, circle_event_vs_site_exact, circle_events_order_exact,
+                                  circle_exact_key, tops_key_order, tops_order_filter)
 
 __all__ = [
-    "A", "B", "C", "ARC", "POS", "SEQ", "Y", "ERR", "VX", "VY",
-    "ORDER_CALLS", "ORDER_EXACT",
+    "A", "B", "C", "ARC", "POS", "SEQ", "KEY", "Y", "ERR", "VX", "VY", "Q", "ERRQ", "CY", "R2",
+    "ORDER_CALLS", "ORDER_EXACT", "KEYS_EXACT",
     "new_queue", "allocate", "release", "push", "pop", "discard", "before", "before_site",
 ]
 
-A, B, C, ARC, POS, SEQ = range(6)
-Y, ERR, VX, VY = range(4)
+A, B, C, ARC, POS, SEQ, KEY = range(7)
+Y, ERR, VX, VY, Q, ERRQ, CY, R2 = range(8)
+I_FIELDS = 7
+F_FIELDS = 8
+# KEY states
+KEY_UNKNOWN, KEY_EXACT, KEY_NONE = 0, 1, 2
 
-#: Indices into the sweep's counters array for event comparisons (calls, exact fallbacks).
+#: Indices into the sweep's counters array: event comparisons, those that still needed exact
+#: arithmetic after the refinement, and refinements (exact keys, at most one per event).
 ORDER_CALLS = 6
 ORDER_EXACT = 7
+KEYS_EXACT = 13
 
 
 @njit(cache=True)
@@ -42,8 +54,8 @@ def new_queue(capacity):
     the number of pending events, is typically O(sqrt n)).
     """
     capacity = max(capacity, 1)
-    ev_i = np.empty((capacity, 6), dtype=np.int32)
-    ev_f = np.empty((capacity, 4), dtype=np.float64)
+    ev_i = np.empty((capacity, I_FIELDS), dtype=np.int32)
+    ev_f = np.empty((capacity, F_FIELDS), dtype=np.float64)
     heap = np.empty(capacity, dtype=np.int32)
     hkey = np.empty((capacity, 2), dtype=np.float64)           # (Y, ERR) of heap[k]
     free = np.empty(capacity + 1, dtype=np.int32)               # [0]: rows ever used; then a stack
@@ -87,45 +99,86 @@ def _float_order(ye, erre, yg, errg):
 
 
 @njit(cache=True)
-def _exact_before(sites, ev_i, e, g):
-    # exact order of two circle events; equal tops go to the older event (smaller SEQ).
-    # Only scalars cross the call into the predicate (array arguments cost reference counts).
+def _refine(sites, ev_i, ev_f, e, counters):
+    # on first use: the exact key of event e and a tighter relative top (Q, ERRQ) from exact
+    # arithmetic; returns True if (CY, R2) hold an exact key
+    if ev_i[e, KEY] == KEY_UNKNOWN:
+        counters[KEYS_EXACT] += 1
+        a, b, c = ev_i[e, A], ev_i[e, B], ev_i[e, C]
+        ok, cy, r2, q, errq = circle_exact_key(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1],
+                                               sites[c, 0], sites[c, 1])
+        ev_i[e, KEY] = KEY_EXACT if ok else KEY_NONE
+        ev_f[e, CY] = cy
+        ev_f[e, R2] = r2
+        if errq < ev_f[e, ERRQ]:
+            ev_f[e, Q] = q
+            ev_f[e, ERRQ] = errq
+    return ev_i[e, KEY] == KEY_EXACT
+
+
+@njit(cache=True)
+def _exact_before(sites, ev_i, ev_f, e, g, counters):
+    # stages 2-4 of the order (see the module docstring), after the heap keys could not decide
     a, b, c = ev_i[e, A], ev_i[e, B], ev_i[e, C]
     p, q, r = ev_i[g, A], ev_i[g, B], ev_i[g, C]
-    s = circle_events_order_exact(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[c, 0], sites[c, 1],
-                                  sites[p, 0], sites[p, 1], sites[q, 0], sites[q, 1], sites[r, 0], sites[r, 1])
+    s = tops_order_filter(sites[a, 1], ev_f[e, Q], ev_f[e, ERRQ], sites[p, 1], ev_f[g, Q], ev_f[g, ERRQ])
+    if s == UNDECIDED:
+        keyed = _refine(sites, ev_i, ev_f, e, counters)
+        keyed = _refine(sites, ev_i, ev_f, g, counters) and keyed
+        s = tops_order_filter(sites[a, 1], ev_f[e, Q], ev_f[e, ERRQ], sites[p, 1], ev_f[g, Q], ev_f[g, ERRQ])
+    if s == UNDECIDED:
+        counters[ORDER_EXACT] += 1
+        if keyed:
+            s = tops_key_order(ev_f[e, CY], ev_f[e, R2], ev_f[g, CY], ev_f[g, R2])
+        else:
+            s = circle_events_order_exact(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[c, 0],
+                                          sites[c, 1], sites[p, 0], sites[p, 1], sites[q, 0], sites[q, 1],
+                                          sites[r, 0], sites[r, 1])
     if s != 0:
         return s < 0
     return ev_i[e, SEQ] < ev_i[g, SEQ]
 
 
 @njit(cache=True)
-def before(sites, ev_i, ye, erre, e, yg, errg, g, counters):
+def before(sites, ev_i, ev_f, ye, erre, e, yg, errg, g, counters):
     """True if circle event e (float top ye +- erre) must be processed before g (exact; ties by SEQ)."""
     counters[ORDER_CALLS] += 1
     o = _float_order(ye, erre, yg, errg)
     if o != 0:
         return o < 0
-    counters[ORDER_EXACT] += 1
-    return _exact_before(sites, ev_i, e, g)
+    return _exact_before(sites, ev_i, ev_f, e, g, counters)
+
+
+@njit(cache=True)
+def _exact_before_site(sites, ev_i, ev_f, e, sy, counters):
+    a, b, c = ev_i[e, A], ev_i[e, B], ev_i[e, C]
+    s = tops_order_filter(sites[a, 1], ev_f[e, Q], ev_f[e, ERRQ], sy, 0.0, 0.0)
+    if s == UNDECIDED:
+        keyed = _refine(sites, ev_i, ev_f, e, counters)
+        s = tops_order_filter(sites[a, 1], ev_f[e, Q], ev_f[e, ERRQ], sy, 0.0, 0.0)
+    if s == UNDECIDED:
+        counters[ORDER_EXACT] += 1
+        if keyed:
+            s = tops_key_order(ev_f[e, CY], ev_f[e, R2], sy, 0.0)
+        else:
+            s = circle_event_vs_site_exact(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[c, 0],
+                                           sites[c, 1], sy)
+    return s <= 0
 
 
 @njit(cache=True, inline='always')
-def before_site(sites, ev_i, ye, erre, e, sy, counters):
+def before_site(sites, ev_i, ev_f, ye, erre, e, sy, counters):
     """True if circle event e (float top ye +- erre) comes no later than a site at height sy
     (ties: circle first)."""
     counters[ORDER_CALLS] += 1
     o = _float_order(ye, erre, sy, 0.0)
     if o != 0:
         return o < 0
-    counters[ORDER_EXACT] += 1
-    a, b, c = ev_i[e, A], ev_i[e, B], ev_i[e, C]
-    s = circle_event_vs_site_exact(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[c, 0], sites[c, 1], sy)
-    return s <= 0
+    return _exact_before_site(sites, ev_i, ev_f, e, sy, counters)
 
 
 @njit(cache=True, inline='always')
-def _sift_up(sites, ev_i, heap, hkey, k, counters):
+def _sift_up(sites, ev_i, ev_f, heap, hkey, k, counters):
     e = heap[k]
     ye = hkey[k, 0]
     erre = hkey[k, 1]
@@ -134,8 +187,7 @@ def _sift_up(sites, ev_i, heap, hkey, k, counters):
         counters[ORDER_CALLS] += 1
         o = _float_order(ye, erre, hkey[parent, 0], hkey[parent, 1])
         if o == 0:
-            counters[ORDER_EXACT] += 1
-            o = -1 if _exact_before(sites, ev_i, e, heap[parent]) else 1
+            o = -1 if _exact_before(sites, ev_i, ev_f, e, heap[parent], counters) else 1
         if o > 0:
             break
         g = heap[parent]
@@ -151,7 +203,7 @@ def _sift_up(sites, ev_i, heap, hkey, k, counters):
 
 
 @njit(cache=True, inline='always')
-def _sift_down(sites, ev_i, heap, hkey, size, k, counters):
+def _sift_down(sites, ev_i, ev_f, heap, hkey, size, k, counters):
     e = heap[k]
     ye = hkey[k, 0]
     erre = hkey[k, 1]
@@ -163,15 +215,13 @@ def _sift_down(sites, ev_i, heap, hkey, size, k, counters):
             counters[ORDER_CALLS] += 1
             o = _float_order(hkey[child + 1, 0], hkey[child + 1, 1], hkey[child, 0], hkey[child, 1])
             if o == 0:
-                counters[ORDER_EXACT] += 1
-                o = -1 if _exact_before(sites, ev_i, heap[child + 1], heap[child]) else 1
+                o = -1 if _exact_before(sites, ev_i, ev_f, heap[child + 1], heap[child], counters) else 1
             if o < 0:
                 child += 1
         counters[ORDER_CALLS] += 1
         o = _float_order(hkey[child, 0], hkey[child, 1], ye, erre)
         if o == 0:
-            counters[ORDER_EXACT] += 1
-            o = -1 if _exact_before(sites, ev_i, heap[child], e) else 1
+            o = -1 if _exact_before(sites, ev_i, ev_f, heap[child], e, counters) else 1
         if o > 0:
             break
         g = heap[child]
@@ -193,12 +243,12 @@ def push(sites, ev_i, ev_f, heap, hkey, size, e, counters):
     hkey[size, 0] = ev_f[e, Y]
     hkey[size, 1] = ev_f[e, ERR]
     ev_i[e, POS] = size
-    _sift_up(sites, ev_i, heap, hkey, size, counters)
+    _sift_up(sites, ev_i, ev_f, heap, hkey, size, counters)
     return size + 1
 
 
 @njit(cache=True, inline='always')
-def pop(sites, ev_i, heap, hkey, size, counters):
+def pop(sites, ev_i, ev_f, heap, hkey, size, counters):
     """Remove the first event; returns (its row, new size). The heap must not be empty."""
     e = heap[0]
     size -= 1
@@ -208,13 +258,13 @@ def pop(sites, ev_i, heap, hkey, size, counters):
         hkey[0, 0] = hkey[size, 0]
         hkey[0, 1] = hkey[size, 1]
         ev_i[last, POS] = 0
-        _sift_down(sites, ev_i, heap, hkey, size, 0, counters)
+        _sift_down(sites, ev_i, ev_f, heap, hkey, size, 0, counters)
     ev_i[e, POS] = -1
     return e, size
 
 
 @njit(cache=True, inline='always')
-def discard(sites, ev_i, heap, hkey, size, e, counters):
+def discard(sites, ev_i, ev_f, heap, hkey, size, e, counters):
     """Remove event row e from anywhere in the heap; returns the new size."""
     k = ev_i[e, POS]
     size -= 1
@@ -225,9 +275,9 @@ def discard(sites, ev_i, heap, hkey, size, e, counters):
         hkey[k, 1] = hkey[size, 1]
         ev_i[last, POS] = k
         p = (k - 1) >> 1
-        if k > 0 and before(sites, ev_i, hkey[k, 0], hkey[k, 1], last, hkey[p, 0], hkey[p, 1], heap[p], counters):
-            _sift_up(sites, ev_i, heap, hkey, k, counters)
+        if k > 0 and before(sites, ev_i, ev_f, hkey[k, 0], hkey[k, 1], last, hkey[p, 0], hkey[p, 1], heap[p], counters):
+            _sift_up(sites, ev_i, ev_f, heap, hkey, k, counters)
         else:
-            _sift_down(sites, ev_i, heap, hkey, size, k, counters)
+            _sift_down(sites, ev_i, ev_f, heap, hkey, size, k, counters)
     ev_i[e, POS] = -1
     return size

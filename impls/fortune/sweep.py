@@ -15,7 +15,7 @@ from numba import njit
 
 from impls.fortune import beach_line as bl
 from impls.fortune import event_queue as eq
-from vorobench.predicates import circle_top, orient2d_counted
+from vorobench.predicates import circle_top_to_y, circle_top_relative, orient2d_counted
 
 __all__ = [
     "sweep", "COUNTER_NAMES", "N_COUNTERS",
@@ -29,11 +29,12 @@ CIRCLE_EVENTS = 9
 FALSE_ALARMS = 10
 VERTICES = 11
 MAX_BEACH = 12
-N_COUNTERS = 13
+# 13: exact circle keys computed (event_queue.KEYS_EXACT)
+N_COUNTERS = 14
 COUNTER_NAMES = (
     "orient2d_calls", "orient2d_exact", "incircle_calls", "incircle_exact",
     "breakpoint_tests", "breakpoint_exact", "event_comparisons", "event_comparisons_exact",
-    "site_events", "circle_events", "false_alarms", "vertices", "max_beach_line",
+    "site_events", "circle_events", "false_alarms", "vertices", "max_beach_line", "exact_keys",
 )
 
 OK = 0
@@ -126,9 +127,9 @@ def sweep(sites, counters):
         if iterations > max_iterations:
             status = ERR_ITERATIONS
             break
-        if hsize > 0 and (i >= n or eq.before_site(sites, ev_i, hkey[0, 0], hkey[0, 1], heap[0], sites[i, 1], counters)):
+        if hsize > 0 and (i >= n or eq.before_site(sites, ev_i, ev_f, hkey[0, 0], hkey[0, 1], heap[0], sites[i, 1], counters)):
             # ---------------- circle event: arc b vanishes at the circumcentre of (a, b, c)
-            e, hsize = eq.pop(sites, ev_i, heap, hkey, hsize, counters)
+            e, hsize = eq.pop(sites, ev_i, ev_f, heap, hkey, hsize, counters)
             b = ev_i[e, eq.ARC]
             a = arcs[b, bl.PREV]
             c = arcs[b, bl.NEXT]
@@ -203,7 +204,7 @@ def sweep(sites, counters):
             x = touched[t]
             g = arcs[x, bl.EVENT]
             if g != -1:
-                hsize = eq.discard(sites, ev_i, heap, hkey, hsize, g, counters)
+                hsize = eq.discard(sites, ev_i, ev_f, heap, hkey, hsize, g, counters)
                 nfree = eq.release(ev_i, free, nfree, g)
                 arcs[x, bl.EVENT] = -1
                 counters[FALSE_ALARMS] += 1
@@ -229,17 +230,21 @@ def sweep(sites, counters):
             if g < 0:
                 status = ERR_CAPACITY
                 break
-            yt, err, vx, vy = circle_top(ax, ay, bx, by, cx, cy)
+            q, errq, vx, vy = circle_top_relative(ax, ay, bx, by, cx, cy)
+            yt, err = circle_top_to_y(ay, q, errq)
             ev_i[g, eq.A] = sa
             ev_i[g, eq.B] = sb
             ev_i[g, eq.C] = sc
             ev_i[g, eq.ARC] = x
             ev_i[g, eq.SEQ] = seq
+            ev_i[g, eq.KEY] = eq.KEY_UNKNOWN
             seq += 1
             ev_f[g, eq.Y] = yt
             ev_f[g, eq.ERR] = err
             ev_f[g, eq.VX] = vx
             ev_f[g, eq.VY] = vy
+            ev_f[g, eq.Q] = q
+            ev_f[g, eq.ERRQ] = errq
             arcs[x, bl.EVENT] = g
             hsize = eq.push(sites, ev_i, ev_f, heap, hkey, hsize, g, counters)
             counters[CIRCLE_EVENTS] += 1

@@ -16,8 +16,12 @@ from vorobench.predicates import (
     circle_event_vs_site_exact,
     circle_events_order,
     circle_events_order_exact,
+    circle_exact_key,
     circle_top,
+    circle_top_relative,
     orient2d,
+    tops_key_order,
+    tops_order_filter,
 )
 
 _DIGITS = 400
@@ -262,3 +266,76 @@ def test_circle_predicates_are_invariant_under_power_of_two_scaling(k):
         assert circle_events_order_exact(*(t1 * s), *(t2 * s)) == want
         assert circle_events_order(*(t1 * s), *(t2 * s)) == want
         assert circle_event_vs_site(*(t1 * s), t2[1] * s) == circle_event_vs_site(*t1, t2[1])
+
+
+def _exact_centre_y_and_r2(t):
+    ax, ay, bx, by, cx, cy = map(F, t.ravel())
+    d = 2 * (ax * (by - cy) + bx * (cy - ay) + cx * (ay - by))
+    ux = ((ax * ax + ay * ay) * (by - cy) + (bx * bx + by * by) * (cy - ay) + (cx * cx + cy * cy) * (ay - by)) / d
+    uy = ((ax * ax + ay * ay) * (cx - bx) + (bx * bx + by * by) * (ax - cx) + (cx * cx + cy * cy) * (bx - ax)) / d
+    return uy, (ax - ux) ** 2 + (ay - uy) ** 2
+
+
+def test_circle_exact_key_on_lattices_and_refined_bounds():
+    rng = np.random.default_rng(6)
+    keyed = 0
+    for _ in range(300):
+        t = rng.integers(-20, 20, size=(3, 2)).astype(float) * rng.choice([1.0, 0.5, 2.0 ** -20])
+        if orient2d(*t.ravel()) == 0:
+            continue
+        ok, cy, r2, q, errq = circle_exact_key(*t.ravel())
+        uy, rr = _exact_centre_y_and_r2(t)
+        # ok exactly when both are floats (the float conversion round-trips)
+        assert ok == (F(float(uy)) == uy and F(float(rr)) == rr)
+        if ok:
+            keyed += 1
+            assert F(cy) == uy and F(r2) == rr
+        top = reference_circle_top(*t)
+        assert abs(Decimal(t[0, 1]) + Decimal(q) - top) <= Decimal(errq)
+    assert keyed > 20                   # centres with power-of-two denominators
+    for t in _triples(rng, 100) + [np.array([[0.0, 0.0], [0.5, 1e-13], [1.0, 0.0]])]:
+        ok, cy, r2, q, errq = circle_exact_key(*t.ravel())
+        assert abs(Decimal(t[0, 1]) + Decimal(q) - reference_circle_top(*t)) <= Decimal(errq)
+        q0, errq0, _, _ = circle_top_relative(*t.ravel())
+        assert errq0 == np.inf or abs(Decimal(t[0, 1]) + Decimal(q0) - reference_circle_top(*t)) <= Decimal(errq0)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.tuples(st.integers(-8, 8), st.integers(0, 64)), st.tuples(st.integers(-8, 8), st.integers(0, 64)))
+def test_tops_key_order(first, second):
+    (c1, r1), (c2, r2) = first, second
+    want = _sign(F(c1 - c2) + _sqrt_f(r1) - _sqrt_f(r2))
+    assert tops_key_order(float(c1), float(r1), float(c2), float(r2)) == want
+
+
+def _sqrt_f(k):
+    # exact square root of a small non-negative integer as a Fraction when it is one, else a
+    # 400-digit Decimal turned into a Fraction (no ties are possible then)
+    root = int(k ** 0.5 + 0.5)
+    if root * root == k:
+        return F(root)
+    with localcontext() as ctx:
+        ctx.prec = _DIGITS
+        return F(Decimal(k).sqrt())
+
+
+def test_tops_order_filter_is_never_wrong():
+    rng = np.random.default_rng(8)
+    decided = 0
+    for _ in range(2000):
+        ay, dy = rng.random(2) * 1e9
+        q, r = rng.random(2)
+        if rng.random() < 0.5:
+            r = q + (dy - ay) + rng.normal() * 1e-7      # nearly the same top
+        eq_, er = abs(q) * 1e-15, abs(r) * 1e-15
+        s = tops_order_filter(ay, q, eq_, dy, r, er)
+        if s == UNDECIDED:
+            continue
+        decided += 1
+        want = _sign((F(ay) + F(q)) - (F(dy) + F(r)))
+        # the true tops are within the bounds: any value in them must give the same sign
+        for dq in (-eq_, eq_):
+            for dr in (-er, er):
+                assert _sign((F(ay) + F(q) + F(dq)) - (F(dy) + F(r) + F(dr))) == s
+        assert want == s
+    assert decided > 1000
