@@ -96,7 +96,8 @@ def execute(impl_names: Optional[Sequence[str]], datasets: Sequence[str], sizes:
         results.metadata_path(out).unlink(missing_ok=True)
     previous = store.rows() if resume else []
     done = {results.case_key(r) for r in previous}
-    cases = runner.plan_cases(impl_names, datasets, sizes, seeds)
+    cases = runner.plan_cases(impl_names, datasets, sizes, seeds,
+                              reference=config.reference if config.check else None)
     todo = [c for c in cases if c.key not in done]
     meta = sysinfo.run_metadata()
     meta.update(run_id=config.run_id, argv=sys.argv[1:], impls=impl_names, datasets=list(datasets),

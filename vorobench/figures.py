@@ -208,7 +208,7 @@ def plot_correctness(matrix: pd.DataFrame, path: Path, order: Optional[Sequence[
     ax.tick_params(which="minor", length=0)
     ax.set_xlabel("dataset")
     ax.set_ylabel("implementation")
-    ax.set_title("Correctness: worst verdict over sizes and seeds\n(k/m good = exact or within tolerance, of checked)",
+    ax.set_title("Correctness: worst verdict over sizes and seeds\n(k/m good = passed the cross-validation, of checked)",
                  fontsize=11)
     present = [v for v in VERDICT_COLOURS if v in set(matrix["worst"].astype(str))]
     ax.legend(handles=[Patch(facecolor=VERDICT_COLOURS[v], edgecolor="0.5",

@@ -148,9 +148,15 @@ def reading(cases, sizes, exponents, ratios, reference: str) -> list[str]:
     # Correctness.
     ran = cases[cases["status"] == "ok"]
     if not ran.empty:
-        tally = ran["verdict"].fillna("none").replace({"skipped": "not checked"}).value_counts()
-        parts = ", ".join(f"{v} {k.replace('_', ' ')}" for k, v in tally.items())
-        points.append(f"**Correctness** of the {len(ran)} cases that ran: {parts}.")
+        others, own = ran[ran["impl"] != reference], ran[ran["impl"] == reference]
+        tally = others["verdict"].fillna("none").replace({"skipped": "not checked"}).value_counts()
+        parts = ", ".join(f"{v} {k.replace('_', ' ')}" for k, v in tally.items()) or "none"
+        text = f"**Correctness** of the {len(others)} cases that ran, against `{reference}`: {parts}."
+        if not own.empty:
+            certified = int((own["verdict"] == "certified").sum())
+            text += (f" `{reference}`'s own {len(own)} cases are judged on their certificates alone: "
+                     f"{certified} certified.")
+        points.append(text)
     bad = failures(cases)
     if bad.empty:
         points.append("**No failures**: no case crashed, hung, ran out of memory or was refuted.")

@@ -112,11 +112,32 @@ class CaseOutcome:
         return self.rows[0].get("error") if self.rows else None
 
 
+def _distinct_sizes(dataset: str, sizes: Sequence[int]) -> list[int]:
+    """The sizes that give different inputs: a dataset that caps its size (cocircular points
+    on one circle) gives the same points for every larger n, so only the first is kept."""
+    import datasets_gen
+
+    kept, seen = [], set()
+    for n in sorted(set(sizes)):
+        try:
+            actual = datasets_gen.actual_n(dataset, n)
+        except Exception:  # unknown here: the worker will report it
+            actual = ("n", n)
+        if actual not in seen:
+            seen.add(actual)
+            kept.append(n)
+    return kept
+
+
 def plan_cases(impls: Sequence[str], datasets: Sequence[str], sizes: Sequence[int],
-               seeds: Sequence[int]) -> list[Case]:
+               seeds: Sequence[int], reference: Optional[str] = None) -> list[Case]:
     """All combinations, smallest n first: an interrupted run has covered every pair early,
-    and a size is only reached after the smaller ones it is extrapolated from."""
-    return [Case(i, d, n, s) for n in sorted(set(sizes)) for d in datasets for i in impls for s in seeds]
+    and a size is only reached after the smaller ones it is extrapolated from. Within a
+    (size, dataset, seed) the reference comes last, so it knows whether anyone needs it."""
+    ordered = [i for i in impls if i != reference] + [i for i in impls if i == reference]
+    per_dataset = {d: set(_distinct_sizes(d, sizes)) for d in datasets}
+    return [Case(i, d, n, s) for n in sorted(set(sizes)) for d in datasets if n in per_dataset[d]
+            for s in seeds for i in ordered]
 
 
 def _context(method: str, impl: str):
@@ -234,6 +255,18 @@ def _rows(case: Case, config: RunConfig, status: str, step: str, info: dict, rep
 
 # ---------------------------------------------------------------------------- a whole run
 
+def _growth_exponent(timed: list[tuple[int, float]]) -> float:
+    """Least-squares slope of log t against log n over the last three sizes, in [1, 3] (1 if unknown)."""
+    timed = timed[-3:]
+    if len({n for n, _ in timed}) < 2:
+        return 1.0
+    x = [math.log(n) for n, _ in timed]
+    y = [math.log(t) for _, t in timed]
+    mx, my = sum(x) / len(x), sum(y) / len(y)
+    slope = sum((a - mx) * (b - my) for a, b in zip(x, y)) / sum((a - mx) ** 2 for a in x)
+    return min(3.0, max(1.0, slope))
+
+
 def _skip_reason(case: Case, history: dict, config: RunConfig) -> Optional[str]:
     """Why ``case`` need not run, judging from smaller n of the same impl/dataset/seed."""
     done = sorted(history.get((case.impl, case.dataset, case.seed), []))
@@ -245,17 +278,20 @@ def _skip_reason(case: Case, history: dict, config: RunConfig) -> Optional[str]:
         return f"n={n_last} already ended in {st_last}"
     if st_last == "skipped":
         return f"n={n_last} was skipped"
-    # The reference is never skipped for the budget: every other case needs it for its ratio.
-    if config.budget and t_last and case.impl != config.reference:
-        timed = [(n, t) for n, st, t in smaller if st == "ok" and t]
-        exponent = 1.0
-        if len(timed) >= 2 and timed[-1][0] > timed[-2][0]:
-            (n0, t0), (n1, t1) = timed[-2], timed[-1]
-            exponent = min(3.0, max(1.0, math.log(t1 / t0) / math.log(n1 / n0)))
-        predicted = t_last * (case.n / n_last) ** exponent
-        if predicted > config.budget:
-            return (f"extrapolated build time {predicted:.3g} s (from n={n_last}, exponent "
-                    f"{exponent:.2f}) exceeds the budget of {config.budget:g} s")
+    if not (config.budget and t_last):
+        return None
+    if case.impl == config.reference:
+        # The reference runs wherever another implementation did: their ratios need it.
+        others = [st for (impl, ds, seed), entries in history.items()
+                  if impl != case.impl and ds == case.dataset and seed == case.seed
+                  for n, st, _ in entries if n == case.n]
+        if "ok" in others:
+            return None
+    exponent = _growth_exponent([(n, t) for n, st, t in smaller if st == "ok" and t])
+    predicted = t_last * (case.n / n_last) ** exponent
+    if predicted > config.budget:
+        return (f"extrapolated build time {predicted:.3g} s (from n={n_last}, exponent "
+                f"{exponent:.2f}) exceeds the budget of {config.budget:g} s")
     return None
 
 

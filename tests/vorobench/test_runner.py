@@ -94,10 +94,10 @@ def test_check_gives_a_verdict_against_the_reference(tmp_path):
     df = pd.read_csv(out)
     # The reference's own row is judged on its certificate; steady returns Qhull's own diagram,
     # so it must certify and agree with the reference exactly; wrong's diagram belongs to other sites.
-    assert list(df["impl"]) == ["qhull", "steady", "wrong"]
-    assert list(df["verdict"]) == ["certified", "exact", "not_certified"], df["verdict_detail"].tolist()
-    assert df["check_passed"].tolist() == [True, True, False]
-    assert df["blame"].fillna("").tolist() == ["", "", "impl"]
+    assert list(df["impl"]) == ["steady", "wrong", "qhull"]          # the reference runs last
+    assert list(df["verdict"]) == ["exact", "not_certified", "certified"], df["verdict_detail"].tolist()
+    assert df["check_passed"].tolist() == [True, False, True]
+    assert df["blame"].fillna("").tolist() == ["", "impl", ""]
     assert (df["check_s"] > 0).all()
 
 
@@ -191,12 +191,26 @@ def test_short_builds_are_repeated_to_fill_min_time():
     assert [r["repeat"] for r in outcome.rows] == list(range(len(outcome.rows)))
 
 
-def test_the_reference_is_never_skipped_for_the_budget():
+def test_the_reference_runs_wherever_another_implementation_ran():
     history = {("qhull", "uniform", 0): [(1000, "ok", 1.0), (2000, "ok", 4.0)],
-               ("other", "uniform", 0): [(1000, "ok", 1.0), (2000, "ok", 4.0)]}
+               ("other", "uniform", 0): [(1000, "ok", 1.0), (2000, "ok", 4.0)],
+               ("fast", "uniform", 0): [(1000, "ok", 0.1), (2000, "ok", 0.2), (4000, "ok", 0.4)]}
     cfg = RunConfig(budget=1.0, reference="qhull")
     assert runner._skip_reason(Case("other", "uniform", 4000), history, cfg) is not None
-    assert runner._skip_reason(Case("qhull", "uniform", 4000), history, cfg) is None
+    assert runner._skip_reason(Case("qhull", "uniform", 4000), history, cfg) is None      # fast needs it
+    assert runner._skip_reason(Case("qhull", "uniform", 8000), history, cfg) is not None  # nobody does
+
+
+def test_plan_puts_the_reference_last_and_drops_sizes_that_repeat_an_input():
+    import datasets_gen
+
+    cap = datasets_gen.actual_n("cocircular", 10**9)          # the most points one circle holds
+    cases = runner.plan_cases(["qhull", "a", "b"], ["uniform", "cocircular"], [100, cap, 2 * cap], [0],
+                              reference="qhull")
+    assert [c.impl for c in cases[:3]] == ["a", "b", "qhull"]
+    cocircular = sorted({c.n for c in cases if c.dataset == "cocircular"})
+    assert cocircular == [100, cap]                            # 2 * cap gives the same points as cap
+    assert sorted({c.n for c in cases if c.dataset == "uniform"}) == [100, cap, 2 * cap]
 
 
 def test_memory_limit_turns_a_large_allocation_into_oom(tmp_path):
