@@ -1,6 +1,6 @@
 """Half-plane oracle: build time over n on ``uniform`` and the fitted growth exponent.
 
-    .venv/bin/python benchmarks/halfplane_scaling.py                     # n = 2500 .. 40000
+    .venv/bin/python benchmarks/halfplane_scaling.py                     # n = 5000 .. 80000, ~1 min
     .venv/bin/python benchmarks/halfplane_scaling.py --sizes 1000 2000 4000 --rounds 5
 
 Prints n, median wall and CPU seconds, clips (= n (n - 1), every ordered pair) and exact
@@ -31,8 +31,8 @@ def fitted_exponent(sizes, seconds) -> float:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--dataset", default="uniform")
-    parser.add_argument("--sizes", nargs="+", type=int, default=[2500, 5000, 10_000, 20_000, 40_000])
-    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--sizes", nargs="+", type=int, default=[5000, 10_000, 20_000, 40_000, 80_000])
+    parser.add_argument("--rounds", type=int, default=1)
     args = parser.parse_args()
     impl = impls.get("halfplane")
     impl.warmup()
