@@ -33,7 +33,13 @@ _OWN = {
     "qhull": "impls.qhull",
 }
 # Adapters to outside libraries: name -> (module, the library it needs).
-_EXTERNAL: dict[str, tuple[str, str]] = {}
+_EXTERNAL: dict[str, tuple[str, str]] = {
+    "triangle": ("impls.external.triangle_lib", "triangle"),
+    "triangle-sweep": ("impls.external.triangle_sweep", "triangle"),
+    "triangle-incremental": ("impls.external.triangle_incremental", "triangle"),
+    "boost": ("impls.external.boost", "pyvoronoi"),
+    "geos": ("impls.external.geos", "shapely"),
+}
 
 _registered: dict[str, Implementation] = {}
 _loaded: dict[str, Implementation] = {}

@@ -1,0 +1,14 @@
+"""Adapters to outside Voronoi libraries, each behind the common :class:`~impls.base.Implementation`.
+
+One module per library: :mod:`.triangle_lib` (Shewchuk's Triangle, three algorithms, with
+:mod:`.triangle_sweep` and :mod:`.triangle_incremental` naming the two non-default ones for
+the registry), :mod:`.boost` (Boost.Polygon's sweep through ``pyvoronoi``) and :mod:`.geos`
+(GEOS through ``shapely.voronoi_polygons``). Each is importable only when its library is
+installed (``pip install vorobench[peers]``); the registry lists it only then.
+
+Every adapter fills ``stats`` with ``library_s`` (wall time inside the library's own call)
+and ``convert_s`` (everything else: input preparation and conversion of the output into
+the DCEL), so a run can tell the library's speed from the cost of our adapter.
+"""
+
+__all__: list[str] = []

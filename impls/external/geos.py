@@ -1,0 +1,253 @@
+"""GEOS's Voronoi diagram (``shapely.voronoi_polygons``) converted back into the vorobench DCEL.
+
+CONTRACT
+--------
+Complexity: O(n log n) expected for GEOS (incremental Delaunay triangulation on a
+quad-edge structure, sites inserted in sorted order, then one polygon per cell, clipped).
+Conversion: O(n log n) (sorting of coordinates).
+Input: prepared sites (distinct, finite float64), any n >= 0. GEOS computes in floating
+point (``exact=False``): nearly cocircular sites may give several vertices a rounding
+error apart, which ``compare`` contracts within tolerance.
+Library part (``library_s``): ``shapely.voronoi_polygons(..., ordered=True, extend_to=box)``,
+one polygon per site in input order, clipped to an envelope ``box`` = the sites' bounding
+box grown by ``ENVELOPE_GROWTH`` times its larger side on every side (GEOS's default is 1).
+Recovering the combinatorics (``convert_s``), one rule per kind of polygon vertex:
+* A ring vertex strictly inside the envelope is a Voronoi vertex. GEOS computes each
+  circumcentre once and shares it between the cells around it, so vertices are identified
+  by their exact coordinates.
+* A ring vertex on the envelope's boundary is where an edge was cut: it stands for infinity.
+* A ring segment with both ends on the same side of the envelope is part of the envelope,
+  not of the diagram: it is dropped. Every other segment is (part of) a Voronoi edge of
+  the cell, oriented counter-clockwise (rings are reoriented if GEOS gives them clockwise).
+* Its twin is the segment with the same two end points in the opposite order in another
+  cell: both cells cut the same edge at the same point, which GEOS computes identically
+  (checked: an unmatched segment raises an error naming it).
+So rays become half-edges from or to infinity and the parallel lines of collinear sites
+(segments from boundary to boundary) become lines, as the contract wants.
+Limitation: a Voronoi vertex outside the envelope (circumcentre of nearly collinear hull
+sites, farther than ``ENVELOPE_GROWTH`` box sizes) is lost; its edges then look like rays.
+Certification catches this (unbounded cells must be the hull sites), and the envelope is
+large enough that it does not happen on the dataset families at the tested sizes.
+"""
+
+from __future__ import annotations
+
+from typing import Optional
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from impls.base import Implementation
+from impls.external.clock import BuildClock
+from impls.external.screen import circumcentres, triangulation
+from vorobench.dcel import assemble
+from vorobench.certify import convex_hull_boundary
+from vorobench.diagram import Diagram
+from vorobench.predicates import orient2d_many
+from vorobench.sorting import argsort_keys, dense_rank
+
+__all__ = ["build", "supports", "diagram_from_cells", "InconsistentCellsError", "ENVELOPE_GROWTHS", "IMPLEMENTATION"]
+
+#: Clip envelopes tried in turn: the sites' bounding box grown on every side by this many
+#: times its larger side (1 is GEOS's own default). Larger envelopes keep farther vertices,
+#: but GEOS then clips (and may snap) at coordinates far larger than the sites' spacing.
+ENVELOPE_GROWTHS = (1.0, 2.0**8, 2.0**16, 2.0**24)
+
+_MIN_GEOS = (3, 12, 0)        # ordered=True (cells in input order) needs GEOS 3.12
+
+
+class InconsistentCellsError(RuntimeError):
+    """GEOS's cell polygons do not fit together (an edge of one cell is no other cell's edge)."""
+
+
+def supports(sites: NDArray[np.float64]) -> Optional[str]:
+    """None if GEOS can return the diagram, else why not: a Voronoi vertex lies outside the
+    largest envelope tried (nearly collinear sites on the hull put vertices arbitrarily far
+    away; GEOS triangulates inside a finite frame and clips its cells, so it cannot return
+    them). Decided on the exact triangulation of the sites (:mod:`.screen`)."""
+    if sites.shape[0] <= 2:
+        return None
+    tr = triangulation(sites)
+    if tr is None:              # collinear: no vertex at all
+        return None
+    centres = circumcentres(sites, tr.triangles)
+    box = _envelope(sites, ENVELOPE_GROWTHS[-1])
+    outside = np.any(centres < box[:2], axis=1) | np.any(centres > box[2:], axis=1)
+    if outside.any():
+        size = float(np.max(sites.max(axis=0) - sites.min(axis=0)))
+        far = float(np.max(np.abs(centres[outside] - sites.mean(axis=0)))) / size
+        return (f"{int(outside.sum())} Voronoi vertices lie outside the largest envelope "
+                f"({ENVELOPE_GROWTHS[-1]:.3g} box sizes; the farthest ~{far:.3g}): GEOS clips them away")
+    return None
+
+
+def _envelope(sites: NDArray[np.float64], growth: float) -> NDArray[np.float64]:
+    """(xmin, ymin, xmax, ymax) of the clip envelope (n >= 2 distinct sites: a positive size)."""
+    lo, hi = sites.min(axis=0), sites.max(axis=0)
+    grow = growth * float(np.max(hi - lo))
+    return np.concatenate([lo - grow, hi + grow])
+
+
+def _rings(polygons: NDArray[np.object_]) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]]:
+    """Exterior rings without the closing repeat, counter-clockwise: (points, their cell, next point).
+
+    ``next[k]`` is the index of the point after k on the same ring (cyclically).
+    """
+    kind, coords, (ring_offsets, polygon_offsets) = shapely.to_ragged_array(polygons)
+    if kind != shapely.GeometryType.POLYGON or np.any(np.diff(polygon_offsets) != 1):
+        raise InconsistentCellsError("geos: a cell is not a simple polygon")
+    counts = np.diff(ring_offsets) - 1                       # drop each ring's closing point
+    keep = np.ones(coords.shape[0], dtype=bool)
+    keep[ring_offsets[1:] - 1] = False
+    xy = coords[keep]
+    cell = np.repeat(np.arange(counts.size, dtype=np.int64), counts)
+    first = np.repeat(np.cumsum(counts) - counts, counts)
+    nxt = np.arange(xy.shape[0], dtype=np.int64) + 1
+    nxt[np.cumsum(counts)[counts > 0] - 1] = first[np.cumsum(counts)[counts > 0] - 1]
+    # signed area of each ring (shoelace, relative to its first point for accuracy)
+    rel = xy - xy[first]
+    area = np.bincount(cell, weights=rel[:, 0] * rel[nxt, 1] - rel[:, 1] * rel[nxt, 0], minlength=counts.size)
+    clockwise = area[cell] < 0
+    if clockwise.any():        # reverse each clockwise ring in place (its first point stays first)
+        pos = np.flatnonzero(clockwise)
+        last = first[pos] + counts[cell[pos]] - 1
+        xy[pos] = xy[first[pos] + last - pos]
+    return xy, cell, nxt
+
+
+def _sides(xy: NDArray[np.float64], box: NDArray[np.float64]) -> NDArray[np.uint8]:
+    """Bit mask of the envelope sides each point lies on (0 = strictly inside)."""
+    return ((xy[:, 0] == box[0]).astype(np.uint8) | (xy[:, 1] == box[1]) << 1
+            | (xy[:, 0] == box[2]) << 2 | (xy[:, 1] == box[3]) << 3).astype(np.uint8)
+
+
+def _point_ids(xy: NDArray[np.float64]) -> NDArray[np.int64]:
+    """Dense ids of the distinct points (exact equality of both coordinates; -0.0 == 0.0)."""
+    bits = np.ascontiguousarray(xy + 0.0).view(np.int64)      # + 0.0 turns -0.0 into 0.0
+    rx, ry = dense_rank(bits[:, 0]), dense_rank(bits[:, 1])
+    return dense_rank(rx * (int(ry.max(initial=0)) + 1) + ry)
+
+
+def diagram_from_cells(sites: NDArray[np.float64], polygons: NDArray[np.object_],
+                       box: NDArray[np.float64]) -> Diagram:
+    """The DCEL of Voronoi cells given as polygons clipped to ``box`` (cell i = site i)."""
+    n = sites.shape[0]
+    if polygons.size != n:
+        raise InconsistentCellsError(f"geos: {polygons.size} cells for {n} sites")
+    xy, cell, nxt = _rings(polygons)
+    side = _sides(xy, box)
+    real = (side & side[nxt]) == 0               # not a piece of the envelope
+    seg = np.flatnonzero(real)
+    inside = side == 0
+    point = _point_ids(xy)
+    vid = dense_rank(point[inside])
+    vertex = np.full(xy.shape[0], -1, dtype=np.int64)
+    vertex[inside] = vid
+    vertices = np.empty((int(vid.max(initial=-1)) + 1, 2))
+    vertices[vid] = xy[inside]
+    # pair segment p -> q of one cell with q -> p of another, by sorted (p, q) keys
+    stride = int(point.max(initial=0)) + 1
+    forward = point[seg] * stride + point[nxt[seg]]
+    backward = point[nxt[seg]] * stride + point[seg]
+    order = argsort_keys(forward)
+    pos = np.minimum(np.searchsorted(forward[order], backward), max(seg.size - 1, 0))
+    twin = order[pos]
+    ok = forward[twin] == backward
+    if not ok.all() or np.any(forward[order][1:] == forward[order][:-1]):
+        k = int(np.flatnonzero(~ok)[0]) if not ok.all() else 0
+        raise InconsistentCellsError(
+            f"geos: the edge of cell {int(cell[seg[k]])} from {tuple(map(float, xy[seg[k]]))} to "
+            f"{tuple(map(float, xy[nxt[seg[k]]]))} is not an edge of any other cell")
+    first = np.flatnonzero(np.arange(seg.size) < twin)     # one segment per twin pair
+    a, b = cell[seg[first]], cell[seg[twin[first]]]
+    if np.any(a == b):
+        raise InconsistentCellsError(f"geos: cell {int(a[a == b][0])} borders itself")
+    edge_vertices = np.stack([vertex[seg[first]], vertex[nxt[seg[first]]]], axis=1)
+    return assemble(sites, vertices, np.stack([a, b], axis=1), edge_vertices)
+
+
+def _all_collinear(sites: NDArray[np.float64]) -> bool:
+    """Exact test: every site lies on the line through the first two (n >= 2)."""
+    return sites.shape[0] <= 2 or not np.any(orient2d_many(sites[0], sites[1], sites[2:]))
+
+
+def _fits_hull(diagram: Diagram, hull: NDArray[np.int64], collinear: bool) -> bool:
+    """Whether the unbounded cells are exactly the hull sites and, unless the sites are
+    collinear, no edge is a full line (both ends cut off: a vertex was lost)."""
+    dest = diagram.origin[diagram.twin]
+    infinite = (diagram.origin < 0) | (dest < 0)
+    if not collinear and np.any((diagram.origin < 0) & (dest < 0)):
+        return False
+    return np.array_equal(np.unique(diagram.site[infinite]), hull)
+
+
+def _cells(points: shapely.Geometry, sites: NDArray[np.float64], growth: float, clock: BuildClock) -> Diagram:
+    """GEOS's cells clipped to the envelope of this growth, as a DCEL (or an error saying why not)."""
+    box = _envelope(sites, growth)
+    with clock.library():
+        try:
+            collection = shapely.voronoi_polygons(points, extend_to=shapely.box(*box), ordered=True)
+        except shapely.errors.GEOSException as exc:
+            raise InconsistentCellsError(f"geos: GEOS failed: {exc}") from exc
+    try:
+        polygons = shapely.get_parts(collection)
+        return diagram_from_cells(sites, polygons, box)
+    except ValueError as exc:        # a clipped cell that is not a polygon; a DCEL that does not close
+        raise InconsistentCellsError(f"geos: {exc}") from exc
+
+
+def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
+    """The Voronoi diagram of prepared ``sites`` through GEOS (shapely).
+
+    Tries the envelope growths of ``ENVELOPE_GROWTHS`` in turn until the cells fit together,
+    the unbounded ones are exactly the sites on the convex-hull boundary (exact test) and no
+    edge lost both its ends. If none does, returns the diagram of the smallest envelope that
+    converted (certification says what is wrong with it), or raises the first error.
+    """
+    sites = np.ascontiguousarray(sites, dtype=np.float64).reshape(-1, 2)
+    n = sites.shape[0]
+    if n <= 1:
+        return Diagram.empty(sites)
+    if shapely.geos_version < _MIN_GEOS:
+        raise RuntimeError(f"geos: GEOS {shapely.geos_version} is older than 3.12 (no ordered cells)")
+    clock = BuildClock()
+    points = shapely.multipoints(sites)
+    hull = convex_hull_boundary(sites)
+    collinear = _all_collinear(sites)
+    first: Optional[Diagram] = None
+    diagram: Optional[Diagram] = None
+    first_error: Optional[Exception] = None
+    attempts = 0
+    for growth in ENVELOPE_GROWTHS:
+        attempts += 1
+        try:
+            candidate = _cells(points, sites, growth, clock)
+        except InconsistentCellsError as exc:
+            first_error = first_error or exc
+            continue
+        first = first or candidate
+        if _fits_hull(candidate, hull, collinear):
+            diagram = candidate
+            break
+    diagram = diagram or first
+    if diagram is None:
+        assert first_error is not None
+        raise first_error
+    clock.report(stats)
+    if stats is not None:
+        stats.update(geos_vertices=diagram.n_vertices, envelope_attempts=attempts,
+                     envelope_growth=float(growth) if diagram is not first or attempts == 1 else -1.0)
+    return diagram
+
+
+IMPLEMENTATION = Implementation(
+    name="geos",
+    description="GEOS Voronoi cells via shapely.voronoi_polygons (floating point), clipped cells turned back into the DCEL",
+    complexity="O(n log n)",
+    build=build,
+    exact=False,
+    origin=f"GEOS {'.'.join(map(str, shapely.geos_version))} (C++), Python package shapely",
+    supports=supports,
+    tags=("external", "delaunay-dual"),
+)
