@@ -1245,8 +1245,8 @@ def circle_event_vs_site(ax, ay, bx, by, cx, cy, sy):
 
 @njit(cache=True)
 def _sqrt_sum_sign(p, u, v, w):
-    # exact sign of p + sqrt(u) - sqrt(v) for expansions p and u, v >= 0 (u, v > 0 when
-    # the sign of p and of u - v disagree), by squaring with case analysis
+    # exact sign of p + sqrt(u) - sqrt(v) for expansions p and u, v >= 0, by squaring with
+    # case analysis
     sp = _xsign(p)
     suv = _xsign(_xsub(u, v, w))
     if sp == 0:
@@ -1255,15 +1255,23 @@ def _sqrt_sum_sign(p, u, v, w):
         return sp
     p2 = _xmul(p, p, w)
     if sp > 0:
-        # p > 0 > sqrt(u) - sqrt(v): compare (p + sqrt u)**2 = p**2 + u + 2 p sqrt(u) with v
+        # p > 0 > sqrt(u) - sqrt(v): compare (p + sqrt u)**2 = p**2 + u + 2 p sqrt(u) with v,
+        # i.e. 2 p sqrt(u) (>= 0, = 0 iff u = 0) with -q, q = p**2 + u - v
         q = _xsub(_xadd(p2, u, w), v, w)
-        if _xsign(q) >= 0:
+        sq = _xsign(q)
+        if sq > 0:
             return 1
+        if sq == 0:
+            return _xsign(u)
         return _xsign(_xsub(_xscale(_xmul(p2, u, w), 4.0, w), _xmul(q, q, w), w))
-    # p < 0 < sqrt(u) - sqrt(v): compare u with (|p| + sqrt v)**2 = p**2 + v + 2 |p| sqrt(v)
+    # p < 0 < sqrt(u) - sqrt(v): compare u with (|p| + sqrt v)**2 = p**2 + v + 2 |p| sqrt(v),
+    # i.e. q = u - v - p**2 with 2 |p| sqrt(v) (>= 0, = 0 iff v = 0)
     q = _xsub(_xsub(u, v, w), p2, w)
-    if _xsign(q) <= 0:
+    sq = _xsign(q)
+    if sq < 0:
         return -1
+    if sq == 0:
+        return -_xsign(v)
     return _xsign(_xsub(_xmul(q, q, w), _xscale(_xmul(p2, v, w), 4.0, w), w))
 
 
