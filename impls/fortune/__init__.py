@@ -5,10 +5,11 @@ CONTRACT
 Complexity: O(n log n) time (sorting the sites, O(n) events each costing O(log n) in the
 beach-line treap and the event heap, both expected/worst-case logarithmic), O(n) memory.
 
-Input: prepared sites (distinct, finite float64), any n >= 0. Every predicate is exact for
-coordinates whose differences stay within about [1e-15, 1e15] in magnitude (products of up
-to 20 coordinate differences must neither overflow nor underflow); offsets of 1e9 with
-spacing 1e-3 and spacing 1e-9 near 0 are well inside.
+Input: prepared sites (distinct, finite float64), any n >= 0. The predicates are exact as
+long as their float filters and expansion products neither overflow nor underflow: site
+coordinates (and their differences) of magnitude 0 or within about [1e-30, 1e30] are safe for
+the filters; the degree-20 comparison of two circle events rescales its differences by a power
+of two first. Offsets of 1e9 with spacing 1e-3, and spacing 1e-9 near 0, are well inside.
 
 Structure (three separate files, as in Boost.Polygon's builder / predicates / output):
 * ``sweep.py``: the sweep. Sites are pre-sorted by (y, x); the sweep line moves upward. A
@@ -28,10 +29,12 @@ Exactness: every decision is a predicate of ``vorobench.predicates``, float-filt
 exact expansion fallback: arc location (``breakpoint_side``: sign of a degree-3 polynomial
 plus exact coordinate comparisons saying which intersection of the two parabolas is meant),
 circle-event existence (``orient2d`` of the three sites: the breakpoints converge iff the
-triple turns counter-clockwise), event order (``circle_events_order``: tops of two
-circumcircles, A + sqrt(B) against C + sqrt(D), decided by squaring with sign analysis;
-``circle_event_vs_site``). Vertex coordinates are rounded circumcentres (not exact; the
-combinatorics do not depend on them).
+triple turns counter-clockwise), event order (tops of two circumcircles, A + sqrt(B) against
+C + sqrt(D), decided by squaring with sign analysis in ``circle_events_order_exact``, after
+float filters, an exact refinement of each event's top computed once, and exact keys
+cy + sqrt(r2) that settle lattice ties cheaply; see ``event_queue``; circle against site:
+``circle_event_vs_site_exact``). Vertex coordinates are rounded circumcentres (not exact;
+the combinatorics do not depend on them).
 
 Degenerate cases, and why they come out right:
 * n = 0, 1: no edges. n = 2: one full line (both ends -1).
@@ -54,7 +57,15 @@ Degenerate cases, and why they come out right:
 
 Stats (machine independent): site_events, circle_events (scheduled), false_alarms,
 vertices, max_beach_line, breakpoint_tests / breakpoint_exact, event_comparisons /
-event_comparisons_exact, orient2d_calls / orient2d_exact.
+event_comparisons_exact, exact_keys (events refined in exact arithmetic), orient2d_calls /
+orient2d_exact.
+
+Speed notes: the sweep runs on a copy of the sites in event order (memory locality; ids are
+mapped back after the DCEL is built), removed arcs' and events' rows are reused, and the
+heap and treap kernels are inlined into the sweep (numba reference-counts arrays passed to
+non-inlined calls; that was a fifth of the run time). numba caches each file by its own
+content: after editing ``vorobench/predicates.py`` or a kernel module here, delete
+``impls/fortune/__pycache__/*.nb[ic]`` so the inlined copies are recompiled.
 """
 
 from __future__ import annotations

@@ -204,5 +204,26 @@ def test_small_integer_boxes(rows, transform):
     oracle = impls.build("halfplane", points)
     result = compare(d, oracle)
     assert result.verdict == "exact", str(result)
+    assert_agrees_with_qhull(d, points)
     if d.n_sites >= 2:
         assert certify(d).ok
+
+
+def test_the_sweep_stops_on_inconsistent_input():
+    # Unsorted sites break the sweep's precondition: it must return an error code (or some
+    # diagram), never loop forever; build() turns an error code into RuntimeError.
+    from impls.fortune.sweep import N_COUNTERS, OK, sweep
+    rng = np.random.default_rng(9)
+    for _ in range(20):
+        sites = rng.random((200, 2))
+        status, edge_sites, edge_vertices, vertices = sweep(sites, np.zeros(N_COUNTERS, np.int64))
+        assert status >= OK
+        assert edge_sites.shape[0] <= 3 * 200 + 2 and vertices.shape[0] <= 2 * 200 + 2
+
+
+def test_treap_stays_shallow_on_a_long_beach_line():
+    # sites on a parabola give a beach line of ~2n arcs; the treap keeps searches logarithmic
+    stats = {}
+    fortune(datasets_gen.generate("parabola", 20000, seed=0), stats)
+    assert stats["max_beach_line"] > 20000
+    assert stats["breakpoint_tests"] / stats["site_events"] < 4 * np.log2(stats["max_beach_line"])
