@@ -11,7 +11,8 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-__all__ = ["brio_order", "hilbert_keys", "HILBERT_BITS", "FIRST_ROUND", "ORDER_SEED"]
+__all__ = ["brio_order", "hilbert_keys", "adaptive_hilbert_keys", "hilbert_index", "HILBERT_BITS", "FIRST_ROUND",
+           "ORDER_SEED"]
 
 #: Grid resolution of the Hilbert curve: 2**HILBERT_BITS cells per side (16M cells: finer
 #: than any benchmark needs for locality).
@@ -23,20 +24,14 @@ ORDER_SEED = 20240601
 
 
 @njit(cache=True)
-def hilbert_keys(points: NDArray[np.float64], bits: int) -> NDArray[np.int64]:
-    """Index along a Hilbert curve of each point, on a 2**bits grid over the bounding box."""
-    n = points.shape[0]
-    keys = np.zeros(n, dtype=np.int64)
-    if n == 0:
-        return keys
-    x0 = points[:, 0].min()
-    y0 = points[:, 1].min()
-    span = max(points[:, 0].max() - x0, points[:, 1].max() - y0)
+def hilbert_index(ix: NDArray[np.int64], iy: NDArray[np.int64], bits: int) -> NDArray[np.int64]:
+    """Index along a Hilbert curve of integer grid cells (ix, iy) in [0, 2**bits)."""
+    n = ix.shape[0]
+    keys = np.empty(n, dtype=np.int64)
     side = (1 << bits) - 1
-    scale = side / span if span > 0.0 else 0.0
     for i in range(n):
-        x = min(int((points[i, 0] - x0) * scale), side)
-        y = min(int((points[i, 1] - y0) * scale), side)
+        x = ix[i]
+        y = iy[i]
         d = 0
         s = 1 << (bits - 1)
         while s > 0:
@@ -54,6 +49,87 @@ def hilbert_keys(points: NDArray[np.float64], bits: int) -> NDArray[np.int64]:
     return keys
 
 
+@njit(cache=True)
+def _bounding_box(points):
+    x0, y0, x1, y1 = np.inf, np.inf, -np.inf, -np.inf
+    for i in range(points.shape[0]):
+        x0 = min(x0, points[i, 0])
+        x1 = max(x1, points[i, 0])
+        y0 = min(y0, points[i, 1])
+        y1 = max(y1, points[i, 1])
+    return x0, y0, max(x1 - x0, y1 - y0)
+
+
+@njit(cache=True)
+def _box_cells_hilbert(points, x0, y0, span, bits):
+    side = (1 << bits) - 1
+    scale = side / span if span > 0.0 else 0.0
+    n = points.shape[0]
+    ix = np.empty(n, dtype=np.int64)
+    iy = np.empty(n, dtype=np.int64)
+    for i in range(n):
+        ix[i] = min(int((points[i, 0] - x0) * scale), side)
+        iy[i] = min(int((points[i, 1] - y0) * scale), side)
+    return hilbert_index(ix, iy, bits)
+
+
+def hilbert_keys(points: NDArray[np.float64], bits: int) -> NDArray[np.int64]:
+    """Index along a Hilbert curve of each point, on a 2**bits grid over the bounding box."""
+    if points.shape[0] == 0:
+        return np.zeros(0, dtype=np.int64)
+    x0, y0, span = _bounding_box(points)
+    return _box_cells_hilbert(points, x0, y0, span, bits)
+
+
+def adaptive_hilbert_keys(points: NDArray[np.float64], bits: int, seed: int = ORDER_SEED) -> NDArray[np.int64]:
+    """Hilbert index on a grid fine enough where the sites are dense.
+
+    If the bounding-box grid puts sampled sites together (a dense core of a heavy-tailed
+    set such as kuzmin would fall in one cell, in random order, and make every walk long),
+    each coordinate is replaced by its bin among 2**bits quantiles of a random sample, so
+    rows and columns hold equal numbers of sites.
+    """
+    n = points.shape[0]
+    if n == 0:
+        return np.zeros(0, dtype=np.int64)
+    side = 1 << bits
+    sample = np.random.default_rng(seed).integers(0, n, size=min(n, side))
+    x0, y0, span = _bounding_box(points)
+    # the plain bounding-box grid is enough when it separates (almost) every sampled site
+    box_cells = _box_cells_hilbert(points[sample], x0, y0, span, bits)
+    if np.unique(box_cells).size >= 0.9 * np.unique(sample).size:
+        return _box_cells_hilbert(points, x0, y0, span, bits)
+    cuts = np.full((2, side), np.inf)          # padded to a power of two for the search
+    cuts[0, :sample.size] = np.sort(points[sample, 0])
+    cuts[1, :sample.size] = np.sort(points[sample, 1])
+    return _quantile_cells_hilbert(points, cuts, sample.size, bits)
+
+
+@njit(cache=True)
+def _quantile_cells_hilbert(points, cuts, m, bits):
+    """Hilbert index of each point's cell: per axis, its rank among the m sorted cuts
+    (branch-free binary search), scaled to 2**bits bins."""
+    n = points.shape[0]
+    side = 1 << bits
+    ix = np.empty(n, dtype=np.int64)
+    iy = np.empty(n, dtype=np.int64)
+    for i in range(n):
+        for axis in range(2):
+            x = points[i, axis]
+            pos = 0
+            step = side >> 1
+            while step > 0:
+                pos += step * (cuts[axis, pos + step - 1] < x)
+                step >>= 1
+            pos += cuts[axis, pos] < x if pos < side else 0   # the last cut
+            cell = min(pos * side // (m + 1), side - 1)
+            if axis == 0:
+                ix[i] = cell
+            else:
+                iy[i] = cell
+    return hilbert_index(ix, iy, bits)
+
+
 def brio_order(points: NDArray[np.float64], seed: int = ORDER_SEED) -> NDArray[np.int64]:
     """A permutation of range(n): random rounds of doubling size, Hilbert-sorted within each.
 
@@ -65,7 +141,7 @@ def brio_order(points: NDArray[np.float64], seed: int = ORDER_SEED) -> NDArray[n
     start = n
     while start > FIRST_ROUND:
         start //= 2
-    keys = hilbert_keys(points, HILBERT_BITS)[perm]
+    keys = adaptive_hilbert_keys(points, HILBERT_BITS, seed)[perm]
     return perm[np.argsort(_round_major(keys, start))]
 
 

@@ -241,6 +241,14 @@ def test_stats_count_the_work():
     assert 0 <= stats["incircle_exact"] <= stats["incircle_calls"]
 
 
+@pytest.mark.parametrize("dataset", ["kuzmin", "clusters"])
+def test_walks_stay_short_on_dense_cores(dataset):
+    # regression: a bounding-box Hilbert grid put kuzmin's core in one cell (237 steps/site)
+    stats = {}
+    impls.build("incremental", datasets_gen.generate(dataset, 20000, seed=0), stats)
+    assert stats["walk_steps"] / stats["insertions"] < 10
+
+
 def test_brio_order_is_a_permutation_with_random_rounds():
     pts = datasets_gen.generate("sorted", 5000, seed=0)
     order = brio_order(pts)
