@@ -70,6 +70,11 @@ def _fmt_time(seconds: float) -> str:
     return f"{seconds:.3g} s"
 
 
+def _fmt_factor(x: float) -> str:
+    """2.3, 15, 150: a ratio with two significant digits, never in exponent notation."""
+    return f"{x:.2g}" if x < 100 else f"{x:.0f}"
+
+
 def _fmt_n(n: float) -> str:
     n = int(n)
     if n >= 1_000_000:
@@ -118,7 +123,7 @@ def reading(cases, sizes, exponents, ratios, reference: str) -> list[str]:
         best, second = at.iloc[0], at.iloc[1]
         wins.setdefault(best["impl"], []).append(
             f"{dataset} ({_fmt_time(best['time_s'])} at n={_fmt_n(best['n_sites'])}, "
-            f"{second['time_s'] / best['time_s']:.2g}x ahead of {second['impl']})")
+            f"{_fmt_factor(second['time_s'] / best['time_s'])}x ahead of {second['impl']})")
     for impl, where in sorted(wins.items(), key=lambda kv: -len(kv[1])):
         points.append(f"**Fastest at the largest common size**: `{impl}` on {len(where)} dataset(s): "
                       + "; ".join(where) + ".")
@@ -132,7 +137,7 @@ def reading(cases, sizes, exponents, ratios, reference: str) -> list[str]:
             gm = float(np.exp(np.mean(np.log(g["ratio"]))))
             word = "slower" if gm > 1 else "faster"
             factor = gm if gm > 1 else 1 / gm
-            points.append(f"`{impl}` is {factor:.2g}x {word} than `{reference}` (geometric mean of "
+            points.append(f"`{impl}` is {_fmt_factor(factor)}x {word} than `{reference}` (geometric mean of "
                           f"time ratios over {len(g)} dataset/size pairs, range "
                           f"{g['ratio'].min():.2g}-{g['ratio'].max():.2g}).")
     # Growth.
