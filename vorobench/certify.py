@@ -154,7 +154,7 @@ class _Context:
         if self._tree is None:
             from scipy.spatial import cKDTree
 
-            self._tree = cKDTree(self.sites)
+            self._tree = cKDTree(self.sites, balanced_tree=False, compact_nodes=False)  # 3x faster build
         return self._tree
 
     @property

@@ -33,8 +33,8 @@ from vorobench.diagram import Diagram
 from vorobench.incidence import vertex_site_lists
 from vorobench.predicates import incircle, orient2d
 from vorobench.sorting import argsort_keys, dense_rank, is_member, sorted_unique
-from vorobench.tolerances import (SHORT_EDGE_REL_TOL, VERTEX_MATCH_REL_TOL, allowed_error, circumcentre_tolerance,
-                                  data_scale)
+from vorobench.tolerances import (COINCIDENCE_FILTER_REL_TOL, COINCIDENCE_FILTER_ULPS, SHORT_EDGE_REL_TOL,
+                                  VERTEX_MATCH_REL_TOL, allowed_error, circumcentre_tolerance, data_scale)
 
 __all__ = ["compare", "Comparison", "Difference", "VERDICTS", "DIFFERENCE_KINDS"]
 
@@ -240,40 +240,52 @@ class _Form:
     m_cv: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, np.int64))
 
 
-def _exactly_coincident(sites, ptr, s, a, b, u, v) -> NDArray[np.bool_]:
+def _exactly_coincident(sites, xy, ptr, s, a, b, u, v, scale: float) -> NDArray[np.bool_]:
     """Edges (a, b) from vertex u to v whose end vertices coincide: all sites of u and v on one circle.
 
     Decided exactly on the sites: with c a third site of u, every site x of u and v other
     than a, b, c must satisfy incircle(a, b, c, x) == 0, and a, b, c must not be collinear.
+    Vertices whose coordinates lie farther apart than any rounding of a circumcentre could
+    explain (``COINCIDENCE_FILTER_*``) are not tested: that settles almost every edge cheaply.
     """
     out = np.zeros(a.size, dtype=bool)
     if a.size:
-        _coincident_kernel(sites, ptr, s, a, b, u, v, out)
+        _coincident_kernel(sites, xy, ptr, s, a, b, u, v, scale, COINCIDENCE_FILTER_REL_TOL,
+                           COINCIDENCE_FILTER_ULPS * np.finfo(np.float64).eps, out)
     return out
 
 
 @njit(cache=True)
-def _coincident_kernel(sites, ptr, s, a, b, u, v, out):
+def _coincident_kernel(sites, xy, ptr, s, a, b, u, v, scale, filter_rel, filter_abs, out):
     for k in range(a.size):
-        aa, bb = a[k], b[k]
+        aa, bb, uu, vv = a[k], b[k], u[k], v[k]
         c, hits = -1, 0
-        for j in range(ptr[u[k]], ptr[u[k] + 1]):
+        for j in range(ptr[uu], ptr[uu + 1]):
             if s[j] == aa or s[j] == bb:
                 hits += 1
             elif c < 0:
                 c = s[j]
-        for j in range(ptr[v[k]], ptr[v[k] + 1]):
-            if s[j] == aa or s[j] == bb:
-                hits += 1
         # Both ends must touch both cells a and b, and u needs a third site.
-        if hits != 4 or c < 0:
+        if c < 0:
             continue
         ax, ay, bx, by = sites[aa, 0], sites[aa, 1], sites[bb, 0], sites[bb, 1]
         cx, cy = sites[c, 0], sites[c, 1]
-        if orient2d(ax, ay, bx, by, cx, cy) == 0:
+        # Float filter: two roundings of one circumcentre (radius R, sites at least L apart) are
+        # at most ~eps R^2 / L apart; far more than that means two different vertices.
+        px, py, qx, qy = xy[uu, 0], xy[uu, 1], xy[vv, 0], xy[vv, 1]
+        radius = np.hypot(px - ax, py - ay)
+        shortest = min(np.hypot(ax - bx, ay - by), np.hypot(ax - cx, ay - cy), np.hypot(bx - cx, by - cy))
+        magnitude = max(abs(px), abs(py), abs(qx), abs(qy))
+        bound = filter_rel * max(radius, scale) + filter_abs * (magnitude + radius * radius / max(shortest, 1e-300))
+        if np.hypot(px - qx, py - qy) > bound:
+            continue
+        for j in range(ptr[vv], ptr[vv + 1]):
+            if s[j] == aa or s[j] == bb:
+                hits += 1
+        if hits != 4 or orient2d(ax, ay, bx, by, cx, cy) == 0:
             continue
         same = True
-        for w in (u[k], v[k]):
+        for w in (uu, vv):
             for j in range(ptr[w], ptr[w + 1]):
                 x = s[j]
                 if x != aa and x != bb and x != c and incircle(ax, ay, bx, by, cx, cy, sites[x, 0], sites[x, 1]) != 0:
@@ -353,12 +365,12 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optiona
     loop = u == v
     a, b = site[e], site[twin[e]]
     exact = loop.copy()
-    exact[~loop] = _exactly_coincident(common_sites, ptr, s, a[~loop], b[~loop], u[~loop], v[~loop])
+    xy = np.asarray(d.vertices, np.float64).reshape(-1, 2)
+    exact[~loop] = _exactly_coincident(common_sites, xy, ptr, s, a[~loop], b[~loop], u[~loop], v[~loop], scale)
     contract = exact.copy()
     short: list[tuple[int, int, float]] = []
     n_short = 0
     if rel_tol is not None and e.size:
-        xy = np.asarray(d.vertices, np.float64)
         length = np.hypot(*(xy[u] - xy[v]).T)
         is_short = length < rel_tol * scale
         _nearly_cocircular_kernel(xy, common_sites, ptr, s, u, v, rel_tol, is_short)
@@ -370,7 +382,6 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optiona
     merge = contract & ~loop
     labels = _merge_labels(V, u[merge], v[merge])
     M = int(labels.max()) + 1 if V else 0
-    xy = np.asarray(d.vertices, np.float64).reshape(-1, 2)
     if not merge.any():                       # nothing merged: the vertices are their own classes
         m_ptr, m_sites, m_xy, m_extent = ptr, s, xy, np.zeros(M)
     else:

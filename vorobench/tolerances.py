@@ -20,6 +20,8 @@ __all__ = [
     "EQUIDISTANCE_REL_TOL",
     "PROBE_REL_TOL",
     "NEAR_DEGENERATE_REL_TOL",
+    "COINCIDENCE_FILTER_REL_TOL",
+    "COINCIDENCE_FILTER_ULPS",
     "ROUNDOFF_ULPS",
     "RIDGE_DIRECTION_REL_TOL",
     "data_scale",
@@ -53,6 +55,13 @@ NEAR_DEGENERATE_REL_TOL = 1e-8
 #: qhull adapter: a finite ridge whose end vertices are further apart than this fraction of
 #: their magnitude is oriented by its float direction; shorter ones combinatorially.
 RIDGE_DIRECTION_REL_TOL = 1e-9
+
+#: compare(): before deciding exactly whether an edge's two end vertices coincide, vertices
+#: farther apart than COINCIDENCE_FILTER_REL_TOL of their local scale plus
+#: COINCIDENCE_FILTER_ULPS ulps of (magnitude + R^2 / shortest site distance) -- far beyond
+#: any rounding of one circumcentre, and beyond what certify() accepts -- are taken as distinct.
+COINCIDENCE_FILTER_REL_TOL = 1e-6
+COINCIDENCE_FILTER_ULPS = 1e4
 
 #: Absolute slack, in units of float64 epsilon times the coordinates' magnitude.
 ROUNDOFF_ULPS = 64.0
