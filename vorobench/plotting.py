@@ -110,7 +110,8 @@ def save_overlay(first: Optional[Diagram], second: Optional[Diagram], path: str 
         draw_diagram(first, ax=ax, box=box, highlight=highlight_first, edge_color="tab:blue", label=labels[0])
     if second is not None:
         before = len(ax.collections)
-        draw_diagram(second, ax=ax, box=box, highlight=highlight_second, edge_color="tab:orange", label=labels[1])
+        draw_diagram(second, ax=ax, box=box, highlight=highlight_second, edge_color="tab:orange", label=labels[1],
+                     show_sites=first is None)
         if len(ax.collections) > before:
             ax.collections[before].set_linestyle("--")     # the second diagram's edges
     sites = drawn[0].sites
@@ -121,7 +122,9 @@ def save_overlay(first: Optional[Diagram], second: Optional[Diagram], path: str 
         for i, (x, y) in enumerate(sites):
             ax.annotate(str(i), (x, y), textcoords="offset points", xytext=(3, 3), fontsize=7)
     ax.set_title(title)
-    ax.legend(loc="upper right", fontsize="small", framealpha=0.8)
+    handles, names = ax.get_legend_handles_labels()
+    unique = dict(zip(names, handles))                    # one entry per label
+    ax.legend(unique.values(), unique.keys(), loc="best", fontsize="small", framealpha=0.8)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110, bbox_inches="tight")
