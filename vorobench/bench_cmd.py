@@ -77,15 +77,22 @@ def execute(impl_names: Optional[Sequence[str]], datasets: Sequence[str], sizes:
             seeds: Sequence[int], out: Path, config, resume: bool = False, overwrite: bool = False,
             progress: bool = True, verbose: bool = True, console=None) -> tuple[int, list]:
     """Run a benchmark into ``out``; returns (exit code, outcomes). Shared by bench and demo."""
+    from vorobench.worker import plugins_registered
+
+    # Plugins are registered here only for the run (workers register them again themselves).
+    with plugins_registered(config.plugins):
+        return _execute(impl_names, datasets, sizes, seeds, out, config, resume, overwrite, progress,
+                        verbose, console)
+
+
+def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool, overwrite: bool,
+             progress: bool, verbose: bool, console) -> tuple[int, list]:
     import impls
     from rich.console import Console
 
     from vorobench import results, runner, sysinfo
-    from vorobench.worker import load_plugin
 
     console = console or Console(stderr=True)
-    for spec in config.plugins:
-        load_plugin(spec)
     impl_names = list(impl_names) if impl_names else impls.available()
     _validate_names(impl_names, datasets, config.reference if config.check else None)
     store = results.ResultsFile(out)

@@ -16,6 +16,7 @@ than a scheduler time slice are repeated until ``min_time`` seconds are timed (a
 
 from __future__ import annotations
 
+import contextlib
 import gc
 import importlib
 import importlib.util
@@ -27,11 +28,11 @@ import time
 import traceback
 import zlib
 from pathlib import Path
-from typing import Any, Callable, Optional
+from typing import Any, Callable, Iterator, Optional, Sequence
 
 from vorobench import peakmem
 
-__all__ = ["worker_main", "load_plugin", "check_against_reference", "reference_diagram"]
+__all__ = ["worker_main", "load_plugin", "plugins_registered", "check_against_reference", "reference_diagram"]
 
 Send = Callable[[str, Any], None]
 
@@ -72,6 +73,22 @@ def load_plugin(spec: str) -> list[str]:
     for impl in found:
         impls.register(impl)
     return [impl.name for impl in found]
+
+
+@contextlib.contextmanager
+def plugins_registered(specs: Sequence[str]) -> Iterator[list[str]]:
+    """Register plugin implementations for the duration of a run in this process, then remove
+    them, so a test double never outlives the run that asked for it."""
+    import impls
+
+    names: list[str] = []
+    try:
+        for spec in specs:
+            names += load_plugin(spec)
+        yield names
+    finally:
+        for name in names:
+            impls.unregister(name)
 
 
 def reference_diagram(reference: str, dataset: str, n: int, seed: int, sites, cache_dir: Optional[str]):

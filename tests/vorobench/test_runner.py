@@ -173,14 +173,18 @@ def test_ctrl_c_in_a_real_run_loses_nothing_finished(tmp_path):
 
 
 def test_spawned_worker_also_isolates_a_hard_crash():
-    from vorobench.worker import load_plugin
-
-    load_plugin(DOUBLES)
     config = RunConfig(repeat=1, check=False, plugins=(DOUBLES,), start_method="spawn")
     crash = runner.run_case(Case("crash_exit", "uniform", 20), config)
     assert crash.status == "crashed" and "code 3" in crash.error
     healthy = runner.run_case(Case("steady", "uniform", 20), config)
     assert healthy.status == "ok" and healthy.rows[0]["time_s"] > 0
+
+
+def test_test_doubles_do_not_outlive_the_run(faulty_run):
+    import impls
+
+    # Other tests iterate impls.available(): a crashing double left registered would kill them.
+    assert not {"crash_exit", "hang", "hog", "steady"} & set(impls.available())
 
 
 def test_short_builds_are_repeated_to_fill_min_time():
