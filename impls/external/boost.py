@@ -3,8 +3,10 @@
 CONTRACT
 --------
 Complexity: O(n log n) (Fortune's sweep with a balanced beach line, ``std::map``).
-Conversion: O(n) Python-level reading of pyvoronoi's vertex, edge and cell objects, then
-the shared DCEL builder; this dominates the total for large n (see ``convert_s``).
+Conversion: O(n) Python-level reading of pyvoronoi's edge objects (and vertex objects for
+inputs on the grid), then the shared DCEL builder; this dominates the total for large n
+(see ``convert_s``). Cell i is the i-th site in (x, y) order, the order of Boost's sweep
+(checked on a sample of cells: reading every cell object would cost more than the sweep).
 Input: Boost.Polygon's Voronoi builder takes 32-bit signed integer coordinates. The sites
 are mapped to that grid by a similarity (which maps Voronoi diagrams onto Voronoi
 diagrams): translate the bounding-box centre to the origin, multiply by the power of two
@@ -37,6 +39,7 @@ twin pair's half-edge of cell a gives (a, b, start, end) directly.
 from __future__ import annotations
 
 import math
+from operator import attrgetter
 from typing import Optional
 
 import numpy as np
@@ -55,6 +58,8 @@ __all__ = ["build", "supports", "to_grid", "vertex_triples", "GRID_HALF_SPAN_BIT
 #: The sites' larger half-side is scaled to just under 2**GRID_HALF_SPAN_BITS grid units,
 #: inside Boost's 32-bit signed input range with a factor 2 to spare.
 GRID_HALF_SPAN_BITS = 30
+
+_CELL_SAMPLE = 64          # cells whose site is read back from pyvoronoi to check the order
 
 
 def to_grid(sites: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], float, NDArray[np.bool_]]:
@@ -76,6 +81,22 @@ def to_grid(sites: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np
     points = np.rint(scaled)
     moved = np.any((error != 0) | (points != scaled), axis=1)
     return points, centre, scale, moved
+
+
+def _cell_sites(builder: "pyvoronoi.Pyvoronoi", points: NDArray[np.float64]) -> NDArray[np.int64]:
+    """Site of each Boost cell. Boost numbers its cells in the order its sweep meets the
+    sites, lexicographic (x, then y); reading every cell object from pyvoronoi costs more
+    than the whole sweep, so the order is computed and checked on a sample of cells."""
+    order = np.lexsort((points[:, 1], points[:, 0]))
+    if builder.CountCells() != order.size:
+        raise ValueError(f"boost: unsupported input: rounding to the grid merged "
+                         f"{order.size - builder.CountCells()} sites (supports() refuses such inputs)")
+    sample = np.unique(np.linspace(0, order.size - 1, num=min(order.size, _CELL_SAMPLE)).astype(np.int64))
+    for i in sample.tolist():
+        if builder.GetCell(i).site != order[i]:
+            raise RuntimeError(f"boost: cell {i} belongs to site {builder.GetCell(i).site}, "
+                               f"not to the {i}-th site in (x, y) order ({int(order[i])})")
+    return order
 
 
 def vertex_triples(n_vertices: int, start: NDArray[np.int64], cell_of: NDArray[np.int64]) -> NDArray[np.int64]:
@@ -136,27 +157,34 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
         builder.AddPoint(point)
     with clock.library():
         builder.Construct()
-    vertices = np.array([(v.X, v.Y) for v in builder.GetVertices()], dtype=np.float64).reshape(-1, 2)
-    edges = np.array([(e.start, e.end, e.cell, e.twin) for e in builder.GetEdges()],
-                     dtype=np.int64).reshape(-1, 4)
-    cell_site = np.array([c.site for c in builder.GetCells()], dtype=np.int64)
-    if cell_site.size < n:      # Boost keeps one cell per distinct input point
-        raise ValueError(f"boost: unsupported input: rounding to the grid merged {n - cell_site.size} sites "
-                         f"(supports() refuses such inputs)")
+    cell_site = _cell_sites(builder, points)
+    fields = attrgetter("start", "end", "cell", "twin")
+    count = builder.CountEdges()
+    edges = np.fromiter((x for e in builder.GetEdges() for x in fields(e)), dtype=np.int64,
+                        count=4 * count).reshape(count, 4)
     half = np.flatnonzero(np.arange(edges.shape[0]) < edges[:, 3])   # one half-edge per twin pair
     edge_sites = np.stack([cell_site[edges[half, 2]], cell_site[edges[edges[half, 3], 2]]], axis=1)
     recompute = bool(moved.any())
+    n_vertices = builder.CountVertices()
     if recompute:   # Boost's coordinates are those of the rounded sites: use the true sites'
-        vertices = circumcentres(sites, vertex_triples(vertices.shape[0], edges[:, 0], cell_site[edges[:, 2]]))
+        vertices = circumcentres(sites, vertex_triples(n_vertices, edges[:, 0], cell_site[edges[:, 2]]))
     else:
+        vertices = np.array([(v.X, v.Y) for v in builder.GetVertices()], dtype=np.float64).reshape(-1, 2)
         vertices = vertices / scale + centre
     diagram = assemble(sites, vertices, edge_sites, edges[half, :2])
     clock.report(stats)
     if stats is not None:
         stats.update(rounded_sites=int(moved.sum()), grid_scale_log2=int(math.frexp(scale)[1] - 1),
-                     boost_vertices=int(vertices.shape[0]), boost_edges=int(half.size),
+                     boost_vertices=int(n_vertices), boost_edges=int(half.size),
                      vertices_from_sites=int(recompute))
     return diagram
+
+
+def warmup() -> None:
+    """Compile the numba kernels the adapter uses (DCEL builder, circumcentres, screening)."""
+    sites = np.random.default_rng(0).random((40, 2))
+    supports(sites)
+    build(sites)
 
 
 IMPLEMENTATION = Implementation(
@@ -167,5 +195,6 @@ IMPLEMENTATION = Implementation(
     exact=False,
     origin="Boost.Polygon voronoi (C++), Python package pyvoronoi",
     supports=supports,
+    warmup=warmup,
     tags=("external", "sweep"),
 )

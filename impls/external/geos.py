@@ -9,8 +9,14 @@ Input: prepared sites (distinct, finite float64), any n >= 0. GEOS computes in f
 point (``exact=False``): nearly cocircular sites may give several vertices a rounding
 error apart, which ``compare`` contracts within tolerance.
 Library part (``library_s``): ``shapely.voronoi_polygons(..., ordered=True, extend_to=box)``,
-one polygon per site in input order, clipped to an envelope ``box`` = the sites' bounding
-box grown by ``ENVELOPE_GROWTH`` times its larger side on every side (GEOS's default is 1).
+one polygon per site in input order, clipped to an envelope ``box``: the sites' bounding
+box grown on every side by 2**e times its larger side. GEOS's default (e = 0) loses the
+Voronoi vertices farther out, which nearly collinear hull sites put anywhere (~1e4 box
+sizes for 1e5 uniform sites), while large envelopes make GEOS's clipping fail on exactly
+degenerate inputs (grids, at e >= 14). So e is searched (``ENVELOPE_EXPONENTS``): a
+result whose unbounded cells are not exactly the hull sites (exact test), or with an edge
+cut at both ends although the sites are not collinear, lost vertices (larger e); a GEOS
+failure asks for a smaller e. Discarded attempts are reported as ``discarded_s``.
 Recovering the combinatorics (``convert_s``), one rule per kind of polygon vertex:
 * A ring vertex strictly inside the envelope is a Voronoi vertex. GEOS computes each
   circumcentre once and shares it between the cells around it, so vertices are identified
@@ -24,10 +30,9 @@ Recovering the combinatorics (``convert_s``), one rule per kind of polygon verte
   (checked: an unmatched segment raises an error naming it).
 So rays become half-edges from or to infinity and the parallel lines of collinear sites
 (segments from boundary to boundary) become lines, as the contract wants.
-Limitation: a Voronoi vertex outside the envelope (circumcentre of nearly collinear hull
-sites, farther than ``ENVELOPE_GROWTH`` box sizes) is lost; its edges then look like rays.
-Certification catches this (unbounded cells must be the hull sites), and the envelope is
-large enough that it does not happen on the dataset families at the tested sizes.
+Limitation: a Voronoi vertex beyond the largest envelope (2**30 box sizes: hull sites
+collinear to within ~1e-9) cannot be returned; ``supports`` refuses such inputs, deciding
+exactly on the sites' own Delaunay triangulation (:mod:`.screen`).
 """
 
 from __future__ import annotations
@@ -41,19 +46,22 @@ from numpy.typing import NDArray
 from impls.base import Implementation
 from impls.external.clock import BuildClock
 from impls.external.screen import circumcentres, triangulation
-from vorobench.dcel import assemble
 from vorobench.certify import convex_hull_boundary
+from vorobench.dcel import assemble
 from vorobench.diagram import Diagram
 from vorobench.predicates import orient2d_many
 from vorobench.sorting import argsort_keys, dense_rank
 
-__all__ = ["build", "supports", "diagram_from_cells", "InconsistentCellsError", "ENVELOPE_GROWTHS", "IMPLEMENTATION"]
+__all__ = ["build", "supports", "diagram_from_cells", "InconsistentCellsError", "ENVELOPE_EXPONENTS", "IMPLEMENTATION"]
 
-#: Clip envelopes tried in turn: the sites' bounding box grown on every side by this many
-#: times its larger side (1 is GEOS's own default). Larger envelopes keep farther vertices,
-#: but GEOS then clips (and may snap) at coordinates far larger than the sites' spacing.
-ENVELOPE_GROWTHS = (1.0, 2.0**8, 2.0**16, 2.0**24)
+#: Clip envelope search: the envelope is the sites' bounding box grown on every side by
+#: 2**e times its larger side (e = 0 is GEOS's own default). Start at e = 10; if vertices
+#: were lost, step up by 7; if GEOS failed to clip (large envelopes break its overlay on
+#: exactly degenerate inputs such as grids), step down by 7; never above e = 30.
+#: (start, step, largest exponent)
+ENVELOPE_EXPONENTS = (10, 7, 30)
 
+_MAX_ATTEMPTS = 6
 _MIN_GEOS = (3, 12, 0)        # ordered=True (cells in input order) needs GEOS 3.12
 
 
@@ -72,13 +80,13 @@ def supports(sites: NDArray[np.float64]) -> Optional[str]:
     if tr is None:              # collinear: no vertex at all
         return None
     centres = circumcentres(sites, tr.triangles)
-    box = _envelope(sites, ENVELOPE_GROWTHS[-1])
+    box = _envelope(sites, 2.0**ENVELOPE_EXPONENTS[2])
     outside = np.any(centres < box[:2], axis=1) | np.any(centres > box[2:], axis=1)
     if outside.any():
         size = float(np.max(sites.max(axis=0) - sites.min(axis=0)))
         far = float(np.max(np.abs(centres[outside] - sites.mean(axis=0)))) / size
         return (f"{int(outside.sum())} Voronoi vertices lie outside the largest envelope "
-                f"({ENVELOPE_GROWTHS[-1]:.3g} box sizes; the farthest ~{far:.3g}): GEOS clips them away")
+                f"(2^{ENVELOPE_EXPONENTS[2]} box sizes; the farthest ~{far:.3g}): GEOS clips them away")
     return None
 
 
@@ -200,10 +208,12 @@ def _cells(points: shapely.Geometry, sites: NDArray[np.float64], growth: float, 
 def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     """The Voronoi diagram of prepared ``sites`` through GEOS (shapely).
 
-    Tries the envelope growths of ``ENVELOPE_GROWTHS`` in turn until the cells fit together,
-    the unbounded ones are exactly the sites on the convex-hull boundary (exact test) and no
-    edge lost both its ends. If none does, returns the diagram of the smallest envelope that
-    converted (certification says what is wrong with it), or raises the first error.
+    Searches the clip envelope (see ``ENVELOPE_EXPONENTS``) until the cells fit together,
+    the unbounded ones are exactly the sites on the convex-hull boundary (exact test) and
+    no edge lost both its ends. If no envelope does, returns the diagram of the first
+    envelope that converted (certification says what is wrong with it), or raises the first
+    error. Only the attempt returned counts in ``library_s``/``convert_s``; the others are
+    ``discarded_s``.
     """
     sites = np.ascontiguousarray(sites, dtype=np.float64).reshape(-1, 2)
     n = sites.shape[0]
@@ -216,29 +226,45 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     hull = convex_hull_boundary(sites)
     collinear = _all_collinear(sites)
     first: Optional[Diagram] = None
-    diagram: Optional[Diagram] = None
     first_error: Optional[Exception] = None
-    attempts = 0
-    for growth in ENVELOPE_GROWTHS:
-        attempts += 1
+    diagram: Optional[Diagram] = None
+    lo, hi = 0, ENVELOPE_EXPONENTS[2]
+    exponent, tried = ENVELOPE_EXPONENTS[0], []
+    while exponent not in tried and lo <= exponent <= hi and len(tried) < _MAX_ATTEMPTS:
+        tried.append(exponent)
+        since = clock.mark()
         try:
-            candidate = _cells(points, sites, growth, clock)
-        except InconsistentCellsError as exc:
+            candidate = _cells(points, sites, 2.0**exponent, clock)
+        except InconsistentCellsError as exc:       # clipping failed: try a smaller envelope
+            clock.discard(since)
             first_error = first_error or exc
+            hi = exponent - 1
+            exponent = max(lo, exponent - ENVELOPE_EXPONENTS[1])
             continue
-        first = first or candidate
         if _fits_hull(candidate, hull, collinear):
             diagram = candidate
             break
+        clock.discard(since)                         # vertices lost: try a larger envelope
+        first = first or candidate
+        lo = exponent + 1
+        exponent = min(hi, exponent + ENVELOPE_EXPONENTS[1])
     diagram = diagram or first
     if diagram is None:
         assert first_error is not None
         raise first_error
     clock.report(stats)
     if stats is not None:
-        stats.update(geos_vertices=diagram.n_vertices, envelope_attempts=attempts,
-                     envelope_growth=float(growth) if diagram is not first or attempts == 1 else -1.0)
+        stats.update(geos_vertices=diagram.n_vertices, envelope_attempts=len(tried),
+                     envelope_log2_growth=tried[-1] if diagram is not first else -1,
+                     discarded_s=clock.discarded_ns / 1e9)
     return diagram
+
+
+def warmup() -> None:
+    """Compile the numba kernels the adapter uses (DCEL builder, circumcentres, screening)."""
+    sites = np.random.default_rng(0).random((40, 2))
+    supports(sites)
+    build(sites)
 
 
 IMPLEMENTATION = Implementation(
@@ -249,5 +275,6 @@ IMPLEMENTATION = Implementation(
     exact=False,
     origin=f"GEOS {'.'.join(map(str, shapely.geos_version))} (C++), Python package shapely",
     supports=supports,
+    warmup=warmup,
     tags=("external", "delaunay-dual"),
 )

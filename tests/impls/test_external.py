@@ -299,14 +299,33 @@ def test_geos_inconsistent_cells_witness_is_refused_and_would_be_wrong():
     assert not compare(built, impls.build("incremental", sites)).equal
 
 
-def test_geos_retries_a_larger_envelope_for_a_far_vertex():
-    """Three sites whose vertex lies ~30 box sizes away: beyond GEOS's default envelope."""
+def test_geos_searches_a_larger_envelope_for_a_far_vertex():
+    """Three sites whose vertex lies ~2500 box sizes away: beyond the first envelope (2^10)."""
     _needs("geos")
-    pts = [[0.0, 0.0], [1.0, 0.01], [2.0, 0.0]]
+    pts = [[0.0, 0.0], [1.0, 1e-4], [2.0, 0.0]]
     stats: dict = {}
     d = _build("geos", pts, stats).validate()
-    assert stats["envelope_attempts"] >= 2
-    assert d.n_vertices == 1 and np.allclose(d.vertices[0], [1.0, -49.995], rtol=1e-12)
+    assert stats["envelope_attempts"] == 2 and stats["envelope_log2_growth"] == 17
+    assert stats["discarded_s"] > 0
+    assert d.n_vertices == 1 and np.allclose(d.vertices[0], [1.0, (1e-8 - 1.0) / 2e-4], rtol=1e-9)
+
+
+def test_geos_searches_a_smaller_envelope_when_clipping_fails(monkeypatch):
+    _needs("geos")
+    from impls.external import geos
+
+    real = geos._cells
+
+    def fragile(points, sites, growth, clock):      # GEOS failing on large envelopes
+        if growth > 2.0**5:
+            raise geos.InconsistentCellsError("geos: GEOS failed: TopologyException (simulated)")
+        return real(points, sites, growth, clock)
+
+    monkeypatch.setattr(geos, "_cells", fragile)
+    stats: dict = {}
+    d = _build("geos", datasets_gen.generate("grid", 25, seed=0), stats).validate()
+    assert stats["envelope_attempts"] == 2 and stats["envelope_log2_growth"] == 3
+    assert compare(d, impls.build("incremental", d.sites)).equal
 
 
 # ---------------------------------------------------------------- Triangle's sweep
