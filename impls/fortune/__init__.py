@@ -84,7 +84,8 @@ __all__ = ["build", "warmup", "IMPLEMENTATION"]
 
 _ERRORS = {1: "the search for the arc above a site left the beach line",
            2: "an internal table ran out of capacity",
-           3: "the event loop exceeded its iteration cap"}
+           3: "the event loop exceeded its iteration cap",
+           4: "a circle event's arc lost a neighbour"}
 
 _STATS_KEPT = ("site_events", "circle_events", "false_alarms", "vertices", "max_beach_line",
                "breakpoint_tests", "breakpoint_exact", "event_comparisons", "event_comparisons_exact",

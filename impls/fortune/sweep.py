@@ -19,7 +19,7 @@ from vorobench.predicates import circle_top_to_y, circle_top_relative, orient2d_
 
 __all__ = [
     "sweep", "COUNTER_NAMES", "N_COUNTERS",
-    "OK", "ERR_LOCATE", "ERR_CAPACITY", "ERR_ITERATIONS",
+    "OK", "ERR_LOCATE", "ERR_CAPACITY", "ERR_ITERATIONS", "ERR_STATE",
 ]
 
 # counters layout: 0-3 as in vorobench.predicates (orient2d calls / exact, incircle unused),
@@ -41,6 +41,7 @@ OK = 0
 ERR_LOCATE = 1
 ERR_CAPACITY = 2
 ERR_ITERATIONS = 3
+ERR_STATE = 4
 
 
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)
@@ -133,6 +134,12 @@ def sweep(sites, counters):
             b = ev_i[e, eq.ARC]
             a = arcs[b, bl.PREV]
             c = arcs[b, bl.NEXT]
+            if a < 0 or c < 0:
+                status = ERR_STATE
+                break
+            if ne + 1 > edge_cap or nv + 1 > vertices.shape[0]:
+                status = ERR_CAPACITY
+                break
             v = nv
             vertices[v, 0] = ev_f[e, eq.VX]
             vertices[v, 1] = ev_f[e, eq.VY]
@@ -165,7 +172,7 @@ def sweep(sites, counters):
             if x < 0:
                 status = ERR_LOCATE
                 break
-            if na + 2 > arc_cap or ne + 1 > edge_cap or nv + 1 > vertices.shape[0]:
+            if na + 2 > arc_cap or ne + 1 > edge_cap:
                 status = ERR_CAPACITY
                 break
             # (x's pending circle event is cancelled below, with the other touched arc's)
