@@ -875,6 +875,7 @@ __all__ += [
     "circle_top_to_y",
     "tops_order_filter",
     "circle_exact_key",
+    "circumcentre_accurate",
     "tops_key_order",
     "circle_event_vs_site_exact",
     "circle_event_vs_site",
@@ -1196,8 +1197,9 @@ def tops_order_filter(ay, q, err_q, dy, r, err_r):
 
 @njit(cache=True)
 def _circle_parts(ax, ay, bx, by, cx, cy, scale, w):
-    # Exact expansions (e, nys, s) with y_top = a_y + (nys + sqrt(s)) / e, e > 0:
-    # e = 2 |D|, D = orient of (b - a, c - a), nys = sign(D) * Ny, s = Nx**2 + Ny**2,
+    # Exact expansions (e, nys, s, nxs) with y_top = a_y + (nys + sqrt(s)) / e, e > 0, and
+    # centre a + (nxs, nys) / e: e = 2 |D|, D = orient of (b - a, c - a), nys = sign(D) * Ny,
+    # nxs = sign(D) * Nx, s = Nx**2 + Ny**2,
     # all computed from the differences times ``scale`` (a power of two: exact).
     bx_ = _xscaled(_xd(bx, ax, w), scale)
     by_ = _xscaled(_xd(by, ay, w), scale)
@@ -1212,15 +1214,26 @@ def _circle_parts(ax, ay, bx, by, cx, cy, scale, w):
     if _xsign(dd) < 0:
         dd = _xneg(dd, w)
         ny = _xneg(ny, w)
+        nx = _xneg(nx, w)
     e = _xscale(dd, 2.0, w)
-    return e, ny, s
+    return e, ny, s, nx
+
+
+@njit(cache=True)
+def circumcentre_accurate(ax, ay, bx, by, cx, cy):
+    """Circumcentre of non-collinear a, b, c to a few ulps, from exact expansions (the float
+    formula of :func:`circle_top_relative` loses everything when a, b, c are nearly collinear)."""
+    w = _new_pool()
+    e, nys, s, nxs = _circle_parts(ax, ay, bx, by, cx, cy, 1.0, w)
+    ee = estimate(e, e.shape[0])
+    return ax + estimate(nxs, nxs.shape[0]) / ee, ay + estimate(nys, nys.shape[0]) / ee
 
 
 @njit(cache=True)
 def circle_event_vs_site_exact(ax, ay, bx, by, cx, cy, sy):
     """Exact sign of (top of the circumcircle of a, b, c) - sy; a, b, c must not be collinear."""
     w = _new_pool()
-    e, nys, s = _circle_parts(ax, ay, bx, by, cx, cy, 1.0, w)
+    e, nys, s, _ = _circle_parts(ax, ay, bx, by, cx, cy, 1.0, w)
     # y_top - sy = (nys + sqrt(s) - t) / e with t = e (sy - ay); sign(sqrt(s) - d), d = t - nys
     d = _xsub(_xmul(e, _xd(sy, ay, w), w), nys, w)
     if _xsign(d) < 0:
@@ -1287,8 +1300,8 @@ def circle_events_order_exact(ax, ay, bx, by, cx, cy, dx, dy, ex, ey, fx, fy):
     scale = 1.0
     if big > 0.0:
         scale = math.ldexp(1.0, -math.frexp(big)[1])
-    e1, n1, s1 = _circle_parts(ax, ay, bx, by, cx, cy, scale, w)
-    e2, n2, s2 = _circle_parts(dx, dy, ex, ey, fx, fy, scale, w)
+    e1, n1, s1, _ = _circle_parts(ax, ay, bx, by, cx, cy, scale, w)
+    e2, n2, s2, _ = _circle_parts(dx, dy, ex, ey, fx, fy, scale, w)
     # e2 e1 (y1 - y2) = p + e2 sqrt(s1) - e1 sqrt(s2)   (all times powers of scale)
     e12 = _xmul(e1, e2, w)
     p = _xadd(_xmul(e12, _xscaled(_xd(ay, dy, w), scale), w), _xsub(_xmul(e2, n1, w), _xmul(e1, n2, w), w), w)
@@ -1308,7 +1321,7 @@ def circle_exact_key(ax, ay, bx, by, cx, cy):
     the top is exactly ``cy + sqrt(r2)``; see :func:`tops_key_order`.
     """
     w = _new_pool()
-    e, nys, s = _circle_parts(ax, ay, bx, by, cx, cy, 1.0, w)
+    e, nys, s, _ = _circle_parts(ax, ay, bx, by, cx, cy, 1.0, w)
     # each estimate is within ~2 ulps of its exact value (nonoverlapping components)
     ee = estimate(e, e.shape[0])
     nn = estimate(nys, nys.shape[0])

@@ -15,7 +15,7 @@ from numba import njit
 
 from impls.fortune import beach_line as bl
 from impls.fortune import event_queue as eq
-from vorobench.predicates import circle_top_to_y, circle_top_relative, orient2d_counted
+from vorobench.predicates import circle_top_relative, circle_top_to_y, circumcentre_accurate, orient2d_counted
 
 __all__ = [
     "sweep", "COUNTER_NAMES", "N_COUNTERS",
@@ -36,6 +36,10 @@ COUNTER_NAMES = (
     "breakpoint_tests", "breakpoint_exact", "event_comparisons", "event_comparisons_exact",
     "site_events", "circle_events", "false_alarms", "vertices", "max_beach_line", "exact_keys",
 )
+
+#: Relative error bound of a float circle top above which its float circumcentre is replaced
+#: by :func:`~vorobench.predicates.circumcentre_accurate` (nearly collinear triples).
+ILL_CONDITIONED = 1e-12
 
 OK = 0
 ERR_LOCATE = 1
@@ -141,8 +145,17 @@ def sweep(sites, counters):
                 status = ERR_CAPACITY
                 break
             v = nv
-            vertices[v, 0] = ev_f[e, eq.VX]
-            vertices[v, 1] = ev_f[e, eq.VY]
+            vx = ev_f[e, eq.VX]
+            vy = ev_f[e, eq.VY]
+            if vx != vx:
+                # marked ill-conditioned when scheduled: the float centre is not trustworthy
+                sa = ev_i[e, eq.A]
+                sb = ev_i[e, eq.B]
+                sc = ev_i[e, eq.C]
+                vx, vy = circumcentre_accurate(sites[sa, 0], sites[sa, 1], sites[sb, 0], sites[sb, 1],
+                                               sites[sc, 0], sites[sc, 1])
+            vertices[v, 0] = vx
+            vertices[v, 1] = vy
             nv += 1
             counters[VERTICES] += 1
             nfree = eq.release(ev_i, free, nfree, e)
@@ -239,6 +252,8 @@ def sweep(sites, counters):
                 break
             q, errq, vx, vy = circle_top_relative(ax, ay, bx, by, cx, cy)
             yt, err = circle_top_to_y(ay, q, errq)
+            if not errq <= ILL_CONDITIONED * abs(q):
+                vx = np.nan        # nearly collinear: the vertex will come from exact arithmetic
             ev_i[g, eq.A] = sa
             ev_i[g, eq.B] = sb
             ev_i[g, eq.C] = sc

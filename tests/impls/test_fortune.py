@@ -178,6 +178,18 @@ def test_rbox_like_nearly_cocircular_points():
     assert_exact_diagram(pts * 1e-6 + 1e6)
 
 
+def test_lattice_with_ulp_noise_certifies():
+    # nearly collinear lattice triples have circumcentres far away that the float formula
+    # cannot place; those vertices come from exact arithmetic (circumcentre_accurate)
+    rng = np.random.default_rng(7)
+    g = rng.integers(0, 30, size=(800, 2)).astype(float)
+    pts = g + rng.integers(-2, 3, size=g.shape) * np.spacing(g + 1)
+    d = fortune(pts)
+    certificate = certify(d)
+    assert certificate.ok, str(certificate)
+    assert compare(d, impls.build("incremental", pts)).verdict == "exact"
+
+
 def test_never_hangs_on_duplicates_and_clusters():
     pts = np.repeat(datasets_gen.generate("clusters", 500, seed=1), 3, axis=0)
     d = fortune(pts)

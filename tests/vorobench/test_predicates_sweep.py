@@ -19,6 +19,7 @@ from vorobench.predicates import (
     circle_exact_key,
     circle_top,
     circle_top_relative,
+    circumcentre_accurate,
     orient2d,
     tops_key_order,
     tops_order_filter,
@@ -339,3 +340,17 @@ def test_tops_order_filter_is_never_wrong():
                 assert _sign((F(ay) + F(q) + F(dq)) - (F(dy) + F(r) + F(dr))) == s
         assert want == s
     assert decided > 1000
+
+
+def test_circumcentre_accurate_for_nearly_collinear_sites():
+    for eps in (1e-3, 1e-9, 1e-14, 2.0 ** -52):
+        t = np.array([[0.1, 0.3], [0.6, 0.3 + eps], [1.3, 0.3]])
+        if orient2d(*t.ravel()) == 0:
+            continue
+        ax, ay, bx, by, cx, cy = map(F, t.ravel())
+        d = 2 * (ax * (by - cy) + bx * (cy - ay) + cx * (ay - by))
+        ux = ((ax * ax + ay * ay) * (by - cy) + (bx * bx + by * by) * (cy - ay) + (cx * cx + cy * cy) * (ay - by)) / d
+        uy = ((ax * ax + ay * ay) * (cx - bx) + (bx * bx + by * by) * (ax - cx) + (cx * cx + cy * cy) * (bx - ax)) / d
+        vx, vy = circumcentre_accurate(*t.ravel())
+        scale = abs(ux) + abs(uy)
+        assert abs(F(vx) - ux) <= scale * F(1, 2 ** 50) and abs(F(vy) - uy) <= scale * F(1, 2 ** 50)
