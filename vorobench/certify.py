@@ -476,6 +476,26 @@ def _probe_kernel(pts, cell, cptr, by_cell, sites, xy, site, twin, origin, scale
         outside[i], strictly_inside[i] = out, strictly_in
 
 
+@njit(cache=True)
+def _site_probe_kernel(sites, xy, site, twin, origin, scale, rel_tol, outside):
+    """outside[i]: site i is outside the polygon of its own cell (same lines as
+    :func:`_probe_kernel`); one pass over the half-edges in order."""
+    for h in range(site.size):
+        a, b = site[h], site[twin[h]]
+        dx, dy = -(sites[b, 1] - sites[a, 1]), sites[b, 0] - sites[a, 0]
+        w = origin[h] if origin[h] >= 0 else origin[twin[h]]
+        if w >= 0:
+            ax, ay = xy[w, 0], xy[w, 1]
+        else:
+            ax, ay = 0.5 * (sites[a, 0] + sites[b, 0]), 0.5 * (sites[a, 1] + sites[b, 1])
+        px, py = sites[a, 0], sites[a, 1]
+        side = (dx * (py - ay) - dy * (px - ax)) / np.hypot(dx, dy)
+        radius = np.hypot(ax - px, ay - py)
+        tol = allowed_error(rel_tol, max(scale, radius), max(abs(px), abs(py), abs(ax), abs(ay)))
+        if not side >= -tol:
+            outside[a] = True
+
+
 def _check_probes(ctx: _Context) -> Check:
     n = ctx.n
     if n <= 1:
@@ -488,25 +508,31 @@ def _check_probes(ctx: _Context) -> Check:
     # Sites as near as the nearest one, to float precision, are ties: the probe may be in any
     # of their cells (on their common boundary, as far as floats can tell).
     tie = dist - dist[:, :1] <= length_tolerance(PROBE_REL_TOL, ctx.scale, np.abs(random).max(1))[:, None]
-    # Rows: each random probe against its k nearest cells; every site against its own cell
-    # (its nearest site is itself: sites are distinct).
-    pts = np.concatenate([np.repeat(random, k, axis=0), ctx.sites])
-    cell = np.concatenate([near.reshape(-1), np.arange(n, dtype=np.int64)])
-    by_cell = argsort_keys(ctx.site)
+    # Rows: each random probe against its k nearest cells, through the half-edges of the
+    # cells touched (grouped by cell); then every site against its own cell (its nearest site
+    # is itself: sites are distinct) in one pass over all half-edges.
+    pts = np.repeat(random, k, axis=0)
+    cell = near.reshape(-1)
+    touched = np.zeros(n, dtype=bool)
+    touched[cell] = True
+    hs = np.flatnonzero(touched[ctx.site])
+    by_cell = hs[argsort_keys(ctx.site[hs])]
     cptr = np.zeros(n + 1, dtype=np.int64)
-    np.cumsum(np.bincount(ctx.site, minlength=n), out=cptr[1:])
+    np.cumsum(np.bincount(ctx.site[hs], minlength=n), out=cptr[1:])
     outside = np.zeros(pts.shape[0], dtype=bool)
     strictly_inside = np.zeros(pts.shape[0], dtype=bool)
     xy = ctx.xy if ctx.V else np.zeros((1, 2))
     _probe_kernel(pts, cell, cptr, by_cell, ctx.sites, xy, ctx.site, ctx.twin, ctx.origin,
                   ctx.scale, PROBE_REL_TOL, outside, strictly_inside)
-    m = random.shape[0] * k
-    out_q = outside[:m].reshape(-1, k)
-    in_q = strictly_inside[:m].reshape(-1, k)
+    site_outside = np.zeros(n, dtype=bool)
+    site_outside[np.bincount(ctx.site, minlength=n) == 0] = True          # a site without a cell
+    _site_probe_kernel(ctx.sites, xy, ctx.site, ctx.twin, ctx.origin, ctx.scale, PROBE_REL_TOL, site_outside)
+    out_q = outside.reshape(-1, k)
+    in_q = strictly_inside.reshape(-1, k)
     bad_own = np.flatnonzero(~(tie & ~out_q).any(axis=1))      # in no cell of a nearest site
     claims = in_q & ~tie                                        # strictly inside a farther site's cell
     bad_other = np.flatnonzero(claims.reshape(-1))
-    bad_sites = np.flatnonzero(outside[m:])
+    bad_sites = np.flatnonzero(site_outside)
     if bad_own.size or bad_other.size or bad_sites.size:
         parts, ids = [], []
         if bad_sites.size:

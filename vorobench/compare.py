@@ -229,6 +229,7 @@ class _Form:
     m_xy: NDArray[np.float64]         # (M, 2) mean coordinates of the merged vertices
     m_extent: NDArray[np.float64]     # (M,) largest distance of a member from that mean
     h: NDArray[np.int64]              # kept half-edges (original ids)
+    tw: NDArray[np.int64]             # position of each kept half-edge's twin among the kept ones
     cell: NDArray[np.int64]
     nb: NDArray[np.int64]
     start: NDArray[np.int64]          # merged vertex id, -1 = infinity
@@ -399,7 +400,7 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optiona
     # Kept half-edges with merged ends and the neighbour that follows along the cell.
     nb_all = site[twin] if H else site
     if not contract.any():                    # every half-edge kept, every vertex its own class
-        return _Form(m_ptr, m_sites, m_xy, m_extent, np.arange(H, dtype=np.int64), site, nb_all, origin, dest,
+        return _Form(m_ptr, m_sites, m_xy, m_extent, np.arange(H, dtype=np.int64), twin, site, nb_all, origin, dest,
                      nb_all[nxt] if H else nb_all, 0, short, n_short)
     removed = np.zeros(H, dtype=bool)
     removed[e[contract]] = True
@@ -411,8 +412,10 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optiona
     succ_nb = np.where(succ_h >= 0, nb_all[np.maximum(succ_h, 0)], -1) if h.size else np.zeros(0, np.int64)
     start = np.where(origin[h] >= 0, labels[np.maximum(origin[h], 0)] if V else -1, -1)
     end = np.where(dest[h] >= 0, labels[np.maximum(dest[h], 0)] if V else -1, -1)
-    return _Form(m_ptr, m_sites, m_xy, m_extent, h, site[h], nb_all[h], start.astype(np.int64), end.astype(np.int64),
-                 succ_nb.astype(np.int64), int(exact.sum()), short, n_short)
+    position = np.full(H, -1, dtype=np.int64)
+    position[h] = np.arange(h.size)
+    return _Form(m_ptr, m_sites, m_xy, m_extent, h, position[twin[h]], site[h], nb_all[h], start.astype(np.int64),
+                 end.astype(np.int64), succ_nb.astype(np.int64), int(exact.sum()), short, n_short)
 
 
 def _rank_rows(rows: NDArray[np.int64], base: int) -> NDArray[np.int64]:
@@ -551,20 +554,21 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
                                         f"vertex at {tuple(pa[k].tolist())} in {la}, {tuple(pb[k].tolist())} in {lb} "
                                         f"(error {rel[k]:.3g} of the local scale, {r:.3g} x allowed)",
                                         [tuple(pa[k].tolist()), tuple(pb[k].tolist())]))
-    # Half-edges by (cell, neighbour); each carries its ends and the next neighbour.
-    key_a = fa.cell * n + fa.nb
-    key_b = fb.cell * n + fb.nb
-    oa, ob = argsort_keys(key_a), argsort_keys(key_b)
-    ka, kb = key_a[oa], key_b[ob]
+    # Edges by site pair, each represented by its half-edge with cell < neighbour (the twin
+    # carries the same pair reversed): ends, and the next neighbour on both sides.
+    low_a = np.flatnonzero(fa.cell < fa.nb)
+    low_b = np.flatnonzero(fb.cell < fb.nb)
+    key_a = fa.cell[low_a] * n + fa.nb[low_a]
+    key_b = fb.cell[low_b] * n + fb.nb[low_b]
+    oa, ob = low_a[argsort_keys(key_a)], low_b[argsort_keys(key_b)]
+    ka, kb = fa.cell[oa] * n + fa.nb[oa], fb.cell[ob] * n + fb.nb[ob]
     dup_a = np.flatnonzero(ka[1:] == ka[:-1])
     dup_b = np.flatnonzero(kb[1:] == kb[:-1])
-    counts["duplicate_edges"] = int(((fa.cell[oa[dup_a]] < fa.nb[oa[dup_a]]).sum()
-                                     + (fb.cell[ob[dup_b]] < fb.nb[ob[dup_b]]).sum()))
+    counts["duplicate_edges"] = int(dup_a.size + dup_b.size)
     for f, o, dups, label in ((fa, oa, dup_a, la), (fb, ob, dup_b, lb)):
         for k in dups[:_MAX_LISTED]:
             x, y = int(f.cell[o[k]]), int(f.nb[o[k]])
-            if x < y:
-                diffs.append(Difference("duplicate_edges", (x, y), f"two edges between sites {x} and {y} in {label}"))
+            diffs.append(Difference("duplicate_edges", (x, y), f"two edges between sites {x} and {y} in {label}"))
     if ka.size == kb.size and np.array_equal(ka, kb) and dup_a.size == 0:
         ia, ib = oa, ob
         only_a = only_b = np.zeros(0, np.int64)
@@ -576,23 +580,20 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
         ia, ib = oa[first_a[in_b]], ob[first_b[in_a]]   # both ordered by key
         only_a = oa[first_a[~in_b]]
         only_b = ob[first_b[~in_a]]
-    hl_a, hl_b = [fa.h[only_a]], [fb.h[only_b]]
+    hl_a, hl_b = [fa.h[only_a], fa.h[fa.tw[only_a]]], [fb.h[only_b], fb.h[fb.tw[only_b]]]
     for kind, f, only, label in (("edges_only_in_a", fa, only_a, la), ("edges_only_in_b", fb, only_b, lb)):
-        lower = only[f.cell[only] < f.nb[only]]
-        # An edge counts once; a pair present in one direction only counts by that half-edge.
-        counts[kind] = int(sorted_unique(np.minimum(f.cell[only], f.nb[only]) * n
-                                     + np.maximum(f.cell[only], f.nb[only])).size)
-        for k in (lower if lower.size else only)[:_MAX_LISTED]:
+        counts[kind] = int(only.size)
+        for k in only[:_MAX_LISTED]:
             diffs.append(Difference(kind, (int(f.cell[k]), int(f.nb[k])),
                                     f"edge from {_end_text(f, int(f.start[k]))} to {_end_text(f, int(f.end[k]))} "
                                     f"only in {label}", _edge_points(f, k)))
-    # Matched half-edges: same ends and the same next neighbour?
+    # Matched edges: same ends, and the same next neighbour on both sides?
     diff_ends = np.zeros(ia.size, dtype=bool)
     succ_differs = np.zeros(ia.size, dtype=bool)
-    _matched_kernel(ia, ib, fa.start, fa.end, fb.start, fb.end, fa.m_cv, fb.m_cv, fa.succ_nb, fb.succ_nb,
-                    diff_ends, succ_differs)
-    bad_he = np.flatnonzero(diff_ends)
-    bad_edges = bad_he[fa.cell[ia[bad_he]] < fa.nb[ia[bad_he]]]
+    twin_succ_differs = np.zeros(ia.size, dtype=bool)
+    _matched_kernel(ia, ib, fa.tw, fb.tw, fa.start, fa.end, fb.start, fb.end, fa.m_cv, fb.m_cv, fa.succ_nb,
+                    fb.succ_nb, diff_ends, succ_differs, twin_succ_differs)
+    bad_edges = np.flatnonzero(diff_ends)
     counts["edges_with_different_ends"] = int(bad_edges.size)
     for k in bad_edges[:_MAX_LISTED]:
         x, y = ia[k], ib[k]
@@ -600,24 +601,26 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
                                 f"{la}: {_end_text(fa, int(fa.start[x]))} -> {_end_text(fa, int(fa.end[x]))}; "
                                 f"{lb}: {_end_text(fb, int(fb.start[y]))} -> {_end_text(fb, int(fb.end[y]))}",
                                 _edge_points(fa, x) + _edge_points(fb, y)))
-    hl_a.append(fa.h[ia[bad_he]])
-    hl_b.append(fb.h[ib[bad_he]])
-    bad_cells = sorted_unique(np.concatenate([fa.cell[ia[succ_differs]], fa.cell[only_a], fb.cell[only_b]]))
+    for f, idx in ((fa, ia), (fb, ib)):
+        hl = hl_a if f is fa else hl_b
+        hl += [f.h[idx[bad_edges]], f.h[f.tw[idx[bad_edges]]], f.h[idx[succ_differs]], f.h[f.tw[idx[twin_succ_differs]]]]
+    bad_cells = sorted_unique(np.concatenate([fa.cell[ia[succ_differs]], fa.nb[ia[twin_succ_differs]],
+                                              fa.cell[only_a], fa.nb[only_a], fb.cell[only_b], fb.nb[only_b]]))
     counts["cells_with_different_neighbours"] = int(bad_cells.size)
     for c in bad_cells[:_MAX_LISTED]:
         diffs.append(Difference("cells_with_different_neighbours", (int(c),),
                                 f"neighbours {_cycle(fa, int(c))} in {la}, {_cycle(fb, int(c))} in {lb}",
                                 [tuple(sites[c].tolist())]))
-    hl_a.append(fa.h[ia[succ_differs]])
-    hl_b.append(fb.h[ib[succ_differs]])
     return _Diff(counts, diffs, sorted_unique(np.concatenate(hl_a)), sorted_unique(np.concatenate(hl_b)),
                  max_err, max_ratio)
 
 
 @njit(cache=True)
-def _matched_kernel(ia, ib, start_a, end_a, start_b, end_b, cv_a, cv_b, succ_a, succ_b, ends_differ, succ_differ):
-    """For matched half-edges ia[k] (in a) and ib[k] (in b): do their end vertices (by canonical
-    vertex id, -1 = infinity) differ, and does the neighbour after them along the cell?"""
+def _matched_kernel(ia, ib, tw_a, tw_b, start_a, end_a, start_b, end_b, cv_a, cv_b, succ_a, succ_b,
+                    ends_differ, succ_differ, twin_succ_differ):
+    """For matched edges, half-edge ia[k] in a and ib[k] in b: do their end vertices (by
+    canonical vertex id, -1 = infinity) differ, and the neighbour after them along the cell
+    on either side (the half-edge's and its twin's)?"""
     for k in range(ia.size):
         x, y = ia[k], ib[k]
         sa = cv_a[start_a[x]] if start_a[x] >= 0 else -1
@@ -626,6 +629,7 @@ def _matched_kernel(ia, ib, start_a, end_a, start_b, end_b, cv_a, cv_b, succ_a, 
         eb = cv_b[end_b[y]] if end_b[y] >= 0 else -1
         ends_differ[k] = sa != sb or ea != eb
         succ_differ[k] = succ_a[x] != succ_b[y]
+        twin_succ_differ[k] = succ_a[tw_a[x]] != succ_b[tw_b[y]]
 
 
 def _first_of_runs(sorted_keys: NDArray[np.int64]) -> NDArray[np.int64]:
