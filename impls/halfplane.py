@@ -8,8 +8,9 @@ half-planes bounded by the bisectors of i and each other site j. Each cell is co
 its own, from the whole plane, with no event queue, beach line, triangulation or
 neighbourhood structure, so it shares no idea (and no bug) with the sweep or with the
 incremental construction; cells are glued together only at the end.
-Complexity: O(n^2) clips (every ordered pair), each O(cell size); about 6 n^2 exact tests
-in the worst case, far fewer with the radius prefilter below.
+Complexity: O(n^2) clips (every ordered pair), each O(cell size) in the worst case (exactly
+cocircular sites: every test exact); with the filters below most clips cost a distance
+comparison (uniform, 2 * 10^4 sites: 4 * 10^8 clips, 3 * 10^5 exact incircle calls).
 Input: prepared sites (distinct, finite float64), any n >= 0; coordinates within the range
 where :mod:`vorobench.predicates` is exact.
 Representation of a cell: the cyclic list of the sites whose bisectors bound it, in
