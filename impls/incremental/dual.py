@@ -105,6 +105,7 @@ def voronoi_edges(pts, ids, tri, opp, ntri, counters):
     ne = 0
     edge_sites = np.empty((3 * ntri // 2, 2), dtype=np.int64)
     edge_vertices = np.empty((3 * ntri // 2, 2), dtype=np.int64)
+    tests = np.zeros_like(counters)        # added to counters only if this pass completes
     for e in range(3 * ntri):
         oe = opp[e]
         if oe < e:
@@ -121,7 +122,7 @@ def voronoi_edges(pts, ids, tri, opp, ntri, counters):
             c = tri[3 * t + (e - 3 * t + 2) % 3]
             d = tri[3 * t2 + (oe - 3 * t2 + 2) % 3]
             if incircle_counted(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1],
-                                pts[d, 0], pts[d, 1], counters) == 0:
+                                pts[d, 0], pts[d, 1], tests) == 0:
                 return _merged_dual(pts, ids, tri, opp, ntri, counters)
         # a's half-edge runs along perp(b - a), i.e. from the right triangle's centre to the left's
         edge_sites[ne, 0] = ids[a]
@@ -129,6 +130,7 @@ def voronoi_edges(pts, ids, tri, opp, ntri, counters):
         edge_vertices[ne, 0] = right
         edge_vertices[ne, 1] = left
         ne += 1
+    counters += tests
     return vertices[:nv], edge_sites[:ne], edge_vertices[:ne], 0
 
 
