@@ -55,14 +55,24 @@ from vorobench.sorting import argsort_keys, dense_rank
 __all__ = ["build", "supports", "diagram_from_cells", "InconsistentCellsError", "ENVELOPE_EXPONENTS", "IMPLEMENTATION"]
 
 #: Clip envelope search: the envelope is the sites' bounding box grown on every side by
-#: 2**e times its larger side (e = 0 is GEOS's own default). Start at e = 10; if vertices
+#: 2**e times its larger side (e = 0 is GEOS's own default). Start at e = 17; if vertices
 #: were lost, step up by 7; if GEOS failed to clip (large envelopes break its overlay on
 #: exactly degenerate inputs such as grids), step down by 7; never above e = 30.
 #: (start, step, largest exponent)
-ENVELOPE_EXPONENTS = (10, 7, 30)
+ENVELOPE_EXPONENTS = (17, 7, 30)
 
 _MAX_ATTEMPTS = 6
-_MIN_GEOS = (3, 12, 0)        # ordered=True (cells in input order) needs GEOS 3.12
+_MIN_GEOS = (3, 12, 0)        # ordered=True (cells in input order) needs GEOS 3.12 ...
+_MIN_SHAPELY = (2, 1)         # ... and shapely 2.1
+
+
+def _too_old() -> Optional[str]:
+    """Why this shapely/GEOS cannot give cells in input order, or None."""
+    shapely_version = tuple(int(part) for part in shapely.__version__.split(".")[:2] if part.isdigit())
+    if shapely.geos_version < _MIN_GEOS or shapely_version < _MIN_SHAPELY:
+        return (f"shapely {shapely.__version__} with GEOS {'.'.join(map(str, shapely.geos_version))}: "
+                f"cells in input order need shapely >= 2.1 and GEOS >= 3.12")
+    return None
 
 
 class InconsistentCellsError(RuntimeError):
@@ -70,10 +80,14 @@ class InconsistentCellsError(RuntimeError):
 
 
 def supports(sites: NDArray[np.float64]) -> Optional[str]:
-    """None if GEOS can return the diagram, else why not: a Voronoi vertex lies outside the
-    largest envelope tried (nearly collinear sites on the hull put vertices arbitrarily far
-    away; GEOS triangulates inside a finite frame and clips its cells, so it cannot return
-    them). Decided on the exact triangulation of the sites (:mod:`.screen`)."""
+    """None if GEOS can return the diagram, else why not: the library is too old, or a
+    Voronoi vertex lies outside the largest envelope tried (nearly collinear sites on the
+    hull put vertices arbitrarily far away; GEOS triangulates inside a finite frame and
+    clips its cells, so it cannot return them). Decided on the exact triangulation of the
+    sites (:mod:`.screen`)."""
+    old = _too_old()
+    if old:
+        return old
     if sites.shape[0] <= 2:
         return None
     tr = triangulation(sites)
@@ -158,11 +172,11 @@ def diagram_from_cells(sites: NDArray[np.float64], polygons: NDArray[np.object_]
     stride = int(point.max(initial=0)) + 1
     forward = point[seg] * stride + point[nxt[seg]]
     backward = point[nxt[seg]] * stride + point[seg]
-    order = argsort_keys(forward)
-    pos = np.minimum(np.searchsorted(forward[order], backward), max(seg.size - 1, 0))
-    twin = order[pos]
+    order_f, order_b = argsort_keys(forward), argsort_keys(backward)
+    twin = np.empty(seg.size, dtype=np.int64)
+    twin[order_b] = order_f                   # the k-th smallest of each list: the same key
     ok = forward[twin] == backward
-    if not ok.all() or np.any(forward[order][1:] == forward[order][:-1]):
+    if not ok.all() or np.any(forward[order_f][1:] == forward[order_f][:-1]):
         k = int(np.flatnonzero(~ok)[0]) if not ok.all() else 0
         raise InconsistentCellsError(
             f"geos: the edge of cell {int(cell[seg[k]])} from {tuple(map(float, xy[seg[k]]))} to "
@@ -219,8 +233,9 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     n = sites.shape[0]
     if n <= 1:
         return Diagram.empty(sites)
-    if shapely.geos_version < _MIN_GEOS:
-        raise RuntimeError(f"geos: GEOS {shapely.geos_version} is older than 3.12 (no ordered cells)")
+    old = _too_old()
+    if old:
+        raise RuntimeError(f"geos: {old}")
     clock = BuildClock()
     points = shapely.multipoints(sites)
     hull = convex_hull_boundary(sites)

@@ -300,14 +300,14 @@ def test_geos_inconsistent_cells_witness_is_refused_and_would_be_wrong():
 
 
 def test_geos_searches_a_larger_envelope_for_a_far_vertex():
-    """Three sites whose vertex lies ~2500 box sizes away: beyond the first envelope (2^10)."""
+    """Three sites whose vertex lies ~2.5e5 box sizes away: beyond the first envelope (2^17)."""
     _needs("geos")
-    pts = [[0.0, 0.0], [1.0, 1e-4], [2.0, 0.0]]
+    pts = [[0.0, 0.0], [1.0, 1e-6], [2.0, 0.0]]
     stats: dict = {}
     d = _build("geos", pts, stats).validate()
-    assert stats["envelope_attempts"] == 2 and stats["envelope_log2_growth"] == 17
+    assert stats["envelope_attempts"] == 2 and stats["envelope_log2_growth"] == 24
     assert stats["discarded_s"] > 0
-    assert d.n_vertices == 1 and np.allclose(d.vertices[0], [1.0, (1e-8 - 1.0) / 2e-4], rtol=1e-9)
+    assert d.n_vertices == 1 and np.allclose(d.vertices[0], [1.0, (1e-12 - 1.0) / 2e-6], rtol=1e-8)
 
 
 def test_geos_searches_a_smaller_envelope_when_clipping_fails(monkeypatch):
@@ -324,8 +324,17 @@ def test_geos_searches_a_smaller_envelope_when_clipping_fails(monkeypatch):
     monkeypatch.setattr(geos, "_cells", fragile)
     stats: dict = {}
     d = _build("geos", datasets_gen.generate("grid", 25, seed=0), stats).validate()
-    assert stats["envelope_attempts"] == 2 and stats["envelope_log2_growth"] == 3
+    assert stats["envelope_attempts"] == 3 and stats["envelope_log2_growth"] == 3     # 17, 10, 3
     assert compare(d, impls.build("incremental", d.sites)).equal
+
+
+def test_geos_refuses_a_shapely_without_ordered_cells(monkeypatch):
+    _needs("geos")
+    import shapely
+
+    monkeypatch.setattr(shapely, "__version__", "2.0.6")
+    reason = impls.get("geos").supports(np.random.default_rng(0).random((10, 2)))
+    assert reason and "shapely >= 2.1" in reason
 
 
 # ---------------------------------------------------------------- Triangle's sweep
