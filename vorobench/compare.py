@@ -260,30 +260,31 @@ def _exactly_coincident(sites, xy, ptr, s, a, b, u, v, scale: float) -> NDArray[
 def _coincident_kernel(sites, xy, ptr, s, a, b, u, v, scale, filter_rel, filter_abs, out):
     for k in range(a.size):
         aa, bb, uu, vv = a[k], b[k], u[k], v[k]
+        ax, ay, bx, by = sites[aa, 0], sites[aa, 1], sites[bb, 0], sites[bb, 1]
+        # Float filter: two roundings of one circumcentre (radius R, sites a, b at distance L)
+        # lie within ~eps R^2 / L of each other, and certify() accepts no vertex off by more
+        # than a small fraction of R; far more than both means two different vertices.
+        px, py, qx, qy = xy[uu, 0], xy[uu, 1], xy[vv, 0], xy[vv, 1]
+        radius = np.hypot(px - ax, py - ay)
+        magnitude = max(abs(px), abs(py), abs(qx), abs(qy))
+        bound = filter_rel * max(radius, scale) + \
+            filter_abs * (magnitude + radius * radius / max(np.hypot(ax - bx, ay - by), 1e-300))
+        if np.hypot(px - qx, py - qy) > bound:
+            continue
         c, hits = -1, 0
         for j in range(ptr[uu], ptr[uu + 1]):
             if s[j] == aa or s[j] == bb:
                 hits += 1
             elif c < 0:
                 c = s[j]
-        # Both ends must touch both cells a and b, and u needs a third site.
-        if c < 0:
-            continue
-        ax, ay, bx, by = sites[aa, 0], sites[aa, 1], sites[bb, 0], sites[bb, 1]
-        cx, cy = sites[c, 0], sites[c, 1]
-        # Float filter: two roundings of one circumcentre (radius R, sites at least L apart) are
-        # at most ~eps R^2 / L apart; far more than that means two different vertices.
-        px, py, qx, qy = xy[uu, 0], xy[uu, 1], xy[vv, 0], xy[vv, 1]
-        radius = np.hypot(px - ax, py - ay)
-        shortest = min(np.hypot(ax - bx, ay - by), np.hypot(ax - cx, ay - cy), np.hypot(bx - cx, by - cy))
-        magnitude = max(abs(px), abs(py), abs(qx), abs(qy))
-        bound = filter_rel * max(radius, scale) + filter_abs * (magnitude + radius * radius / max(shortest, 1e-300))
-        if np.hypot(px - qx, py - qy) > bound:
-            continue
         for j in range(ptr[vv], ptr[vv + 1]):
             if s[j] == aa or s[j] == bb:
                 hits += 1
-        if hits != 4 or orient2d(ax, ay, bx, by, cx, cy) == 0:
+        # Both ends must touch both cells a and b, and u needs a third site off the line ab.
+        if hits != 4 or c < 0:
+            continue
+        cx, cy = sites[c, 0], sites[c, 1]
+        if orient2d(ax, ay, bx, by, cx, cy) == 0:
             continue
         same = True
         for w in (uu, vv):

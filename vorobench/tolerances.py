@@ -58,8 +58,8 @@ RIDGE_DIRECTION_REL_TOL = 1e-9
 
 #: compare(): before deciding exactly whether an edge's two end vertices coincide, vertices
 #: farther apart than COINCIDENCE_FILTER_REL_TOL of their local scale plus
-#: COINCIDENCE_FILTER_ULPS ulps of (magnitude + R^2 / shortest site distance) -- far beyond
-#: any rounding of one circumcentre, and beyond what certify() accepts -- are taken as distinct.
+#: COINCIDENCE_FILTER_ULPS ulps of (magnitude + R^2 / distance of the edge's sites) -- far
+#: beyond any rounding of one circumcentre, and 100x what certify() accepts -- are distinct.
 COINCIDENCE_FILTER_REL_TOL = 1e-6
 COINCIDENCE_FILTER_ULPS = 1e4
 
