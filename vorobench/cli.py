@@ -125,6 +125,7 @@ _EXTRA_COMMANDS: dict[str, tuple[str, str]] = {
     "report": ("vorobench.report", "figures + Markdown/HTML report from a results file"),
     "compare": ("vorobench.regress", "compare two result files and flag regressions"),
     "demo": ("vorobench.demo", "the main job: default benchmark + cross-validation + report"),
+    "fuzz": ("vorobench.fuzz", "seeded campaign of small random/degenerate cases, cross-validated on an executor"),
 }
 
 
