@@ -252,7 +252,7 @@ def sweep(sites, counters):
                 break
             q, errq, vx, vy = circle_top_relative(ax, ay, bx, by, cx, cy)
             yt, err = circle_top_to_y(ay, q, errq)
-            if not errq <= ILL_CONDITIONED * abs(q):
+            if not (errq < np.inf and errq <= ILL_CONDITIONED * abs(q)):
                 vx = np.nan        # nearly collinear: the vertex will come from exact arithmetic
             ev_i[g, eq.A] = sa
             ev_i[g, eq.B] = sb

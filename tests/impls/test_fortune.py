@@ -190,6 +190,27 @@ def test_lattice_with_ulp_noise_certifies():
     assert compare(d, impls.build("incremental", pts)).verdict == "exact"
 
 
+def _ulp_lattice(rng, n=3000, box=60):
+    g = rng.integers(0, box, size=(n, 2)).astype(float)
+    return g + rng.integers(-2, 3, size=g.shape) * np.spacing(g + 1)
+
+
+def test_vertex_of_a_triple_whose_float_determinant_vanishes():
+    # Regression: in ulp-perturbed lattices a circle event's triple (exact orient2d +1) can
+    # have a float determinant of exactly 0 (infinite float top and centre, like a, b, c
+    # below); its vertex must come from exact arithmetic, not be left infinite.
+    a = (float.fromhex("0x1.c800000000001p+5"), float.fromhex("0x1.d800000000002p+5"))
+    b = (float.fromhex("0x1.d000000000000p+5"), float.fromhex("0x1.d000000000002p+5"))
+    c = (float.fromhex("0x1.d000000000001p+5"), float.fromhex("0x1.d000000000001p+5"))
+    from vorobench.predicates import circle_top_relative, orient2d
+    assert orient2d(*a, *b, *c) == 1 and circle_top_relative(*a, *b, *c)[0] == np.inf
+    pts = _ulp_lattice(np.random.default_rng(18))     # gave an infinite vertex before the fix
+    d = fortune(pts)
+    assert np.isfinite(d.vertices).all()
+    assert certify(d).ok
+    assert compare(d, impls.build("incremental", pts)).verdict == "exact"
+
+
 def test_never_hangs_on_duplicates_and_clusters():
     pts = np.repeat(datasets_gen.generate("clusters", 500, seed=1), 3, axis=0)
     d = fortune(pts)
