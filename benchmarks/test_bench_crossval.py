@@ -57,5 +57,10 @@ def test_compare_and_certify_cost_less_than_building(benchmark, sites_of, n):
     print(f"\nn={n}: scipy Voronoi {scipy_s:.2f} s ({scipy_before:.2f} before, {scipy_after:.2f} after); compare {timings['compare']:.2f} s + certify "
           f"{timings['certify_a']:.2f} s + {timings['certify_b']:.2f} s = {total:.2f} s "
           f"({total / scipy_s:.2f} x scipy)")
+    per_check = {c.name: round(c.seconds, 3) for c in cert_a.checks}
+    benchmark.extra_info["certify_checks_s"] = per_check
+    print(f"  certify checks (a): {per_check}; compare + one certify (the cost per implementation in "
+          f"`vorobench validate`, which certifies the reference once): "
+          f"{(timings['compare'] + timings['certify_a']) / scipy_s:.2f} x scipy")
     assert comparison.verdict == "exact" and cert_a.ok and cert_b.ok
     assert total < scipy_s, f"cross-validation took {total:.2f} s, scipy's Voronoi {scipy_s:.2f} s"
