@@ -51,6 +51,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--start-method", choices=("forkserver", "spawn"), default=None,
                    help="how workers start: forked from a server with the libraries imported (default "
                         "where available), or a fresh interpreter per case (spawn, ~2 s slower per case)")
+    p.add_argument("--executor", default="local",
+                   help="where cases run: 'local' (default; worker processes here) or dask://HOST:PORT "
+                        "(a running Dask scheduler; run one single-threaded worker per host for fair timings)")
+    p.add_argument("--workers", type=int, default=1,
+                   help="local cases run at once (default 1: concurrent cases disturb each other's timings)")
     p.add_argument("--parquet", action="store_true", help="also write <stem>.parquet at the end")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no line per case")
 
@@ -75,18 +80,21 @@ def _validate_names(impl_names: Sequence[str], datasets: Sequence[str], referenc
 
 def execute(impl_names: Optional[Sequence[str]], datasets: Sequence[str], sizes: Sequence[int],
             seeds: Sequence[int], out: Path, config, resume: bool = False, overwrite: bool = False,
-            progress: bool = True, verbose: bool = True, console=None) -> tuple[int, list]:
-    """Run a benchmark into ``out``; returns (exit code, outcomes). Shared by bench and demo."""
+            progress: bool = True, verbose: bool = True, console=None, executor: Optional[str] = None,
+            workers: int = 1) -> tuple[int, list]:
+    """Run a benchmark into ``out``; returns (exit code, outcomes). Shared by bench and demo.
+    ``executor``/``workers``: see :func:`vorobench.runner.run_cases`."""
     from vorobench.worker import plugins_registered
 
     # Plugins are registered here only for the run (workers register them again themselves).
     with plugins_registered(config.plugins):
         return _execute(impl_names, datasets, sizes, seeds, out, config, resume, overwrite, progress,
-                        verbose, console)
+                        verbose, console, executor, workers)
 
 
 def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool, overwrite: bool,
-             progress: bool, verbose: bool, console) -> tuple[int, list]:
+             progress: bool, verbose: bool, console, executor: Optional[str] = None,
+             workers: int = 1) -> tuple[int, list]:
     import impls
     from rich.console import Console
 
@@ -111,7 +119,7 @@ def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool
                 sizes=list(sizes), seeds=list(seeds), repeat=config.repeat, min_time=config.min_time,
                 timeout=config.timeout,
                 reference=config.reference, check=config.check, start_method=config.start_method,
-                cases_planned=len(cases),
+                cases_planned=len(cases), executor=executor or "local", workers=workers,
                 cases_to_run=len(todo))
     out.parent.mkdir(parents=True, exist_ok=True)
     results.append_run_metadata(out, meta)
@@ -119,7 +127,8 @@ def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool
         console.print(f"resuming {out}: {len(cases) - len(todo)} of {len(cases)} cases already done")
     try:
         outcomes = runner.run_cases(cases, config, store.append, done=done, previous_rows=previous,
-                                    progress=progress, console=console, verbose=verbose)
+                                    progress=progress, console=console, verbose=verbose,
+                                    executor=executor, workers=workers)
     except KeyboardInterrupt:
         saved = len(store.done_keys())
         _finish_metadata(out, config.run_id, interrupted=True)
@@ -159,10 +168,16 @@ def config_from_args(args: argparse.Namespace):
 def run(args: argparse.Namespace) -> int:
     from vorobench import results
 
+    from vorobench.executors import parse_spec
+
     config, out = config_from_args(args)
+    parse_spec(args.executor)
+    if args.workers < 1:
+        raise ValueError("--workers must be at least 1")
     code, _ = execute(args.impls, args.datasets, args.sizes, args.seeds, out, config,
                       resume=args.resume, overwrite=args.overwrite,
-                      progress=not args.quiet, verbose=not args.quiet)
+                      progress=not args.quiet, verbose=not args.quiet,
+                      executor=args.executor, workers=args.workers)
     if args.parquet and out.exists():
         print(f"wrote {results.to_parquet(out)}")
     return code

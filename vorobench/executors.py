@@ -49,21 +49,34 @@ def _dask_client(address: str):
 
 
 class _DaskExecutor(cf.Executor):
-    """The Dask client's own executor, which also closes the client on shutdown."""
+    """Tasks submitted to a Dask cluster through its client, as ``concurrent.futures`` futures.
+
+    Each result is fetched as soon as its task finishes and the Dask future released, so the
+    cluster does not keep finished results (nor recompute them when the worker holding one
+    dies). ``pure=False``: resubmitting an item is a new task, not the old (failed) one.
+    """
 
     def __init__(self, client) -> None:
         self.client = client
-        # pure=False: resubmitting the same item is a new task, not the old (failed) result.
-        self._inner = client.get_executor(pure=False)
 
     def submit(self, fn, /, *args, **kwargs) -> cf.Future:
-        return self._inner.submit(fn, *args, **kwargs)
+        result: cf.Future = cf.Future()
+        task = self.client.submit(fn, *args, pure=False, **kwargs)
+
+        def deliver(done) -> None:
+            try:
+                result.set_result(done.result())
+            except BaseException as exc:  # noqa: BLE001 - the task's failure goes to its future
+                result.set_exception(exc)
+            finally:
+                done.release()
+
+        result.set_running_or_notify_cancel()
+        task.add_done_callback(deliver)
+        return result
 
     def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
-        try:
-            self._inner.shutdown(wait=wait)
-        finally:
-            self.client.close()
+        self.client.close()
 
 
 def make_executor(spec: str = LOCAL, workers: int = 1) -> cf.Executor:

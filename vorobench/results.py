@@ -31,8 +31,9 @@ __all__ = [
 ]
 
 #: Outcome of a case. "skipped": not run because a smaller n of it timed out or ran out of
-#: memory, or its extrapolated time exceeds the run's budget.
-STATUSES = ("ok", "crashed", "timeout", "oom", "error", "unsupported", "skipped")
+#: memory, or its extrapolated time exceeds the run's budget. "lost": its (executor) worker died
+#: on every try, so nothing of the case came back.
+STATUSES = ("ok", "crashed", "timeout", "oom", "error", "unsupported", "skipped", "lost")
 
 #: Leading columns, in order; ``stat_*`` columns follow.
 COLUMNS = (
@@ -40,11 +41,11 @@ COLUMNS = (
     "time_s", "warmup_s", "setup_s", "check_s", "case_s",
     "n_points", "n_sites", "V", "E",
     "rss_base_mb", "peak_rss_mb", "mem_mb",
-    "phase", "error", "verdict_detail", "finished_at",
+    "phase", "error", "verdict_detail", "finished_at", "host",
 )
 
 _TEXT = {"run_id", "impl", "dataset", "status", "verdict", "check_passed", "blame", "phase", "error",
-         "verdict_detail", "finished_at"}
+         "verdict_detail", "finished_at", "host"}
 
 #: The columns that identify a case.
 KEY = ("impl", "dataset", "n", "seed")

@@ -19,13 +19,15 @@ import math
 import multiprocessing as mp
 import os
 import signal
+import socket
 import time
 from dataclasses import asdict, dataclass, field
 from typing import Callable, Iterable, Optional, Sequence
 
 from vorobench.results import case_key
 
-__all__ = ["Case", "RunConfig", "CaseOutcome", "plan_cases", "run_case", "run_cases", "exit_status"]
+__all__ = ["Case", "RunConfig", "CaseOutcome", "plan_cases", "run_case", "run_case_in_process", "run_cases",
+           "exit_status"]
 
 #: Allowance for starting the worker, importing, and generating the input (not the impl's time).
 STARTUP_TIMEOUT = 180.0
@@ -202,15 +204,7 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
                     deadline = time.monotonic() + config.allowance(step)
                     if on_step:
                         on_step(step)
-                elif kind == "data":
-                    info.update(payload)
-                elif kind == "repeat":
-                    repeats.append(payload)
-                elif kind == "done":
-                    status = "ok"
-                elif kind == "failed":
-                    info.update(payload)
-                    status = payload["status"]
+                status = _absorb(kind, payload, info, repeats) or status
             elif proc.is_alive():
                 status = "timeout"
                 info["error"] = f"no result within {config.allowance(step):g} s during {step}"
@@ -229,9 +223,57 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
     return CaseOutcome(case, status, _rows(case, config, status, step, info, repeats), seconds)
 
 
+def _absorb(kind: str, payload, info: dict, repeats: list[dict]) -> Optional[str]:
+    """Take one worker message into ``info``/``repeats``; the case's status if it ends it."""
+    if kind == "data":
+        info.update(payload)
+    elif kind == "repeat":
+        repeats.append(payload)
+    elif kind == "done":
+        return "ok"
+    elif kind == "failed":
+        info.update(payload)
+        return payload["status"]
+    return None
+
+
+def run_case_in_process(case: Case, config: RunConfig) -> CaseOutcome:
+    """Run one case in this process (a Dask worker: one case per worker thread, no per-step
+    timeout, no memory cap). A hard crash takes this process down; the executor sees the
+    worker die, and the parent retries the case or records it as lost."""
+    from vorobench.worker import run_and_report
+
+    started = time.perf_counter()
+    info: dict = {}
+    repeats: list[dict] = []
+    state = {"step": "startup", "status": None}
+
+    def send(kind: str, payload) -> None:
+        if kind == "step":
+            state["step"] = payload
+        state["status"] = _absorb(kind, payload, info, repeats) or state["status"]
+
+    worker_config = config.for_worker()
+    worker_config.update(environ=None, memory_limit_mb=None)   # this process is shared: leave it as it is
+    run_and_report(asdict(case), worker_config, send)
+    status = state["status"] or "crashed"
+    seconds = time.perf_counter() - started
+    info["case_s"] = seconds
+    return CaseOutcome(case, status, _rows(case, config, status, state["step"], info, repeats), seconds)
+
+
+def lost_outcome(case: Case, config: RunConfig, why: str, status: str = "lost") -> CaseOutcome:
+    """The record of a case whose worker died on every try (status ``lost``) or whose task
+    failed outside the case (``error``): nothing came back, but the case is never dropped."""
+    row = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "n": case.n,
+           "seed": case.seed, "status": status, "verdict": "crashed", "error": why, "host": "",
+           "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
+    return CaseOutcome(case, status, [row], 0.0)
+
+
 def _rows(case: Case, config: RunConfig, status: str, step: str, info: dict, repeats: list[dict]) -> list[dict]:
     common = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "n": case.n,
-              "seed": case.seed, "status": status,
+              "seed": case.seed, "status": status, "host": socket.gethostname(),
               "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
     common.update({k: v for k, v in info.items() if k not in ("status",)})
     if status == "ok":
@@ -298,7 +340,7 @@ def _skip_reason(case: Case, history: dict, config: RunConfig) -> Optional[str]:
 def _skipped(case: Case, config: RunConfig, reason: str) -> CaseOutcome:
     row = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "n": case.n,
            "seed": case.seed, "status": "skipped", "verdict": "skipped", "error": reason,
-           "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
+           "host": socket.gethostname(), "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
     return CaseOutcome(case, "skipped", [row], 0.0)
 
 
@@ -326,12 +368,19 @@ def _case_weight(case: Case, config: RunConfig) -> float:
 
 def run_cases(cases: Sequence[Case], config: RunConfig, sink: Callable[[list[dict]], None],
               done: Iterable[tuple] = (), previous_rows: Iterable[dict] = (), progress: bool = True,
-              console=None, verbose: bool = True) -> list[CaseOutcome]:
-    """Run ``cases`` one worker at a time; ``sink(rows)`` receives each finished case's rows.
+              console=None, verbose: bool = True, executor: Optional[str] = None,
+              workers: int = 1) -> list[CaseOutcome]:
+    """Run ``cases``; ``sink(rows)`` receives each finished case's rows as it finishes.
 
+    Without ``executor`` (or ``local`` with one worker) the cases run one worker process at a
+    time, here. Otherwise each is a task on the executor (:mod:`vorobench.executors`): on
+    ``local`` a pool of ``workers`` processes, each running one case at a time in its own
+    worker process (:func:`run_case`); on ``dask://`` the case runs inside the Dask worker
+    (:func:`run_case_in_process`), whose death makes the case retried once, then ``lost``.
     Cases whose key is in ``done`` are skipped (resume). ``previous_rows`` (rows already on
-    file) seed the extrapolation that skips hopeless larger sizes. Ctrl-C stops after killing
-    the running worker; everything already passed to ``sink`` is kept.
+    file) seed the extrapolation that skips hopeless larger sizes (in parallel runs only from
+    the cases finished when a case is submitted). Ctrl-C stops after killing the running
+    workers; everything already passed to ``sink`` is kept.
     """
     from rich.console import Console
     from rich.progress import (BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn,
@@ -348,7 +397,22 @@ def run_cases(cases: Sequence[Case], config: RunConfig, sink: Callable[[list[dic
     with Progress(*columns, console=console, disable=not progress, transient=False) as bar:
         total = sum(_case_weight(c, config) for c in todo)
         task = bar.add_task("starting", total=total, count=f"0/{len(todo)} cases")
-        for k, case in enumerate(todo):
+
+        def finish(outcome: CaseOutcome) -> None:
+            case = outcome.case
+            sink(outcome.rows)
+            outcomes.append(outcome)
+            history.setdefault((case.impl, case.dataset, case.seed), []).append(
+                (case.n, outcome.status, outcome.median_time))
+            bar.update(task, advance=_case_weight(case, config), count=f"{len(outcomes)}/{len(todo)} cases")
+            if verbose:
+                console.print(_one_line(outcome))
+
+        if executor is not None and not (executor == "local" and workers == 1):
+            _run_on_executor(todo, config, history, finish, executor, workers,
+                             lambda text: bar.update(task, description=text))
+            return outcomes
+        for case in todo:
             bar.update(task, description=f"{case}")
             reason = _skip_reason(case, history, config)
             if reason:
@@ -356,14 +420,40 @@ def run_cases(cases: Sequence[Case], config: RunConfig, sink: Callable[[list[dic
             else:
                 outcome = run_case(case, config,
                                    on_step=lambda step, c=case: bar.update(task, description=f"{c}: {step}"))
-            sink(outcome.rows)
-            outcomes.append(outcome)
-            history.setdefault((case.impl, case.dataset, case.seed), []).append(
-                (case.n, outcome.status, outcome.median_time))
-            bar.update(task, advance=_case_weight(case, config), count=f"{k + 1}/{len(todo)} cases")
-            if verbose:
-                console.print(_one_line(outcome))
+            finish(outcome)
     return outcomes
+
+
+def _case_task(item: tuple[Case, RunConfig, bool]) -> CaseOutcome:
+    """One executor task: one timed case (in its own worker process, or in this process)."""
+    case, config, in_process = item
+    return run_case_in_process(case, config) if in_process else run_case(case, config)
+
+
+def _run_on_executor(todo: Sequence[Case], config: RunConfig, history: dict,
+                     finish: Callable[[CaseOutcome], None], executor: str, workers: int,
+                     describe: Callable[[str], None]) -> None:
+    from vorobench.executors import LOCAL, parse_spec, run_tasks
+
+    in_process = parse_spec(executor)[0] != LOCAL
+
+    def items():
+        for case in todo:
+            reason = _skip_reason(case, history, config)
+            if reason:
+                finish(_skipped(case, config, reason))
+            else:
+                describe(f"{executor}: submitted {case}")
+                yield (case, config, in_process)
+
+    # One case per worker at a time (timing fairness); none queued ahead on a worker.
+    for res in run_tasks(executor, workers, _case_task, items(), in_flight=None if in_process else workers):
+        case = res.item[0]
+        if res.ok:
+            finish(res.value)
+        else:
+            finish(lost_outcome(case, config, res.lost or f"task failed: {res.error}",
+                                "lost" if res.lost else "error"))
 
 
 def _one_line(outcome: CaseOutcome) -> str:

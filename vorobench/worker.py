@@ -32,7 +32,7 @@ from typing import Any, Callable, Iterator, Optional, Sequence
 
 from vorobench import peakmem
 
-__all__ = ["worker_main", "load_plugin", "plugins_registered", "check_against_reference", "reference_diagram"]
+__all__ = ["worker_main", "run_and_report", "load_plugin", "plugins_registered", "check_against_reference", "reference_diagram"]
 
 Send = Callable[[str, Any], None]
 
@@ -281,13 +281,8 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
     send("done", None)
 
 
-def worker_main(conn, case: dict, config: dict) -> None:
-    """Entry point of the worker process: run the case's steps, report over ``conn``."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)    # Ctrl-C is the parent's to handle
-
-    def send(kind: str, payload: Any) -> None:
-        conn.send((kind, payload))
-
+def run_and_report(case: dict, config: dict, send: Send) -> None:
+    """Run the case's steps in this process; every failure is sent as ``("failed", ...)``."""
     try:
         _run_steps(case, config, send)
     except MemoryError as exc:
@@ -296,5 +291,16 @@ def worker_main(conn, case: dict, config: dict) -> None:
         frames = traceback.extract_tb(exc.__traceback__)
         where = f" (at {Path(frames[-1].filename).name}:{frames[-1].lineno})" if frames else ""
         send("failed", {"status": "error", "error": f"{type(exc).__name__}: {exc}"[:400] + where})
+
+
+def worker_main(conn, case: dict, config: dict) -> None:
+    """Entry point of the worker process: run the case's steps, report over ``conn``."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)    # Ctrl-C is the parent's to handle
+
+    def send(kind: str, payload: Any) -> None:
+        conn.send((kind, payload))
+
+    try:
+        run_and_report(case, config, send)
     finally:
         conn.close()
