@@ -9,7 +9,7 @@ import os
 from impls.base import Implementation
 from impls.qhull import build as qhull_build
 
-__all__ = ["IMPLEMENTATIONS", "dies_on"]
+__all__ = ["IMPLEMENTATIONS", "dies_on", "square_or_die"]
 
 
 def dies_on(n_sites: int) -> bool:
@@ -27,3 +27,10 @@ IMPLEMENTATIONS = [
     Implementation(name="exit_on_some", description="test double: os._exit when the site count ends in 6",
                    complexity="n/a", build=_exit_on_some, exact=False, origin="tests"),
 ]
+
+
+def square_or_die(x: int) -> int:
+    """A task for :func:`vorobench.executors.run_tasks`: ``x * x``, except that 3 kills its worker."""
+    if x == 3:
+        os._exit(3)
+    return x * x

@@ -1,0 +1,117 @@
+"""vorobench.executors and bench --executor: a local process pool and a real Dask LocalCluster
+(two worker processes on loopback) give the same verdicts, and a worker that dies loses no
+finished result: its case is retried once, then recorded as lost."""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import math
+import sys
+from pathlib import Path
+
+import pytest
+
+from vorobench import executors
+from vorobench.executors import DaskMissing, make_executor, parse_spec, run_tasks
+
+HERE = Path(__file__).parent
+PLUGIN = str(HERE / "executor_doubles.py")
+
+
+def test_parse_spec():
+    assert parse_spec("local") == ("local", None)
+    assert parse_spec("dask://10.0.0.5:8786") == ("dask", "tcp://10.0.0.5:8786")
+    for bad in ("dask://", "spark://x:1", "thread"):
+        with pytest.raises(ValueError, match="unknown executor"):
+            parse_spec(bad)
+
+
+def test_local_executor_is_a_process_pool():
+    ex = make_executor("local", 2)
+    try:
+        assert isinstance(ex, cf.ProcessPoolExecutor)
+        assert ex.submit(math.factorial, 5).result(timeout=60) == 120
+    finally:
+        ex.shutdown()
+    with pytest.raises(ValueError):
+        make_executor("local", 0)
+
+
+def test_dask_missing_names_the_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "distributed", None)     # import distributed -> ImportError
+    with pytest.raises(DaskMissing, match=r"pip install vorobench\[dask\]"):
+        make_executor("dask://127.0.0.1:1", 1)
+
+
+def test_run_tasks_loses_no_result_when_a_worker_dies():
+    from executor_doubles import square_or_die
+
+    results = list(run_tasks("local", 2, square_or_die, range(7)))
+    by_item = {r.item: r for r in results}
+    assert sorted(by_item) == list(range(7)) and len(results) == 7      # each item exactly once
+    assert by_item[3].lost and by_item[3].attempts == 2 and by_item[3].value is None
+    assert {x: r.value for x, r in by_item.items() if x != 3} == {x: x * x for x in range(7) if x != 3}
+
+
+def test_run_tasks_reports_a_raising_task_as_an_error_not_a_death():
+    results = {r.item: r for r in run_tasks("local", 1, math.sqrt, [4.0, -1.0, 9.0])}
+    assert results[4.0].value == 2.0 and results[9.0].value == 3.0
+    assert "ValueError" in results[-1.0].error and not results[-1.0].lost and results[-1.0].attempts == 1
+
+
+# ----------------------------------------------------------------------- with a Dask cluster
+
+@pytest.fixture(scope="module")
+def dask_address():
+    pytest.importorskip("distributed", reason="dask.distributed not installed (pip install vorobench[dask])")
+    import dask
+    from distributed import LocalCluster
+
+    # A task whose worker dies fails at once (the runner does its own single retry).
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                          dashboard_address=None) as cluster:
+            yield cluster.scheduler_address.replace("tcp://", "dask://")
+
+
+def test_dask_executor_runs_tasks_on_the_cluster(dask_address):
+    ex = make_executor(dask_address, 1)
+    try:
+        assert executors.capacity(ex) == 2
+        assert "2 workers" in executors.describe(ex)
+        assert ex.submit(math.factorial, 6).result(timeout=60) == 720
+    finally:
+        ex.shutdown()
+
+
+def _bench(out: Path, executor: str, workers: int):
+    from vorobench import bench_cmd, results
+    from vorobench.runner import RunConfig
+
+    config = RunConfig(repeat=1, plugins=(PLUGIN,), timeout=60)
+    code, _ = bench_cmd.execute(["fortune", "exit_on_some"], ["uniform"], [50, 156], [0], out, config,
+                                progress=False, verbose=False, executor=executor, workers=workers)
+    assert code == 0
+    return results.load(out)
+
+
+def test_bench_on_dask_and_local_same_verdicts_and_no_case_dropped(tmp_path, dask_address):
+    local = _bench(tmp_path / "local.csv", "local", 2)
+    dask = _bench(tmp_path / "dask.csv", dask_address, 1)
+    expected = {(i, n) for i in ("fortune", "exit_on_some") for n in (50, 156)}
+    for df in (local, dask):
+        assert set(zip(df["impl"], df["n"])) == expected and len(df) == len(expected)   # one row each
+        ran = df[df["status"] == "ok"]
+        assert ran["host"].notna().all() and (ran["time_s"] > 0).all()
+
+    def verdicts(df):
+        return {(r.impl, r.n): (r.status, r.verdict) for r in df.itertuples()}
+
+    lv, dv = verdicts(local), verdicts(dask)
+    dying = ("exit_on_some", 156)
+    # Locally each case has its own worker process: the death is that case's crash. On Dask
+    # the case runs inside the Dask worker: its death is retried once, then recorded as lost.
+    assert lv.pop(dying) == ("crashed", "crashed")
+    assert dv.pop(dying) == ("lost", "crashed")
+    assert "2 tries" in dask.loc[(dask["impl"] == "exit_on_some") & (dask["n"] == 156), "error"].iloc[0]
+    assert lv == dv and all(status == "ok" for status, _ in lv.values())
