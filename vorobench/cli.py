@@ -38,7 +38,9 @@ def parse_sizes(text: str) -> list[int]:
 def _console():
     from rich.console import Console
 
-    return Console()
+    console = Console()
+    # Piped output has no terminal width: give tables room instead of rich's 80 columns.
+    return console if console.is_terminal else Console(width=160)
 
 
 def cmd_impls(args: argparse.Namespace) -> int:
