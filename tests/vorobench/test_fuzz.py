@@ -1,0 +1,128 @@
+"""vorobench fuzz: budgets, the case sequence, the integer-box generator, resuming, witnesses,
+and the same verdicts from a local pool and a Dask LocalCluster with a worker killed mid-run."""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from vorobench import fuzz
+from vorobench.cli import main
+from vorobench.fuzz import Budget, int_box, parse_budget, plan, run_campaign
+from vorobench.prepare import prepare
+
+HERE = Path(__file__).parent
+DOUBLES = str(HERE / "doubles.py")
+DYING = str(HERE / "executor_doubles.py")
+
+
+def test_parse_budget():
+    assert parse_budget("100000") == Budget(cases=100000)
+    assert parse_budget("10m") == Budget(seconds=600.0)
+    assert parse_budget("90s") == Budget(seconds=90.0) and parse_budget("2h") == Budget(seconds=7200.0)
+    for bad in ("0", "-5m", "ten", ""):
+        with pytest.raises(argparse.ArgumentTypeError):
+            parse_budget(bad)
+
+
+def test_plan_is_fixed_by_the_campaign_seed():
+    first = list(itertools.islice(plan(["uniform", "int_box"], 3, 12, 7), 50))
+    assert first == list(itertools.islice(plan(["uniform", "int_box"], 3, 12, 7), 50))
+    assert first != list(itertools.islice(plan(["uniform", "int_box"], 3, 12, 8), 50))
+    assert [g for g, _, _ in first[:4]] == ["uniform", "int_box", "uniform", "int_box"]
+    assert all(3 <= n <= 12 for _, n, _ in first)
+    assert len({s for _, _, s in first}) == 50                   # a fresh seed per case
+
+
+def test_int_box_has_duplicates_collinear_and_cocircular_points():
+    duplicates = cocircular = 0
+    for seed in range(30):
+        p = int_box(20, seed)
+        assert p.shape == (20, 2) and np.array_equal(p, np.round(p))
+        duplicates += prepare(p)[0].shape[0] < 20
+        # Four or more points at squared distance exactly 25 from one integer centre.
+        centres = {tuple(c) for c in np.round(p).astype(int)} | {(x, y) for x in range(-3, 12) for y in range(-3, 12)}
+        cocircular += any(np.sum(np.sum((p - np.array(c)) ** 2, axis=1) == 25) >= 4 for c in centres)
+    assert duplicates >= 10 and cocircular >= 5
+
+
+def test_campaign_resumes_without_rerunning_checked_cases(tmp_path):
+    first = run_campaign(tmp_path, ["fortune"], ["uniform", "int_box"], Budget(cases=4), max_n=10, probes=100)
+    assert (first.checked, first.previously, first.failed, first.lost) == (4, 0, 0, 0)
+    second = run_campaign(tmp_path, ["fortune"], ["uniform", "int_box"], Budget(cases=7), max_n=10, probes=100)
+    assert (second.checked, second.previously) == (3, 4) and second.rate > 0
+    records = [json.loads(line) for line in (tmp_path / fuzz.LOG_NAME).read_text().splitlines()]
+    keys = [(r["generator"], r["n"], r["seed"]) for r in records]
+    assert keys == list(itertools.islice(plan(["uniform", "int_box"], 3, 10, 0), 7))    # each once, in order
+    assert all(r["passed"] and {v["impl"] for v in r["results"]} == {"qhull", "fortune"} for r in records)
+
+
+def test_failures_are_shrunk_to_saved_witnesses(tmp_path):
+    s = run_campaign(tmp_path, ["wrong"], ["uniform"], Budget(cases=2), min_n=8, max_n=12, probes=100,
+                     plugins=[DOUBLES], shrink_seconds=20)
+    assert s.failed == 2 and len(s.witnesses) == 2
+    for w in s.witnesses:
+        points = np.load(w["points"])
+        assert points.shape[0] == w["n_points"] < w["n"]
+        assert w["verdict"] not in ("exact", "within_tolerance", "certified")   # the witness still fails
+        assert Path(w["points"]).with_suffix(".txt").read_text().startswith("vorobench validate")
+    # A rerun has nothing left to check or shrink.
+    again = run_campaign(tmp_path, ["wrong"], ["uniform"], Budget(cases=2), min_n=8, max_n=12, probes=100,
+                         plugins=[DOUBLES])
+    assert (again.checked, again.witnesses) == (0, [])
+
+
+def test_cli_fuzz_reports_cases_per_second(tmp_path, capsys):
+    code = main(["fuzz", "--impls", "incremental", "--generators", "int_box,collinear", "--budget", "3",
+                 "--max-n", "8", "--out", str(tmp_path)])
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert code == 0 and summary["checked"] == 3 and summary["cases_per_second"] > 0
+    assert "cases/s" in capsys.readouterr().out
+
+
+# ----------------------------------------------------------------------- with a Dask cluster
+
+@pytest.fixture(scope="module")
+def dask_address():
+    pytest.importorskip("distributed", reason="dask.distributed not installed (pip install vorobench[dask])")
+    import dask
+    from distributed import LocalCluster
+
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
+        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                          dashboard_address=None) as cluster:
+            yield cluster.scheduler_address.replace("tcp://", "dask://")
+
+
+def _campaign(out: Path, executor: str, workers: int) -> dict:
+    s = run_campaign(out, ["fortune", "exit_on_some"], ["uniform", "int_box"], Budget(cases=8), executor=executor,
+                     workers=workers, max_n=12, campaign_seed=3, probes=100, plugins=[DYING], shrink=False)
+    assert s.checked == 8
+    records = [json.loads(line) for line in (out / fuzz.LOG_NAME).read_text().splitlines()]
+    by_key = {(r["generator"], r["n"], r["seed"]): r for r in records}
+    assert len(by_key) == len(records) == 8                                 # none dropped, none twice
+    return by_key
+
+
+def test_campaign_on_dask_and_local_same_verdicts_with_a_worker_killed(tmp_path, dask_address):
+    from executor_doubles import dies_on
+
+    local = _campaign(tmp_path / "local", "local", 2)
+    dask = _campaign(tmp_path / "dask", dask_address, 1)
+    assert local.keys() == dask.keys()
+    dying = {k for k in local if dies_on(prepare(fuzz.generate(*k))[0].shape[0])}
+    assert dying                                    # this campaign kills a worker
+    for key in local:
+        if key in dying:    # the worker died on the case, and again on its retry: recorded as lost
+            assert local[key]["status"] == dask[key]["status"] == "lost"
+            assert local[key]["attempts"] == dask[key]["attempts"] == 2
+        else:
+            assert local[key]["status"] == dask[key]["status"] == "checked"
+            verdicts = [(v["impl"], v["verdict"]) for v in local[key]["results"]]
+            assert verdicts == [(v["impl"], v["verdict"]) for v in dask[key]["results"]]
+            assert all(v["passed"] for v in local[key]["results"])
