@@ -5,9 +5,9 @@ CONTRACT
 Complexity: O(n log n) expected for GEOS (incremental Delaunay triangulation on a
 quad-edge structure, sites inserted in sorted order, then one polygon per cell, clipped).
 Conversion: O(n log n) (sorting of coordinates).
-Input: prepared sites (distinct, finite float64), any n >= 0. GEOS computes in floating
-point (``exact=False``): nearly cocircular sites may give several vertices a rounding
-error apart, which ``compare`` contracts within tolerance.
+Input: prepared sites (distinct, finite float64), any n >= 0, within the limits below.
+GEOS computes in floating point (``exact=False``): nearly cocircular sites may give
+several vertices a rounding error apart, which ``compare`` contracts within tolerance.
 Library part (``library_s``): ``shapely.voronoi_polygons(..., ordered=True, extend_to=box)``,
 one polygon per site in input order, clipped to an envelope ``box``: the sites' bounding
 box grown on every side by 2**e times its larger side. GEOS's default (e = 0) loses the
@@ -30,9 +30,13 @@ Recovering the combinatorics (``convert_s``), one rule per kind of polygon verte
   (checked: an unmatched segment raises an error naming it).
 So rays become half-edges from or to infinity and the parallel lines of collinear sites
 (segments from boundary to boundary) become lines, as the contract wants.
-Limitation: a Voronoi vertex beyond the largest envelope (2**30 box sizes: hull sites
-collinear to within ~1e-9) cannot be returned; ``supports`` refuses such inputs, deciding
-exactly on the sites' own Delaunay triangulation (:mod:`.screen`).
+Limitations, all refused by ``supports`` (decided on the sites' own Delaunay
+triangulation, :mod:`.screen`): a Voronoi vertex beyond the largest envelope (2**18 box
+sizes: hull sites collinear to within ~1e-6) cannot be returned; Delaunay neighbours
+cocircular to within ``MIN_INCIRCLE_MARGIN`` (but not exactly) make GEOS's cells stop
+fitting together, its decisions being floating point; cells thinner than the float
+resolution of the envelope's coordinates (two sites 1e-22 box sizes apart) make its
+clipping fail. Exact degeneracies (grids, cocircular integer points) are fine.
 """
 
 from __future__ import annotations
@@ -45,21 +49,31 @@ from numpy.typing import NDArray
 
 from impls.base import Implementation
 from impls.external.clock import BuildClock
-from impls.external.screen import circumcentres, triangulation
+from impls.external.screen import circumcentres, smallest_incircle_margin, triangulation
 from vorobench.certify import convex_hull_boundary
 from vorobench.dcel import assemble
 from vorobench.diagram import Diagram
 from vorobench.predicates import orient2d_many
 from vorobench.sorting import argsort_keys, dense_rank
 
-__all__ = ["build", "supports", "diagram_from_cells", "InconsistentCellsError", "ENVELOPE_EXPONENTS", "IMPLEMENTATION"]
+__all__ = ["build", "supports", "diagram_from_cells", "InconsistentCellsError", "ENVELOPE_EXPONENTS",
+           "MIN_RELATIVE_SPACING", "MIN_INCIRCLE_MARGIN", "IMPLEMENTATION"]
 
 #: Clip envelope search: the envelope is the sites' bounding box grown on every side by
 #: 2**e times its larger side (e = 0 is GEOS's own default). Start at e = 17; if vertices
-#: were lost, step up by 7; if GEOS failed to clip (large envelopes break its overlay on
-#: exactly degenerate inputs such as grids), step down by 7; never above e = 30.
+#: were lost, step up by 7 (but never above e = 18: GEOS's clipping fails from e = 20 on
+#: nearly degenerate inputs that need it); if GEOS failed to clip (large envelopes break its
+#: overlay on exactly degenerate inputs such as grids), step down by 7.
 #: (start, step, largest exponent)
-ENVELOPE_EXPONENTS = (17, 7, 30)
+ENVELOPE_EXPONENTS = (17, 7, 18)
+
+#: Delaunay neighbours this close to cocircular (but not exactly) are refused: GEOS's cells
+#: stopped fitting together at 8e-15 (scale-free in-circle margin, see :mod:`.screen`).
+MIN_INCIRCLE_MARGIN = 1e-12
+
+#: Sites closer than this fraction of the bounding box are refused: their cells are too thin
+#: to survive GEOS's clipping at the envelope's coordinates (seen failing at 1e-22).
+MIN_RELATIVE_SPACING = 2.0**-40
 
 _MAX_ATTEMPTS = 6
 _MIN_GEOS = (3, 12, 0)        # ordered=True (cells in input order) needs GEOS 3.12 ...
@@ -80,24 +94,41 @@ class InconsistentCellsError(RuntimeError):
 
 
 def supports(sites: NDArray[np.float64]) -> Optional[str]:
-    """None if GEOS can return the diagram, else why not: the library is too old, or a
-    Voronoi vertex lies outside the largest envelope tried (nearly collinear sites on the
-    hull put vertices arbitrarily far away; GEOS triangulates inside a finite frame and
-    clips its cells, so it cannot return them). Decided on the exact triangulation of the
-    sites (:mod:`.screen`)."""
+    """None if GEOS can return the diagram, else why not: the library is too old; two sites
+    are closer than ``MIN_RELATIVE_SPACING`` of the box (cells thinner than the envelope's
+    float resolution break GEOS's clipping); or a Voronoi vertex lies outside the largest
+    envelope tried (nearly collinear sites on the hull put vertices arbitrarily far away;
+    GEOS triangulates inside a finite frame and clips its cells, so it cannot return them).
+    Decided on the exact triangulation of the sites (:mod:`.screen`)."""
     old = _too_old()
     if old:
         return old
-    if sites.shape[0] <= 2:
+    n = sites.shape[0]
+    if n <= 1:
         return None
+    size = float(np.max(sites.max(axis=0) - sites.min(axis=0)))
     tr = triangulation(sites)
-    if tr is None:              # collinear: no vertex at all
+    if tr is None:              # collinear: neighbours along the line (lexicographic order)
+        ordered = sites[np.lexsort((sites[:, 1], sites[:, 0]))]
+        gaps = np.hypot(*np.diff(ordered, axis=0).T)
+    else:                       # the nearest neighbours are joined by Delaunay edges
+        t = tr.triangles
+        gaps = np.hypot(*(sites[t] - sites[np.roll(t, 1, axis=1)]).reshape(-1, 2).T)
+    closest = float(gaps.min())
+    if closest < MIN_RELATIVE_SPACING * size:
+        return (f"two sites are {closest / size:.3g} box sizes apart: GEOS cannot clip cells that "
+                f"thin at the envelope's coordinates (below {MIN_RELATIVE_SPACING:.3g})")
+    if tr is None:
         return None
+    margin, quad = smallest_incircle_margin(tr, sites)
+    if margin < MIN_INCIRCLE_MARGIN:
+        return (f"sites {[int(i) for i in quad]} are cocircular to within {margin:.2g} (scale-free; "
+                f"0: beyond float), below {MIN_INCIRCLE_MARGIN:g}: GEOS decides in floating point there "
+                f"and its cells stop fitting")
     centres = circumcentres(sites, tr.triangles)
     box = _envelope(sites, 2.0**ENVELOPE_EXPONENTS[2])
     outside = np.any(centres < box[:2], axis=1) | np.any(centres > box[2:], axis=1)
     if outside.any():
-        size = float(np.max(sites.max(axis=0) - sites.min(axis=0)))
         far = float(np.max(np.abs(centres[outside] - sites.mean(axis=0)))) / size
         return (f"{int(outside.sum())} Voronoi vertices lie outside the largest envelope "
                 f"(2^{ENVELOPE_EXPONENTS[2]} box sizes; the farthest ~{far:.3g}): GEOS clips them away")
@@ -131,7 +162,7 @@ def _rings(polygons: NDArray[np.object_]) -> tuple[NDArray[np.float64], NDArray[
     rel = xy - xy[first]
     area = np.bincount(cell, weights=rel[:, 0] * rel[nxt, 1] - rel[:, 1] * rel[nxt, 0], minlength=counts.size)
     clockwise = area[cell] < 0
-    if clockwise.any():        # reverse each clockwise ring in place (its first point stays first)
+    if clockwise.any():        # reverse each clockwise ring in place
         pos = np.flatnonzero(clockwise)
         last = first[pos] + counts[cell[pos]] - 1
         xy[pos] = xy[first[pos] + last - pos]

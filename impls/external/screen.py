@@ -21,7 +21,8 @@ from impls.incremental import delaunay
 from impls.incremental.circumcentre import circumcentre
 from vorobench.predicates import incircle_many, orient2d_many
 
-__all__ = ["Triangulation", "triangulation", "changed_decisions", "flattest_triangle", "circumcentres"]
+__all__ = ["Triangulation", "triangulation", "changed_decisions", "flattest_triangle", "smallest_incircle_margin",
+           "circumcentres"]
 
 
 @dataclass(frozen=True)
@@ -57,6 +58,8 @@ def triangulation(sites: NDArray[np.float64]) -> Optional[Triangulation]:
     cycle = [start]
     v = int(succ[start])
     while v != start:
+        if v < 0 or len(cycle) > n:
+            raise RuntimeError("screen: the triangulation's hull edges do not form one cycle")
         cycle.append(v)
         v = int(succ[v])
     return Triangulation(tri[~ghost], quads, np.array(cycle, dtype=np.int64))
@@ -102,6 +105,26 @@ def flattest_triangle(tr: Triangulation, sites: NDArray[np.float64]) -> tuple[fl
     flatness = twice_area / longest2            # = height / longest side
     k = int(np.argmin(flatness))
     return float(flatness[k]), t[k]
+
+
+def smallest_incircle_margin(tr: Triangulation, sites: NDArray[np.float64]) -> tuple[float, NDArray[np.int64]]:
+    """How close to cocircular the most nearly cocircular Delaunay neighbours are, without
+    being exactly so: min over interior edges of |incircle| / its scale (products of the
+    lengths involved), exact zeros (true cocircularity, exact sign) left out; and the four
+    site ids. ~1e-17 for sites on a circle to within 1e-16."""
+    q = tr.quads
+    if q.shape[0] == 0:
+        return float("inf"), np.zeros(4, dtype=np.int64)
+    A, B, C = (sites[q[:, j]] - sites[q[:, 3]] for j in range(3))
+    la, lb, lc = (A * A).sum(axis=1), (B * B).sum(axis=1), (C * C).sum(axis=1)
+    det = (la * (B[:, 0] * C[:, 1] - C[:, 0] * B[:, 1]) + lb * (C[:, 0] * A[:, 1] - A[:, 0] * C[:, 1])
+           + lc * (A[:, 0] * B[:, 1] - B[:, 0] * A[:, 1]))
+    na, nb, nc = np.sqrt(la), np.sqrt(lb), np.sqrt(lc)
+    margin = np.abs(det) / (la * nb * nc + lb * nc * na + lc * na * nb)
+    exact_zero = incircle_many(sites[q[:, 0]], sites[q[:, 1]], sites[q[:, 2]], sites[q[:, 3]]) == 0
+    margin[exact_zero] = np.inf
+    k = int(np.argmin(margin))
+    return float(margin[k]), q[k]
 
 
 @njit(cache=True)

@@ -4,7 +4,8 @@ CONTRACT
 --------
 Complexity: O(n log n) for Triangle's divide and conquer (default) and its Fortune sweep
 (switch ``F``); O(n^(4/3)) expected for its incremental insertion (switch ``i``: each point
-is located by walking from the closest of a random sample of vertices). The conversion is O(n).
+is located by Mucke, Saias and Zhu's jump and walk from a random sample of triangles).
+The conversion is O(n).
 Input: prepared sites (distinct, finite float64), any n >= 0. Triangle refuses fewer than
 three vertices and returns no triangle for collinear ones: both give the n - 1 parallel
 bisector lines (:func:`vorobench.dcel.collinear_diagram`).
@@ -28,8 +29,9 @@ The sweep (``F``) is *not* exact in that sense, though its orientation and in-ci
 tests are: on nearly degenerate input (``near_grid``, ``huge_offset``) it returns
 triangulations with edges that fail the exact in-circle test, drops sites, or leaves a
 hull that is not a closed cycle (witnesses ``tests/impls/witnesses/triangle_sweep_*.txt``,
-4 to 9 sites). Presumably some decision of its sweep (where a new site falls on the
-front, when a circle event fires) is taken in floating point. It is marked
+4 to 9 sites). Two decisions of its sweep are plain floating point in triangle.c: where a
+new site falls on the front (``rightofhyperbola``) and when a circle event fires
+(``circletop``); on nearly collinear sites they go wrong. It is marked
 ``exact=False``, and ``supports`` refuses nearly collinear inputs: those whose Delaunay
 triangulation has a triangle flatter than ``SWEEP_MIN_FLATNESS`` (height over longest
 side). Exact degeneracies (``grid``, ``cocircular``, ``collinear``) are fine and accepted.
@@ -52,8 +54,8 @@ from vorobench.dcel import assemble, collinear_diagram
 from vorobench.diagram import Diagram
 from vorobench.predicates import INCIRCLE_CALLS, INCIRCLE_EXACT
 
-__all__ = ["build", "build_with", "ghost_layout", "sweep_supports", "SWEEP_MIN_FLATNESS", "SWITCHES", "DIVIDE_AND_CONQUER", "SWEEP",
-           "INCREMENTAL", "IMPLEMENTATION"]
+__all__ = ["build", "build_with", "ghost_layout", "sweep_supports", "SWEEP_MIN_FLATNESS", "SWITCHES",
+           "DIVIDE_AND_CONQUER", "SWEEP", "INCREMENTAL", "IMPLEMENTATION"]
 
 #: Triangle's sweep is refused inputs whose Delaunay triangulation has a triangle flatter than
 #: this (height / longest side). It failed on triangles of flatness 1e-13 to 1e-16 (near_grid);

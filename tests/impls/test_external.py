@@ -278,8 +278,7 @@ def test_geos_far_vertex_witness_is_refused_and_would_be_wrong():
     """Finding: GEOS loses a vertex ~1e12 box sizes away (nearly collinear hull sites)."""
     _needs("geos")
     sites = _witness("geos_far_vertex.txt")
-    reason = impls.get("geos").supports(sites)
-    assert reason and "outside the largest envelope" in reason
+    assert impls.get("geos").supports(sites)
     built = impls.get("geos").build(sites, None)
     truth = impls.build("incremental", sites)
     assert np.max(np.abs(truth.vertices)) > 1e11                  # the far vertex
@@ -291,7 +290,7 @@ def test_geos_inconsistent_cells_witness_is_refused_and_would_be_wrong():
     from impls.external.geos import InconsistentCellsError
 
     sites = _witness("geos_inconsistent_cells.txt")
-    assert "outside the largest envelope" in impls.get("geos").supports(sites)
+    assert impls.get("geos").supports(sites)
     try:
         built = impls.get("geos").build(sites, None)
     except InconsistentCellsError:
@@ -299,13 +298,24 @@ def test_geos_inconsistent_cells_witness_is_refused_and_would_be_wrong():
     assert not compare(built, impls.build("incremental", sites)).equal
 
 
+def test_geos_nearly_cocircular_witness_is_refused_and_fails():
+    """Finding: four sites cocircular to within ~1e-16 give GEOS cells that do not fit."""
+    _needs("geos")
+    from impls.external.geos import InconsistentCellsError
+
+    sites = _witness("geos_nearly_cocircular.txt")
+    assert "cocircular to within" in impls.get("geos").supports(sites)
+    with pytest.raises(InconsistentCellsError, match="not an edge of any other cell"):
+        impls.get("geos").build(sites, None)
+
+
 def test_geos_searches_a_larger_envelope_for_a_far_vertex():
-    """Three sites whose vertex lies ~2.5e5 box sizes away: beyond the first envelope (2^17)."""
+    """Three sites whose vertex lies ~1.25e5 box sizes out: beyond the first envelope (2^17)."""
     _needs("geos")
     pts = [[0.0, 0.0], [1.0, 1e-6], [2.0, 0.0]]
     stats: dict = {}
     d = _build("geos", pts, stats).validate()
-    assert stats["envelope_attempts"] == 2 and stats["envelope_log2_growth"] == 24
+    assert stats["envelope_attempts"] == 2 and stats["envelope_log2_growth"] == 18
     assert stats["discarded_s"] > 0
     assert d.n_vertices == 1 and np.allclose(d.vertices[0], [1.0, (1e-12 - 1.0) / 2e-6], rtol=1e-8)
 
@@ -326,6 +336,31 @@ def test_geos_searches_a_smaller_envelope_when_clipping_fails(monkeypatch):
     d = _build("geos", datasets_gen.generate("grid", 25, seed=0), stats).validate()
     assert stats["envelope_attempts"] == 3 and stats["envelope_log2_growth"] == 3     # 17, 10, 3
     assert compare(d, impls.build("incremental", d.sites)).equal
+
+
+def test_geos_refuses_what_it_cannot_return():
+    _needs("geos")
+    geos = impls.get("geos")
+    far = np.array([[0.0, 0.0], [1.0, 1e-8], [2.0, 0.0]])          # vertex ~2.5e7 box sizes out
+    assert "outside the largest envelope" in geos.supports(far)
+    assert geos.supports(far * [1.0, 1e3]) is None                  # ~2.5e4 box sizes: fine
+    angles = np.linspace(0.0, 6.0, 7)
+    circle = np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    circle[3] *= 1.0 + 1e-15                                        # nearly cocircular
+    assert "cocircular to within" in geos.supports(circle)
+    assert geos.supports(np.random.default_rng(0).random((200, 2))) is None
+
+
+def test_geos_refuses_sites_too_close_for_its_clipping():
+    """Found by the CI gate's generated points: a cell 1e-25 thin breaks GEOS's clipping."""
+    _needs("geos")
+    sites = np.array([[0.0, 0.0], [0.0, 0.001], [0.0, 1.0747055695915894e-25]])
+    reason = impls.get("geos").supports(sites)
+    assert reason and "apart" in reason
+    with pytest.raises(RuntimeError, match="LinearRing"):
+        impls.get("geos").build(sites, None)
+    assert impls.get("geos").supports(sites * [1.0, 1e15]) is not None
+    assert impls.get("geos").supports(np.array([[0.0, 0.0], [0.0, 0.001], [0.0, 1e-9]])) is None
 
 
 def test_geos_refuses_a_shapely_without_ordered_cells(monkeypatch):
