@@ -14,6 +14,7 @@ import pandas as pd
 
 __all__ = [
     "VERDICT_RANK",
+    "mixed_hosts_note",
     "verdict_rank",
     "worst_verdict",
     "case_table",
@@ -168,3 +169,16 @@ def failures(cases: pd.DataFrame) -> pd.DataFrame:
     bad_verdict = pd.Series([passed(v, p) is False for v, p in zip(cases["verdict"], cases["check_passed"])],
                             index=cases.index, dtype=bool)
     return cases[bad_status | bad_verdict]
+
+
+def mixed_hosts_note(df: pd.DataFrame) -> Optional[str]:
+    """A warning when the timed rows come from several hosts (a Dask run): times and ratios
+    then compare machines as well as implementations."""
+    if "host" not in df.columns:
+        return None
+    hosts = sorted({str(h) for h in df.loc[df["status"] == "ok", "host"].dropna() if str(h)})
+    if len(hosts) < 2:
+        return None
+    return (f"WARNING: the timings come from {len(hosts)} hosts ({', '.join(hosts[:6])}"
+            f"{', ...' if len(hosts) > 6 else ''}); times and speed ratios mix machines. For fair ratios "
+            f"run on one host, or report each host's rows separately (the `host` column).")

@@ -270,7 +270,7 @@ def write_report(results_path: str | Path, out: str | Path, title: Optional[str]
 
 
 def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, results_path) -> str:
-    from vorobench.analysis import failures
+    from vorobench.analysis import failures, mixed_hosts_note
 
     impl_names = sorted(df["impl"].unique())
     datasets = list(dict.fromkeys(df["dataset"]))
@@ -284,6 +284,9 @@ def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, re
     note = busy_machine_note(meta)
     if note:
         parts.append(f"* {note}")
+    hosts_note = mixed_hosts_note(df)
+    if hosts_note:
+        parts.append(f"* {hosts_note}")
     parts += ["", "## Run", "", _md_table(["", ""], _meta_rows(meta)), ""]
 
     parts += ["## Build time", "",
@@ -295,6 +298,7 @@ def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, re
               f"![time / (n log2 n)]({FIGURES['nlogn']})", ""]
     parts += [f"## Speed relative to {reference}", "",
               f"time / time({reference}) at the same dataset and size: below the dashed line is faster.", "",
+              *([hosts_note, ""] if hosts_note else []),
               f"![speed ratio]({FIGURES['ratio']})", ""]
     parts += ["## Peak memory", "",
               "Rise of the worker's resident peak during one build (the input and the imported "

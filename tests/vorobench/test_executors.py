@@ -115,3 +115,16 @@ def test_bench_on_dask_and_local_same_verdicts_and_no_case_dropped(tmp_path, das
     assert dv.pop(dying) == ("lost", "crashed")
     assert "2 tries" in dask.loc[(dask["impl"] == "exit_on_some") & (dask["n"] == 156), "error"].iloc[0]
     assert lv == dv and all(status == "ok" for status, _ in lv.values())
+
+
+def test_report_warns_when_timings_come_from_several_hosts(tmp_path):
+    import pandas as pd
+
+    from vorobench.analysis import mixed_hosts_note
+
+    rows = pd.DataFrame({"impl": ["a", "b", "c"], "status": ["ok", "ok", "lost"], "host": ["n1", "n1", "n2"]})
+    assert mixed_hosts_note(rows) is None                       # the lost row timed nothing
+    rows.loc[1, "host"] = "n2"
+    note = mixed_hosts_note(rows)
+    assert note.startswith("WARNING") and "2 hosts (n1, n2)" in note
+    assert mixed_hosts_note(rows.drop(columns="host")) is None  # results from before the column
