@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from vorobench.diagram import Diagram
 from vorobench.incidence import vertex_site_lists
-from vorobench.predicates import orient2d
+from vorobench.predicates import orient2d, orient2d_many
 from vorobench.sorting import argsort_keys, sorted_unique
 from vorobench.tolerances import (EQUIDISTANCE_REL_TOL, NEAR_DEGENERATE_REL_TOL, PROBE_REL_TOL, SHORT_EDGE_REL_TOL,
                                   allowed_error, data_scale, length_tolerance)
@@ -372,11 +372,30 @@ def convex_hull_polygon(sites: NDArray[np.float64]) -> NDArray[np.int64]:
     if n <= 2:
         return np.arange(n, dtype=np.int64)
     xs, ys = np.ascontiguousarray(sites[:, 0]), np.ascontiguousarray(sites[:, 1])
-    order = np.lexsort((ys, xs)).astype(np.int64)
-    out = np.empty(n, dtype=np.int64)
+    cand = _hull_candidates(np.ascontiguousarray(sites, dtype=np.float64))
+    order = cand[np.lexsort((ys[cand], xs[cand]))]
+    out = np.empty(order.size, dtype=np.int64)
     lower = out[:_chain(xs, ys, order, out)].copy()
     upper = out[:_chain(xs, ys, order[::-1].copy(), out)].copy()
     return np.concatenate([lower[:-1], upper[:-1]])
+
+
+def _hull_candidates(sites: NDArray[np.float64]) -> NDArray[np.int64]:
+    """Sites that may lie on the hull boundary: all but those strictly left of every edge of
+    the polygon of extreme sites in eight directions (counter-clockwise). A point strictly left
+    of every edge of a closed polygon of sites is wound around, so strictly inside the hull;
+    the test is exact (orient2d), the choice of extreme sites need not be."""
+    x, y = sites[:, 0], sites[:, 1]
+    extremes = [np.argmin(y), np.argmax(x - y), np.argmax(x), np.argmax(x + y),
+                np.argmax(y), np.argmax(y - x), np.argmin(x), np.argmin(x + y)]
+    ring = [int(i) for k, i in enumerate(extremes) if i != extremes[k - 1]]
+    everything = np.arange(sites.shape[0], dtype=np.int64)
+    if len(set(ring)) < 3:
+        return everything
+    inside = np.ones(sites.shape[0], dtype=bool)
+    for p, q in zip(ring, ring[1:] + ring[:1]):
+        inside &= orient2d_many(sites[p], sites[q], sites) > 0
+    return everything[~inside]
 
 
 def convex_hull_boundary(sites: NDArray[np.float64]) -> NDArray[np.int64]:
