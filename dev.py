@@ -22,7 +22,7 @@ VENV = ROOT / ".venv"
 BIN = VENV / ("Scripts" if os.name == "nt" else "bin")
 PYTHON = BIN / ("python.exe" if os.name == "nt" else "python")
 STAMP = VENV / ".installed"
-EXTRAS = "test,peers"
+EXTRAS = "test,peers,dask"
 
 
 def ensure_venv() -> None:

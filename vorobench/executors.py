@@ -72,6 +72,7 @@ class _DaskExecutor(cf.Executor):
                 done.release()
 
         result.set_running_or_notify_cancel()
+        result.abandon = task.cancel          # used by run_tasks when a task overstays its timeout
         task.add_done_callback(deliver)
         return result
 
@@ -127,6 +128,7 @@ class TaskResult:
     lost: str = ""
     error: str = ""
     attempts: int = 1
+    timed_out: bool = False
 
     @property
     def ok(self) -> bool:
@@ -137,21 +139,27 @@ _END = object()
 
 
 def run_tasks(spec: str, workers: int, fn: Callable[[Any], Any], items: Iterable[Any], *, retries: int = 1,
-              in_flight: Optional[int] = None, executor: Optional[cf.Executor] = None) -> Iterator[TaskResult]:
+              in_flight: Optional[int] = None, executor: Optional[cf.Executor] = None,
+              timeout: Optional[float] = None) -> Iterator[TaskResult]:
     """``fn(item)`` for every item, on the executor ``spec``; yields results as they finish.
 
     ``items`` is consumed lazily (at most ``in_flight`` tasks are submitted ahead), so a
     generator may stop producing when a budget runs out. A task whose worker died is retried
     up to ``retries`` times; retries run one at a time, so a death during a retry can be
     blamed on that item alone (a broken local pool fails every task in it, innocent ones
-    included). Every item yields exactly one :class:`TaskResult`.
+    included). A task still running ``timeout`` seconds after its submission is given up
+    (``timed_out``; on Dask its task is cancelled, though a running Python call cannot be
+    stopped and keeps its worker thread until it returns). Every item yields exactly one
+    :class:`TaskResult`.
     """
+    import time
     own = executor is None
     ex = executor or make_executor(spec, workers)
     limit = in_flight or 2 * capacity(ex)
     source = iter(items)
     retry: deque = deque()
     pending: dict[cf.Future, tuple[Any, int]] = {}
+    submitted: dict[cf.Future, float] = {}
     exhausted = False
     try:
         while True:
@@ -167,15 +175,30 @@ def run_tasks(spec: str, workers: int, fn: Callable[[Any], Any], items: Iterable
                         exhausted = True
                         break
                     attempt = 1
-                pending[ex.submit(fn, item)] = (item, attempt)
+                fut = ex.submit(fn, item)
+                pending[fut] = (item, attempt)
+                submitted[fut] = time.monotonic()
             if not pending:
                 if retry:
                     continue
                 break
-            done, _ = cf.wait(pending, return_when=cf.FIRST_COMPLETED)
+            wait_s = None
+            if timeout is not None:
+                wait_s = max(0.0, min(submitted[f] for f in pending) + timeout - time.monotonic())
+            done, _ = cf.wait(pending, timeout=wait_s, return_when=cf.FIRST_COMPLETED)
+            if not done:                            # the oldest task overstayed its timeout
+                now = time.monotonic()
+                for fut in [f for f in pending if now - submitted[f] >= timeout]:
+                    item, attempt = pending.pop(fut)
+                    del submitted[fut]
+                    getattr(fut, "abandon", fut.cancel)()
+                    yield TaskResult(item, error=f"no result within {timeout:g} s", attempts=attempt,
+                                     timed_out=True)
+                continue
             broken = False
             for fut in done:
                 item, attempt = pending.pop(fut)
+                submitted.pop(fut, None)
                 exc = fut.exception()
                 if exc is None:
                     yield TaskResult(item, fut.result(), attempts=attempt)
@@ -193,6 +216,7 @@ def run_tasks(spec: str, workers: int, fn: Callable[[Any], Any], items: Iterable
                 for fut, (item, attempt) in list(pending.items()):
                     cf.wait([fut])
                     del pending[fut]
+                    submitted.pop(fut, None)
                     if fut.exception() is None:
                         yield TaskResult(item, fut.result(), attempts=attempt)
                     elif attempt <= retries:

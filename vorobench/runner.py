@@ -263,10 +263,12 @@ def run_case_in_process(case: Case, config: RunConfig) -> CaseOutcome:
 
 
 def lost_outcome(case: Case, config: RunConfig, why: str, status: str = "lost") -> CaseOutcome:
-    """The record of a case whose worker died on every try (status ``lost``) or whose task
-    failed outside the case (``error``): nothing came back, but the case is never dropped."""
+    """The record of a case whose worker died on every try (status ``lost``), whose task failed
+    outside the case (``error``) or overstayed (``timeout``): nothing came back, but the case is
+    never dropped."""
     row = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "n": case.n,
-           "seed": case.seed, "status": status, "verdict": "crashed", "error": why, "host": "",
+           "seed": case.seed, "status": status, "verdict": "timeout" if status == "timeout" else "crashed",
+           "error": why, "host": "",
            "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
     return CaseOutcome(case, status, [row], 0.0)
 
@@ -446,11 +448,22 @@ def _run_on_executor(todo: Sequence[Case], config: RunConfig, history: dict,
                 describe(f"{executor}: submitted {case}")
                 yield (case, config, in_process)
 
-    # One case per worker at a time (timing fairness); none queued ahead on a worker.
-    for res in run_tasks(executor, workers, _case_task, items(), in_flight=None if in_process else workers):
+    # One case per worker at a time (timing fairness). Locally each case's own worker process
+    # enforces the timeouts; in a Dask worker the case as a whole gets their sum.
+    limit = None
+    if in_process:
+        from vorobench.worker import MAX_REPEAT
+
+        builds = max(config.repeat, MAX_REPEAT if config.min_time else 0)
+        limit = config.allowance("generate") + config.allowance("warmup") + (builds + 1) * config.timeout
+    for res in run_tasks(executor, workers, _case_task, items(), in_flight=None if in_process else workers,
+                         timeout=limit):
         case = res.item[0]
         if res.ok:
             finish(res.value)
+        elif res.timed_out:
+            finish(lost_outcome(case, config, f"{res.error} on the Dask worker (its worker thread stays busy "
+                                              f"until the build returns)", "timeout"))
         else:
             finish(lost_outcome(case, config, res.lost or f"task failed: {res.error}",
                                 "lost" if res.lost else "error"))

@@ -128,3 +128,13 @@ def test_report_warns_when_timings_come_from_several_hosts(tmp_path):
     note = mixed_hosts_note(rows)
     assert note.startswith("WARNING") and "2 hosts (n1, n2)" in note
     assert mixed_hosts_note(rows.drop(columns="host")) is None  # results from before the column
+
+
+def test_a_task_that_overstays_its_timeout_is_reported_not_waited_for(dask_address):
+    import time
+
+    started = time.monotonic()
+    results = {r.item: r for r in run_tasks(dask_address, 1, time.sleep, [0.0, 6.0], timeout=1.0)}
+    assert time.monotonic() - started < 5.5
+    assert results[0.0].ok and not results[0.0].timed_out
+    assert results[6.0].timed_out and "within 1 s" in results[6.0].error
