@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import multiprocessing as mp
+import time
 from collections import deque
 from dataclasses import dataclass
 from typing import Any, Callable, Iterable, Iterator, Optional
@@ -152,7 +153,6 @@ def run_tasks(spec: str, workers: int, fn: Callable[[Any], Any], items: Iterable
     stopped and keeps its worker thread until it returns). Every item yields exactly one
     :class:`TaskResult`.
     """
-    import time
     own = executor is None
     ex = executor or make_executor(spec, workers)
     limit = in_flight or 2 * capacity(ex)
