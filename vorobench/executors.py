@@ -24,7 +24,7 @@ LOCAL = "local"
 DASK_PREFIX = "dask://"
 
 #: Exception types (by name, so that dask need not be imported) meaning "the worker died".
-_DEATHS = ("BrokenProcessPool", "KilledWorker", "CommClosedError")
+_DEATHS = ("BrokenProcessPool", "BrokenExecutor", "KilledWorker", "CommClosedError")
 
 
 class DaskMissing(RuntimeError):
@@ -157,6 +157,7 @@ def run_tasks(spec: str, workers: int, fn: Callable[[Any], Any], items: Iterable
     ex = executor or make_executor(spec, workers)
     limit = in_flight or 2 * capacity(ex)
     source = iter(items)
+    backlog: deque = deque()        # taken from `source` but not submitted (the pool was broken)
     retry: deque = deque()
     pending: dict[cf.Future, tuple[Any, int]] = {}
     submitted: dict[cf.Future, float] = {}
@@ -164,10 +165,15 @@ def run_tasks(spec: str, workers: int, fn: Callable[[Any], Any], items: Iterable
     try:
         while True:
             careful = bool(retry) or any(a > 1 for _, a in pending.values())
+            broken = False
             while len(pending) < (1 if careful else limit):
                 if retry:
                     item, attempt = retry.popleft()
-                elif careful or exhausted:
+                elif careful:
+                    break
+                elif backlog:
+                    item, attempt = backlog.popleft()
+                elif exhausted:
                     break
                 else:
                     item = next(source, _END)
@@ -175,50 +181,60 @@ def run_tasks(spec: str, workers: int, fn: Callable[[Any], Any], items: Iterable
                         exhausted = True
                         break
                     attempt = 1
-                fut = ex.submit(fn, item)
+                try:
+                    fut = ex.submit(fn, item)
+                except cf.BrokenExecutor:       # a worker died since the last look: not this item's fault
+                    (retry if attempt > 1 else backlog).appendleft((item, attempt))
+                    broken = True
+                    break
                 pending[fut] = (item, attempt)
                 submitted[fut] = time.monotonic()
-            if not pending:
-                if retry:
+            if not broken:
+                if not pending:
+                    if retry or backlog:
+                        continue
+                    break
+                wait_s = None
+                if timeout is not None:
+                    wait_s = max(0.0, min(submitted[f] for f in pending) + timeout - time.monotonic())
+                done, _ = cf.wait(pending, timeout=wait_s, return_when=cf.FIRST_COMPLETED)
+                if not done:                            # the oldest task overstayed its timeout
+                    now = time.monotonic()
+                    for fut in [f for f in pending if now - submitted[f] >= timeout]:
+                        item, attempt = pending.pop(fut)
+                        del submitted[fut]
+                        getattr(fut, "abandon", fut.cancel)()
+                        yield TaskResult(item, error=f"no result within {timeout:g} s", attempts=attempt,
+                                         timed_out=True)
                     continue
-                break
-            wait_s = None
-            if timeout is not None:
-                wait_s = max(0.0, min(submitted[f] for f in pending) + timeout - time.monotonic())
-            done, _ = cf.wait(pending, timeout=wait_s, return_when=cf.FIRST_COMPLETED)
-            if not done:                            # the oldest task overstayed its timeout
-                now = time.monotonic()
-                for fut in [f for f in pending if now - submitted[f] >= timeout]:
+                for fut in done:
                     item, attempt = pending.pop(fut)
-                    del submitted[fut]
-                    getattr(fut, "abandon", fut.cancel)()
-                    yield TaskResult(item, error=f"no result within {timeout:g} s", attempts=attempt,
-                                     timed_out=True)
-                continue
-            broken = False
-            for fut in done:
-                item, attempt = pending.pop(fut)
-                submitted.pop(fut, None)
-                exc = fut.exception()
-                if exc is None:
-                    yield TaskResult(item, fut.result(), attempts=attempt)
-                elif is_worker_death(exc):
-                    broken = broken or type(exc).__name__ == "BrokenProcessPool"
-                    if attempt <= retries:
-                        retry.append((item, attempt + 1))
+                    submitted.pop(fut, None)
+                    exc = fut.exception()
+                    if exc is None:
+                        yield TaskResult(item, fut.result(), attempts=attempt)
+                    elif is_worker_death(exc):
+                        broken = broken or isinstance(exc, cf.BrokenExecutor)
+                        if attempt <= retries:
+                            retry.append((item, attempt + 1))
+                        else:
+                            yield TaskResult(item, lost=f"worker died on each of {attempt} tries "
+                                                        f"({type(exc).__name__}: {exc})"[:400], attempts=attempt)
                     else:
-                        yield TaskResult(item, lost=f"worker died on each of {attempt} tries "
-                                                    f"({type(exc).__name__}: {exc})"[:400], attempts=attempt)
-                else:
-                    yield TaskResult(item, error=f"{type(exc).__name__}: {exc}"[:400], attempts=attempt)
-            if broken and own:
+                        yield TaskResult(item, error=f"{type(exc).__name__}: {exc}"[:400], attempts=attempt)
+            if broken:
+                if not own:
+                    raise RuntimeError("the executor is broken (a worker process died)")
                 # A broken pool fails everything in it: collect those tasks for a retry, start anew.
                 for fut, (item, attempt) in list(pending.items()):
                     cf.wait([fut])
                     del pending[fut]
                     submitted.pop(fut, None)
-                    if fut.exception() is None:
+                    exc = fut.exception()
+                    if exc is None:
                         yield TaskResult(item, fut.result(), attempts=attempt)
+                    elif not is_worker_death(exc):
+                        yield TaskResult(item, error=f"{type(exc).__name__}: {exc}"[:400], attempts=attempt)
                     elif attempt <= retries:
                         retry.append((item, attempt + 1))
                     else:
