@@ -3,7 +3,8 @@
     python3 dev.py demo                   # = vorobench demo
     vorobench demo --out reports/NAME     # results.csv, figures, README.md, report.html there
 
-Runs each own implementation (outside adapters left out) on a representative set of datasets
+Runs each own implementation, and the outside references of ``DEMO_REFERENCES`` that are
+installed (so every report shows where ours stand against C and C++ code), on a representative set of datasets
 (random, clustered, exactly degenerate, numerically hostile) at sizes spanning more than a
 decade, with certification and comparison against Qhull for every case, in a worker process
 per case. Sized to finish in a few minutes on a 2-core machine: a build whose time,
@@ -17,10 +18,14 @@ import argparse
 import datetime as _dt
 from pathlib import Path
 
-__all__ = ["add_arguments", "run", "own_implementations", "DEMO_DATASETS", "demo_sizes"]
+__all__ = ["add_arguments", "run", "own_implementations", "demo_implementations", "DEMO_DATASETS",
+           "DEMO_REFERENCES", "demo_sizes"]
 
 #: Representative datasets: generic, non-uniform, clustered, exact degeneracies, big offset.
 DEMO_DATASETS = ("uniform", "normal", "clusters", "grid", "cocircular", "duplicates", "huge_offset")
+
+#: Outside libraries drawn as reference lines when installed (the ``peers`` extra).
+DEMO_REFERENCES = ("triangle", "boost", "geos")
 
 #: Sizes when several implementations share the time; one more decade when qhull is alone.
 _SIZES = (1_000, 3_000, 10_000, 30_000)
@@ -42,6 +47,14 @@ def own_implementations() -> list[str]:
     return names
 
 
+def demo_implementations() -> list[str]:
+    """Own implementations plus the installed outside references of ``DEMO_REFERENCES``."""
+    import impls
+
+    available = impls.available()
+    return own_implementations() + [name for name in DEMO_REFERENCES if name in available]
+
+
 def demo_sizes(n_impls: int) -> tuple[int, ...]:
     """The size ladder: four sizes over 1.5 decades, two more when only one method runs."""
     return _SIZES_ALONE if n_impls <= 1 else _SIZES
@@ -51,7 +64,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     from vorobench.cli import parse_list, parse_sizes
 
     p.add_argument("--out", default=None, help="report folder (default reports/<today's date>)")
-    p.add_argument("--impls", type=parse_list, default=None, help="implementations (default: all own ones)")
+    p.add_argument("--impls", type=parse_list, default=None, help="implementations (default: all own ones + installed references)")
     p.add_argument("--datasets", type=parse_list, default=None,
                    help=f"datasets (default {','.join(DEMO_DATASETS)})")
     p.add_argument("--sizes", type=parse_sizes, default=None,
@@ -77,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
     from vorobench.runner import RunConfig
 
     console = Console(stderr=True)
-    names = args.impls or own_implementations()
+    names = args.impls or demo_implementations()
     if not names:
         raise ValueError("no implementation available")
     datasets = args.datasets or list(DEMO_DATASETS)

@@ -34,3 +34,13 @@ def test_demo_writes_results_and_report(tmp_path, capsys):
     assert (out / "README.md").exists() and (out / "report.html").exists()
     assert not (out / ".reference").exists()           # the cached reference diagrams are cleaned up
     assert str(out / "README.md") in capsys.readouterr().out
+
+
+def test_demo_adds_installed_outside_references():
+    import impls
+    from vorobench.demo import DEMO_REFERENCES, demo_implementations
+
+    names = demo_implementations()
+    assert names[: len(own_implementations())] == own_implementations()
+    expected = [n for n in DEMO_REFERENCES if n in impls.available()]
+    assert names[len(own_implementations()):] == expected
