@@ -40,6 +40,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                                                                       f"(default {DEFAULT_PROBES})")
     p.add_argument("--no-shrink", action="store_true", help="save failing point sets as they are, unshrunk")
     p.add_argument("--shrink-seconds", type=float, default=120.0, help="time budget per witness (default 120)")
+    p.add_argument("--executor", default="local", help="where cases are judged: 'local' (default) or dask://HOST:PORT")
+    p.add_argument("--workers", type=int, default=1,
+                   help="local worker processes (default 1: every case in this process)")
 
 
 def _cases(args: argparse.Namespace) -> list[dict[str, Any]]:
@@ -76,18 +79,42 @@ def _impl_names(args: argparse.Namespace) -> list[str]:
     return [args.reference] + [n for n in names if n != args.reference]
 
 
+def _judge_case(item: tuple) -> tuple[np.ndarray, list[tuple[str, CaseVerdict, Any]]]:
+    """One case on any worker: the reference and every implementation judged against it, and
+    each exact implementation against the first exact one: (sites, [(impl, verdict, peer)])."""
+    import datasets_gen
+
+    from vorobench.prepare import prepare
+
+    case, names, reference, probes = item
+    points = case["points"] if case["points"] is not None else \
+        datasets_gen.generate(case["dataset"], case["n"], seed=case["seed"])
+    sites, _ = prepare(points)
+    ref_res = build_and_certify(reference, sites, probes=probes)
+    anchor = None                       # the first exact implementation: the others must match it exactly
+    judged: list[tuple[str, CaseVerdict, Any]] = []
+    for name in names:
+        verdict = check_case(name, sites, reference=reference, reference_result=ref_res, probes=probes)
+        judged.append((name, verdict, None))
+        res = verdict.result
+        if res is not None and res.exact and res.diagram is not None and name != reference:
+            if anchor is None:
+                anchor = res
+            else:
+                judged.append((name, agree_exactly(anchor, res), anchor.impl))
+    return sites, judged
+
+
 def _worst(verdicts: list[str]) -> str:
     return max(verdicts, key=VERDICTS.index)
 
 
 def run(args: argparse.Namespace) -> int:
-    import datasets_gen
     import impls
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
     from rich.table import Table
 
-    from vorobench.prepare import prepare
     from vorobench.shrink import shrink_case, write_witness
 
     console = Console()
@@ -98,32 +125,35 @@ def run(args: argparse.Namespace) -> int:
     out.mkdir(parents=True, exist_ok=True)
     records: list[dict[str, Any]] = []
     failures: list[tuple[dict[str, Any], CaseVerdict, np.ndarray]] = []
+    lost_cases: list[tuple[str, str]] = []
     with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
                   console=console, transient=True) as progress:
-        task = progress.add_task("validating", total=len(cases) * len(names))
-        for case in cases:
-            points = case["points"] if case["points"] is not None else \
-                datasets_gen.generate(case["dataset"], case["n"], seed=case["seed"])
-            sites, _ = prepare(points)
+        task = progress.add_task("validating", total=len(cases))
+        items = [(case, names, reference, args.probes) for case in cases]
+        if args.executor == "local" and args.workers == 1:
+            judged_cases = ((item, _judge_case(item), "") for item in items)     # here, one at a time
+        else:
+            from vorobench.executors import run_tasks
+
+            judged_cases = ((r.item, r.value, r.lost or r.error)
+                            for r in run_tasks(args.executor, args.workers, _judge_case, items))
+        for (case, *_), judged, lost in judged_cases:
             label = f"{case['dataset']} n={case['n']}" + (f" seed={case['seed']}" if case["seed"] is not None else "")
-            ref_res = build_and_certify(reference, sites, probes=args.probes)
-            anchor = None                       # the first exact implementation: the others must match it exactly
-            for name in names:
-                progress.update(task, description=f"{name:>12} on {label}")
-                verdict = check_case(name, sites, reference=reference, reference_result=ref_res, probes=args.probes)
-                checks = [(verdict, None)]
-                res = verdict.result
-                if res is not None and res.exact and res.diagram is not None and name != reference:
-                    if anchor is None:
-                        anchor = res
-                    else:
-                        checks.append((agree_exactly(anchor, res), anchor.impl))
-                for v, peer in checks:
-                    records.append(dict(dataset=case["dataset"], n=case["n"], seed=case["seed"], exact_peer=peer,
-                                        **v.to_dict()))
-                    if not v.passed:
-                        failures.append((dict(case, impl=name, label=label, exact_peer=peer), v, sites))
-                progress.advance(task)
+            progress.update(task, description=f"validated {label}")
+            progress.advance(task)
+            if lost:                            # its worker died (twice): every implementation's row says so
+                lost_cases.append((label, lost))
+                records += [dict(dataset=case["dataset"], n=case["n"], seed=case["seed"], exact_peer=None, impl=name,
+                                 reference=reference, verdict="crashed", passed=False, certified=None,
+                                 reference_certified=None, message=f"case lost: {lost}", blame="unknown",
+                                 n_sites=0, seconds=0.0) for name in names]
+                continue
+            sites, checks = judged
+            for name, v, peer in checks:
+                records.append(dict(dataset=case["dataset"], n=case["n"], seed=case["seed"], exact_peer=peer,
+                                    **v.to_dict()))
+                if not v.passed:
+                    failures.append((dict(case, impl=name, label=label, exact_peer=peer), v, sites))
     # Witnesses.
     witnesses = []
     for case, verdict, sites in failures:
@@ -189,14 +219,17 @@ def run(args: argparse.Namespace) -> int:
         against = f" vs {case['exact_peer']}" if case["exact_peer"] else ""
         console.print(f"[red]FAIL[/] {case['impl']}{against} on {case['label']}: {verdict.verdict}: "
                       f"{verdict.message[:400]}")
+    for label, why in lost_cases:
+        console.print(f"[red]LOST[/] {label}: {why[:400]}")
     for w in witnesses:
         console.print(f"  witness: {w['n_points']} points -> {w['points']}  (picture: {w['picture']}; "
                       f"command in {w['command']})")
     summary = dict(reference=reference, impls=names, datasets=datasets, cases=len(cases),
-                   passed=not failures, failures=len(failures), notes=notes, witnesses=witnesses, results=records)
+                   passed=not failures and not lost_cases, failures=len(failures), lost=len(lost_cases), notes=notes,
+                   witnesses=witnesses, results=records)
     path = out / "summary.json"
     path.write_text(json.dumps(summary, indent=1, default=_json_default))
-    ok = not failures
+    ok = not failures and not lost_cases
     console.print(f"{'[green]all passed[/]' if ok else f'[red]{len(failures)} failure(s)[/]'}: "
                   f"{len(records)} results written to {path}")
     return 0 if ok else 1

@@ -138,3 +138,21 @@ def test_a_task_that_overstays_its_timeout_is_reported_not_waited_for(dask_addre
     assert time.monotonic() - started < 5.5
     assert results[0.0].ok and not results[0.0].timed_out
     assert results[6.0].timed_out and "within 1 s" in results[6.0].error
+
+
+def test_validate_on_a_pool_and_on_dask_gives_the_verdicts_of_a_serial_run(tmp_path, dask_address):
+    import json
+
+    from vorobench.cli import main
+
+    def verdicts(out: Path, *extra: str) -> list[str]:
+        code = main(["validate", "--impls", "fortune,incremental", "--datasets", "uniform,grid", "--sizes", "10,40",
+                     "--probes", "200", "--out", str(out), *extra])
+        summary = json.loads((out / "summary.json").read_text())
+        assert code == 0 and summary["passed"] and summary["lost"] == 0
+        return sorted(str((r["impl"], r["dataset"], r["n"], r["exact_peer"], r["verdict"])) for r in summary["results"])
+
+    serial = verdicts(tmp_path / "serial")
+    assert len(serial) == 4 * 4         # 4 cases x (qhull, fortune, incremental, incremental vs fortune)
+    assert verdicts(tmp_path / "pool", "--workers", "2") == serial
+    assert verdicts(tmp_path / "dask", "--executor", dask_address) == serial
