@@ -57,31 +57,6 @@ def agrees_with_qhull(d, points, dataset=""):
     return True
 
 
-#: At 10^4 sites these two cost 7-12 s per comparison (Qhull's merging of thousands of
-#: cocircular sites, and compare() on vertices of degree ~10^3); they are compared at
-#: n <= 1000, and certified at every n.
-QHULL_TOO_SLOW_AT_10K = {"cocircular", "cocircular_many"}
-
-
-def agrees_with_qhull(d, points, dataset=""):
-    """compare() against Qhull with the tolerances above. Not on near_grid, where Qhull's
-    merging of nearly cocircular sites leaves open cells (10^3), collinear ridges (10^4) or
-    merges vertices 10^12 away whose edge is 6e10 long (10^2): there the certificate and the
-    exact agreement with the half-plane oracle are the checks."""
-    if dataset == "near_grid":
-        return True
-    try:
-        reference = impls.build("qhull", points)
-    except (InvalidDiagramError, RuntimeError):
-        return True
-    if dataset in QHULL_LOOSE:
-        result = compare(d, reference, rel_tol=QHULL_LOOSE_REL_TOL, coord_tol=QHULL_LOOSE_COORD_TOL)
-    else:
-        result = compare(d, reference, rel_tol=QHULL_REL_TOL)
-    assert result.verdict in ("exact", "within_tolerance"), str(result)
-    return True
-
-
 @pytest.mark.parametrize("n,seed", CASES)
 @pytest.mark.parametrize("dataset", FAMILIES)
 def test_agrees_with_qhull_on_every_family(dataset, n, seed):
