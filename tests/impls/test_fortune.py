@@ -8,39 +8,18 @@ from hypothesis import given, settings, strategies as st
 
 import datasets_gen
 import impls
+from qhull_agreement import assert_agrees_with_qhull
 from vorobench.certify import certify
 from vorobench.compare import compare
-from vorobench.diagram import InvalidDiagramError
 from vorobench.prepare import prepare
 
 FAMILIES = datasets_gen.available()
 CASES = [(n, seed) for n in (10, 100, 1000) for seed in (0, 1, 2)] + [(10000, 0)]
-#: Qhull decides in floats: it merges nearly cocircular sites and places far-away vertices of
-#: nearly collinear triples loosely, so against it short edges are contracted (``rel_tol``)
-#: and, on the families where it is known to be far off, coordinates compared loosely.
-#: On near_grid it even returns open cells; there the exact oracle and certify() decide.
-QHULL_REL_TOL = 1e-8
-QHULL_LOOSE = {"kuzmin", "parabola", "huge_offset"}
-QHULL_LOOSE_REL_TOL = 1e-6
-QHULL_LOOSE_COORD_TOL = 1e-1
+#: Tolerances against Qhull: tests/impls/qhull_agreement.py.
 
 
 def fortune(points, stats=None):
     return impls.build("fortune", points, stats).validate()
-
-
-def assert_agrees_with_qhull(d, points, dataset=""):
-    if dataset == "near_grid":
-        return
-    try:
-        reference = impls.build("qhull", points)
-    except (InvalidDiagramError, RuntimeError):
-        return
-    if dataset in QHULL_LOOSE:
-        result = compare(d, reference, rel_tol=QHULL_LOOSE_REL_TOL, coord_tol=QHULL_LOOSE_COORD_TOL)
-    else:
-        result = compare(d, reference, rel_tol=QHULL_REL_TOL)
-    assert result.verdict in ("exact", "within_tolerance"), str(result)
 
 
 def assert_exact_diagram(points):

@@ -10,34 +10,15 @@ import datasets_gen
 import impls
 from impls.halfplane import AT_INFINITY, cells
 from impls.incremental.order import HILBERT_BITS, hilbert_keys
+from qhull_agreement import assert_agrees_with_qhull
 from vorobench.certify import certify
 from vorobench.compare import compare
-from vorobench.diagram import InvalidDiagramError
 from vorobench.prepare import prepare
 
 FAMILIES = datasets_gen.available()
 CASES = [(n, seed) for n in (10, 100, 1000) for seed in (0, 1)]
 
-#: Against Qhull (floating point; it merges nearly cocircular sites and its far vertices are
-#: off by up to ~1%): the tolerances explained in test_incremental.py.
-QHULL_REL_TOL = 1e-8
-QHULL_LOOSE = {"kuzmin", "parabola", "huge_offset"}
-QHULL_LOOSE_REL_TOL = 1e-6
-QHULL_LOOSE_COORD_TOL = 1e-1
-
-
-def assert_agrees_with_qhull(d, points, dataset):
-    if dataset == "near_grid":   # Qhull's own diagram is broken or merged 1e12 away there
-        return
-    try:
-        reference = impls.build("qhull", points)
-    except (InvalidDiagramError, RuntimeError):
-        return
-    if dataset in QHULL_LOOSE:
-        result = compare(d, reference, rel_tol=QHULL_LOOSE_REL_TOL, coord_tol=QHULL_LOOSE_COORD_TOL)
-    else:
-        result = compare(d, reference, rel_tol=QHULL_REL_TOL)
-    assert result.verdict in ("exact", "within_tolerance"), str(result)
+#: Tolerances against Qhull: tests/impls/qhull_agreement.py.
 
 
 @pytest.mark.parametrize("n,seed", CASES)

@@ -13,48 +13,19 @@ import impls
 from impls.incremental import delaunay
 from impls.incremental.circumcentre import circumcentre
 from impls.incremental.order import brio_order, hilbert_keys
+from qhull_agreement import assert_agrees_with_qhull as agrees_with_qhull
 from vorobench.certify import certify
 from vorobench.compare import compare
-from vorobench.diagram import InvalidDiagramError
 from vorobench.predicates import incircle_many, orient2d_many
 from vorobench.prepare import prepare
 
 FAMILIES = datasets_gen.available()
 CASES = [(n, seed) for n in (10, 100, 1000) for seed in (0, 1)] + [(10000, 0)]
-#: Qhull decides in floats on lifted coordinates (~ scale**2): it merges nearly cocircular
-#: sites into one vertex, and its far-away vertices (nearly collinear triples, 1e14 away on
-#: near_grid) are off by up to ~1% of their distance (ours are checked against exact rational
-#: circumcentres below). Against it, edges shorter than QHULL_REL_TOL x the data scale are
-#: contracted; on the families where Qhull is known to be that far off (heavy tails, parabola,
-#: 1e9 offsets) the tolerances are looser. Exact agreement is tested between the two exact
-#: implementations (test_halfplane.py).
-QHULL_REL_TOL = 1e-8
-QHULL_LOOSE = {"kuzmin", "parabola", "huge_offset"}
-QHULL_LOOSE_REL_TOL = 1e-6
-QHULL_LOOSE_COORD_TOL = 1e-1
+#: Tolerances against Qhull: tests/impls/qhull_agreement.py.
 #: At 10^4 sites these two cost 7-12 s per comparison (Qhull's merging of thousands of
 #: cocircular sites, and compare() on vertices of degree ~10^3); they are compared at
 #: n <= 1000, and certified at every n.
 QHULL_TOO_SLOW_AT_10K = {"cocircular", "cocircular_many"}
-
-
-def agrees_with_qhull(d, points, dataset=""):
-    """compare() against Qhull with the tolerances above. Not on near_grid, where Qhull's
-    merging of nearly cocircular sites leaves open cells (10^3), collinear ridges (10^4) or
-    merges vertices 10^12 away whose edge is 6e10 long (10^2): there the certificate and the
-    exact agreement with the half-plane oracle are the checks."""
-    if dataset == "near_grid":
-        return True
-    try:
-        reference = impls.build("qhull", points)
-    except (InvalidDiagramError, RuntimeError):
-        return True
-    if dataset in QHULL_LOOSE:
-        result = compare(d, reference, rel_tol=QHULL_LOOSE_REL_TOL, coord_tol=QHULL_LOOSE_COORD_TOL)
-    else:
-        result = compare(d, reference, rel_tol=QHULL_REL_TOL)
-    assert result.verdict in ("exact", "within_tolerance"), str(result)
-    return True
 
 
 @pytest.mark.parametrize("n,seed", CASES)
