@@ -16,11 +16,11 @@ from typing import Optional
 import numpy as np
 from numpy.typing import ArrayLike
 
-from impls.base import Implementation
+from impls.base import Implementation, InputMutated, UnsupportedInput
 from vorobench.diagram import Diagram
 from vorobench.prepare import prepare
 
-__all__ = ["Implementation", "available", "get", "build", "register", "unregister", "ENTRY_POINT_GROUP"]
+__all__ = ["Implementation", "UnsupportedInput", "InputMutated", "available", "get", "build", "register", "unregister", "ENTRY_POINT_GROUP"]
 
 ENTRY_POINT_GROUP = "vorobench.impls"
 
@@ -100,7 +100,11 @@ def get(name: str) -> Implementation:
 
 
 def build(name: str, points: ArrayLike, stats: Optional[dict] = None) -> Diagram:
-    """Prepare ``points`` and build their Voronoi diagram with implementation ``name``."""
+    """Prepare ``points`` and build their Voronoi diagram with implementation ``name``.
+
+    Raises :class:`UnsupportedInput` (a ``ValueError``) when the implementation declares it
+    cannot take these points, and :class:`InputMutated` when it changed its input.
+    """
     impl = get(name)
     sites, _ = prepare(points)
-    return impl.build(sites, stats)
+    return impl.run(sites, stats)

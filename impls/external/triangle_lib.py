@@ -142,7 +142,7 @@ def build_with(sites: NDArray[np.float64], stats: Optional[dict], switch: str) -
     out: dict = {}
     if n >= 3:
         with clock.library():
-            out = triangle.triangulate({"vertices": sites}, "n" + switch)
+            out = triangle.triangulate({"vertices": np.array(sites)}, "n" + switch)  # Cython wants a writable buffer
     triangles = out.get("triangles")
     if triangles is None or len(triangles) == 0:
         diagram = collinear_diagram(sites)
