@@ -20,7 +20,7 @@ from impls.base import Implementation, InputMutated, UnsupportedInput
 from vorobench.diagram import Diagram
 from vorobench.prepare import prepare
 
-__all__ = ["Implementation", "UnsupportedInput", "InputMutated", "available", "get", "build", "register", "unregister", "ENTRY_POINT_GROUP"]
+__all__ = ["Implementation", "UnsupportedInput", "InputMutated", "available", "get", "build", "register", "registered", "unregister", "ENTRY_POINT_GROUP"]
 
 ENTRY_POINT_GROUP = "vorobench.impls"
 
@@ -68,6 +68,11 @@ def available() -> list[str]:
 def register(impl: Implementation) -> None:
     """Register an implementation in this process (tests, plugins loaded by hand)."""
     _registered[impl.name] = impl
+
+
+def registered() -> list[str]:
+    """Names registered in this process with :func:`register` (plugins, test doubles)."""
+    return list(_registered)
 
 
 def unregister(name: str) -> None:

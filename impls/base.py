@@ -73,6 +73,6 @@ class Implementation:
         diagram = self.build(given, stats)
         if not np.array_equal(given, sites):
             rows = np.flatnonzero((given != sites).any(axis=1)) if given.shape == sites.shape else []
-            where = f" (row {int(rows[0])} of {len(rows)} changed)" if len(rows) else ""
+            where = f" (row {int(rows[0])}; {len(rows)} row(s) changed)" if len(rows) else ""
             raise InputMutated(f"{self.name} changed the sites it was given{where}: inputs are read-only")
         return diagram

@@ -12,27 +12,15 @@ __all__ = ["main", "parse_list", "parse_sizes"]
 
 
 def parse_list(text: str) -> list[str]:
-    """Comma-separated names; empty items dropped."""
-    return [t.strip() for t in text.split(",") if t.strip()]
+    """Comma-separated names; empty items dropped, repeats collapsed (first place kept)."""
+    return list(dict.fromkeys(t.strip() for t in text.split(",") if t.strip()))
 
 
 def parse_sizes(text: str) -> list[int]:
-    """Comma-separated sizes; accepts 1e4, 10k, 1M."""
-    out = []
-    for item in parse_list(text):
-        mult = 1
-        low = item.lower()
-        if low[-1] in "km":
-            mult = 1000 if low[-1] == "k" else 1_000_000
-            low = low[:-1]
-        try:
-            value = float(low) * mult
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"not a size: {item!r}") from None
-        if value < 0 or value != int(value):
-            raise argparse.ArgumentTypeError(f"size must be a non-negative integer: {item!r}")
-        out.append(int(value))
-    return out
+    """Comma-separated sizes; accepts 1e4, 10k, 1M (see :func:`vorobench.cli_args.sizes`)."""
+    from vorobench.cli_args import sizes
+
+    return sizes(text)
 
 
 def _console():
@@ -89,20 +77,42 @@ def load_points(dataset: Optional[str], n: int, seed: int, points_file: Optional
     return datasets_gen.generate(dataset, n, seed=seed), f"{dataset} n={n} seed={seed}"
 
 
+def _build_in_sandbox(name: str, sites):
+    """Runs in the sandbox: (status, diagram, stats, seconds); status "unsupported" with the reason."""
+    import impls
+
+    impl = impls.get(name)
+    reason = impl.unsupported_reason(sites)
+    if reason:
+        return "unsupported", reason, {}, 0.0
+    stats: dict = {}
+    t0 = time.perf_counter_ns()
+    diagram = impl.run(sites, stats, check_supports=False)
+    return "ok", diagram, stats, (time.perf_counter_ns() - t0) / 1e9
+
+
 def cmd_build(args: argparse.Namespace) -> int:
-    """Build one diagram, print its counts, optionally plot and save it."""
+    """Build one diagram in an isolated worker, print its counts, optionally plot and save it."""
     import impls
     from vorobench.prepare import prepare
+    from vorobench.sandbox import Sandbox
+    from vorobench.worker import plugins_registered
 
     points, label = load_points(args.dataset, args.n, args.seed, args.points)
     sites, _ = prepare(points)
-    impl = impls.get(args.impl)
-    if impl.warmup is not None:
-        impl.warmup()
-    stats: dict = {}
-    t0 = time.perf_counter_ns()
-    diagram = impl.build(sites, stats)
-    elapsed = (time.perf_counter_ns() - t0) / 1e9
+    with plugins_registered(args.plugin):
+        impls.get(args.impl)                                   # KeyError naming the available ones
+        box = Sandbox(args.impl, plugins=args.plugin, memory_limit_mb=args.memory_limit)
+        try:
+            outcome = box.call(_build_in_sandbox, args.impl, sites, timeout=args.timeout or 1e9)
+        finally:
+            box.close()
+    if not outcome.ok:
+        print(f"vorobench build: {args.impl} failed on {label}: {outcome.kind}: {outcome.message}", file=sys.stderr)
+        return 1
+    status, diagram, stats, elapsed = outcome.value
+    if status == "unsupported":
+        raise ValueError(f"{args.impl} does not support {label}: {diagram}")
     diagram.validate()
     c = diagram.counts()
     print(f"{args.impl} on {label}: {points.shape[0]} points, {c['n']} distinct sites")
@@ -132,9 +142,11 @@ _EXTRA_COMMANDS: dict[str, tuple[str, str]] = {
 
 
 def _add_dataset_args(p: argparse.ArgumentParser, default: str = "uniform") -> None:
+    from vorobench.cli_args import non_negative_int, size
+
     p.add_argument("--dataset", default=default, help=f"dataset name (default {default}); see `vorobench datasets`")
-    p.add_argument("--n", type=int, default=1000, help="number of points (default 1000)")
-    p.add_argument("--seed", type=int, default=0, help="dataset seed (default 0)")
+    p.add_argument("--n", type=size, default=1000, help="number of points (default 1000)")
+    p.add_argument("--seed", type=non_negative_int, default=0, help="dataset seed (default 0)")
     p.add_argument("--points", help="read points from a .npy/.csv/.txt file instead of a dataset")
 
 
@@ -142,8 +154,10 @@ def build_parser() -> argparse.ArgumentParser:
     import importlib
     import importlib.util
 
-    parser = argparse.ArgumentParser(prog="vorobench", description=__doc__)
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    from vorobench.cli_args import OneLineParser, non_negative_float, positive_float
+
+    parser = OneLineParser(prog="vorobench", description=__doc__)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
     sub.add_parser("impls", help="list implementations").set_defaults(func=cmd_impls)
     sub.add_parser("datasets", help="list dataset families").set_defaults(func=cmd_datasets)
     p = sub.add_parser("build", help="build one diagram, print counts, plot/save it")
@@ -151,6 +165,12 @@ def build_parser() -> argparse.ArgumentParser:
     _add_dataset_args(p)
     p.add_argument("--plot", help="write a picture (PNG/SVG/PDF) of the diagram")
     p.add_argument("--save", help="save the diagram as .npz")
+    p.add_argument("--timeout", type=positive_float, default=None,
+                   help="seconds the build may take, warm-up aside (default: no limit)")
+    p.add_argument("--memory-limit", type=non_negative_float, default=None, metavar="MB",
+                   help="address space the build may add (MemoryError instead of the OOM killer)")
+    p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
+                   help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
     p.set_defaults(func=cmd_build)
     for name, (module, help_text) in _EXTRA_COMMANDS.items():
         if importlib.util.find_spec(module) is None:
@@ -168,12 +188,23 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     if not getattr(args, "func", None):
         parser.print_help()
         return 0
+    from vorobench.isolation import Terminated, install_termination_handler
+
+    install_termination_handler()
     try:
         return int(args.func(args) or 0)
-    except (ValueError, KeyError, FileNotFoundError) as exc:
+    except (ValueError, KeyError, FileNotFoundError, OverflowError) as exc:
         msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
-        print(f"vorobench {args.command}: error: {msg}", file=sys.stderr)
+        print(f"vorobench {args.command}: error: {_one_line(msg)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    except Terminated as exc:
+        print(f"{exc}: workers stopped, finished results kept", file=sys.stderr)
+        return 143
+
+
+def _one_line(message: object) -> str:
+    lines = [line.strip() for line in str(message).splitlines() if line.strip()]
+    return "; ".join(lines)[:500] if lines else type(message).__name__

@@ -1,10 +1,17 @@
 """Cross-validation of one case: build with an implementation, certify it, compare it with a
 reference that is certified too, and decide who is wrong.
 
-Used by ``vorobench validate``, by the benchmark runner and by the CI gate. Rules:
+The engine is :class:`Judge` (and :func:`judge_case` for one case): it builds every
+implementation of a case in an isolated worker (:mod:`vorobench.sandbox`) with a timeout and
+an optional memory limit, certifies each diagram there, certifies the reference once per case,
+and decides each verdict with :func:`decide`. ``vorobench validate``, ``vorobench fuzz``,
+witness shrinking and the CI tests go through it; the benchmark worker's check step uses
+:func:`decide` on the diagram it timed. Rules:
 
-* A crash (any exception) of the implementation is the verdict ``crashed``; an
-  implementation that declares it cannot take the sites is ``unsupported``.
+* A failure of the implementation is its own verdict and nobody else's: ``crashed`` (an
+  exception, a signal such as SIGSEGV, or an exit with any status, 0 included), ``timeout``,
+  ``oom``, ``mutated_input`` (it changed the sites it was given). An implementation that
+  declares it cannot take the sites is ``unsupported``.
 * An implementation must certify: exactly if it is exact, within tolerance if it is a
   floating-point library (``Implementation.exact`` is False, e.g. qhull).
 * Two exact implementations must agree ``exact``-ly; against a floating-point library,
@@ -17,27 +24,38 @@ Used by ``vorobench validate``, by the benchmark runner and by the CI gate. Rule
 
 from __future__ import annotations
 
+import atexit
+import multiprocessing as mp
 import time
 import traceback
 from dataclasses import dataclass, field
-from typing import Any, Optional
+from typing import Any, Optional, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from impls.base import InputMutated
 from vorobench.certify import DEFAULT_PROBES, Certificate, certify
 from vorobench.compare import Comparison, compare
 from vorobench.diagram import Diagram
 from vorobench.prepare import prepare
 
-__all__ = ["CaseVerdict", "BuildResult", "build_and_certify", "check_case", "agree_exactly", "VERDICTS", "PASSING",
-           "DEFAULT_REFERENCE"]
+__all__ = ["CaseVerdict", "BuildResult", "CaseJudgement", "Judge", "judge_case", "build_and_certify", "check_case",
+           "decide", "agree_exactly", "is_exact", "VERDICTS", "PASSING", "FAILURES", "DEFAULT_REFERENCE",
+           "DEFAULT_TIMEOUT", "shared_judge", "close_shared_judges"]
 
 DEFAULT_REFERENCE = "qhull"
 
+#: Seconds one implementation may take to build and certify one case in the judge.
+DEFAULT_TIMEOUT = 60.0
+
 #: Every verdict, from best to worst. "certified": no comparison was possible (this is the
 #: reference, or the reference crashed) but the implementation certifies.
-VERDICTS = ("exact", "within_tolerance", "certified", "unsupported", "differs", "not_certified", "crashed")
+VERDICTS = ("exact", "within_tolerance", "certified", "unsupported", "differs", "not_certified", "mutated_input",
+            "oom", "timeout", "crashed")
+
+#: Verdicts that say the implementation produced no diagram it may be judged on.
+FAILURES = ("mutated_input", "oom", "timeout", "crashed")
 
 #: Verdicts that pass (``differs`` passes only when the reference is to blame: see ``passed``).
 PASSING = ("exact", "within_tolerance", "certified", "unsupported")
@@ -54,6 +72,8 @@ class BuildResult:
     error: str = ""
     unsupported: str = ""
     seconds: float = 0.0
+    #: The failure verdict when ``error`` is set: "crashed", "timeout", "oom" or "mutated_input".
+    failure: str = ""
 
     @property
     def crashed(self) -> bool:
@@ -74,30 +94,35 @@ class BuildResult:
 
 def build_and_certify(impl_name: str, sites: ArrayLike, *, probes: int = DEFAULT_PROBES, seed: int = 0) -> BuildResult:
     """Build ``sites`` with ``impl_name`` in this process (an exception is recorded, not raised)
-    and certify the result."""
+    and certify the result. This is what a judge's sandbox runs; call it directly only where a
+    hard crash of the implementation may take the calling process down."""
     import impls
 
     sites, _ = prepare(sites)
     try:
         impl = impls.get(impl_name)
     except Exception as exc:  # unknown or broken plugin: recorded like a crash
-        return BuildResult(impl_name, True, error=f"{type(exc).__name__}: {exc}")
+        return BuildResult(impl_name, True, error=f"{type(exc).__name__}: {exc}", failure="crashed")
     result = BuildResult(impl_name, bool(impl.exact))
-    if impl.supports is not None:
-        reason = impl.supports(sites)
-        if reason:
-            result.unsupported = str(reason)
-            return result
+    reason = impl.unsupported_reason(sites)
+    if reason:
+        result.unsupported = reason
+        return result
     t0 = time.perf_counter_ns()
     try:
-        result.diagram = impl.build(sites, None)
+        result.diagram = impl.run(sites, None, check_supports=False)
         if not isinstance(result.diagram, Diagram):
             raise TypeError(f"build returned {type(result.diagram).__name__}, not a Diagram")
+    except InputMutated as exc:
+        result.diagram, result.error, result.failure = None, str(exc), "mutated_input"
+    except MemoryError as exc:
+        result.diagram, result.error, result.failure = None, f"MemoryError: {exc}", "oom"
     except Exception as exc:  # any failure inside the implementation is its crash
         frames = traceback.extract_tb(exc.__traceback__)
         where = f" at {frames[-1].filename}:{frames[-1].lineno}" if frames else ""
         result.diagram = None
         result.error = f"{type(exc).__name__}: {exc}{where}"
+        result.failure = "crashed"
     result.seconds = (time.perf_counter_ns() - t0) / 1e9
     if result.diagram is not None:
         result.certificate = certify(result.diagram, probes=probes, seed=seed)
@@ -153,36 +178,37 @@ def _failed_checks(res: BuildResult) -> str:
 def check_case(impl_name: str, sites: ArrayLike, reference_diagram: Optional[Diagram] = None,
                reference_certificate: Optional[Certificate] = None, *, reference: str = DEFAULT_REFERENCE,
                reference_result: Optional[BuildResult] = None, probes: int = DEFAULT_PROBES,
-               seed: int = 0) -> CaseVerdict:
+               seed: int = 0, judge: Optional["Judge"] = None) -> CaseVerdict:
     """Build, certify and compare ``impl_name`` on ``sites`` against ``reference``.
 
-    The reference is built and certified here unless given (as ``reference_result``, or as a
+    Builds go through ``judge`` (isolated workers) when given, else run in this process. The
+    reference is built and certified here unless given (as ``reference_result``, or as a
     diagram with an optional certificate), so that a runner can reuse one reference for
     several implementations.
     """
     t0 = time.perf_counter_ns()
     sites, _ = prepare(sites)
+    judge = judge or Judge(isolate=False, reference=reference, probes=probes, seed=seed)
     if impl_name == reference and reference_result is not None:
         res = reference_result                    # the reference's own row: judged on its certificate
     else:
-        res = build_and_certify(impl_name, sites, probes=probes, seed=seed)
+        res = judge.build(impl_name, sites)
     if reference_result is None:
         if reference_diagram is not None:
-            ref_exact = _is_exact(reference)
             cert = reference_certificate or certify(reference_diagram, probes=probes, seed=seed)
-            reference_result = BuildResult(reference, ref_exact, reference_diagram, cert)
+            reference_result = BuildResult(reference, is_exact(reference), reference_diagram, cert)
         elif impl_name == reference:
             reference_result = res
         else:
-            reference_result = build_and_certify(reference, sites, probes=probes, seed=seed)
-    ref = reference_result
-    verdict = _decide(impl_name, reference, res, ref)
+            reference_result = judge.build(reference, sites)
+    verdict = decide(impl_name, reference, res, reference_result)
     verdict.n_sites = int(sites.shape[0])
     verdict.seconds = (time.perf_counter_ns() - t0) / 1e9
     return verdict
 
 
-def _is_exact(name: str) -> bool:
+def is_exact(name: str) -> bool:
+    """Whether implementation ``name`` declares exact decisions (an unknown one is judged strictly)."""
     import impls
 
     try:
@@ -191,7 +217,9 @@ def _is_exact(name: str) -> bool:
         return True
 
 
-def _decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) -> CaseVerdict:
+def decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) -> CaseVerdict:
+    """The verdict of ``res`` (``impl_name``'s build and certificate) against the reference's
+    ``ref``, by the rules of this module; ``res is ref`` judges the reference's own row."""
     def make(verdict: str, passed: bool, message: str, blame: str = "", comparison: Optional[Comparison] = None):
         return CaseVerdict(impl_name, reference, verdict, passed, res.certified, ref.certified, message, blame,
                            result=res, reference_result=ref, comparison=comparison)
@@ -199,7 +227,10 @@ def _decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) 
     if res.unsupported:
         return make("unsupported", True, f"{impl_name} does not support these sites: {res.unsupported}")
     if res.crashed:
-        return make("crashed", False, f"{impl_name} crashed: {res.error}", "impl")
+        kind = res.failure or "crashed"
+        what = {"crashed": "crashed", "timeout": "timed out", "oom": "ran out of memory",
+                "mutated_input": "changed its input"}.get(kind, kind)
+        return make(kind, False, f"{impl_name} {what}: {res.error}", "impl")
     standard = "exactly" if res.exact else "within tolerance (floating point)"
     if not res.certified:
         return make("not_certified", False, f"{impl_name} is not certified: {_failed_checks(res)}", "impl")
@@ -210,7 +241,11 @@ def _decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) 
         why = ref.error or ref.unsupported or "no diagram"
         return make("certified", True, f"{impl_name} is {cert_note}; no comparison: reference {reference} "
                                        f"has no diagram ({why})", "reference" if ref.crashed else "")
-    comp = compare(ref.diagram, res.diagram, labels=(reference, impl_name))
+    try:
+        comp = compare(ref.diagram, res.diagram, labels=(reference, impl_name))
+    except Exception as exc:  # a diagram the comparer cannot read is no pass
+        return make("differs", False, f"{impl_name} could not be compared with {reference}: "
+                                      f"{type(exc).__name__}: {exc}", "impl")
     both_exact = res.exact and ref.exact
     if comp.equal and (comp.verdict == "exact" or not both_exact):
         note = "" if comp.verdict == "exact" else f" (within tolerance: {reference if not ref.exact else impl_name} " \
@@ -251,7 +286,12 @@ def agree_exactly(first: BuildResult, second: BuildResult) -> CaseVerdict:
     if first.diagram is None or second.diagram is None:
         return CaseVerdict(b, a, "unsupported", True, second.certified, first.certified,
                            f"no comparison of {a} and {b}: a diagram is missing", result=second, reference_result=first)
-    comp = compare(first.diagram, second.diagram, labels=(a, b))
+    try:
+        comp = compare(first.diagram, second.diagram, labels=(a, b))
+    except Exception as exc:  # a diagram the comparer cannot read is no pass
+        return CaseVerdict(b, a, "differs", False, second.certified, first.certified,
+                           f"{a} and {b} could not be compared: {type(exc).__name__}: {exc}", "impl",
+                           result=second, reference_result=first)
     if comp.equal and comp.verdict == "exact":
         return CaseVerdict(b, a, "exact", True, second.certified, first.certified,
                            f"exact implementations {a} and {b} agree exactly", result=second, reference_result=first,
@@ -260,3 +300,131 @@ def agree_exactly(first: BuildResult, second: BuildResult) -> CaseVerdict:
     return CaseVerdict(b, a, "differs", False, second.certified, first.certified,
                        f"exact implementations {a} and {b} disagree ({comp.verdict}, {comp.n_differences} differences): "
                        f"they must agree exactly", blame, result=second, reference_result=first, comparison=comp)
+
+
+# ---------------------------------------------------------------------------- the engine
+
+@dataclass
+class CaseJudgement:
+    """Every verdict of one case: ``rows`` holds (implementation, verdict, exact peer or None);
+    the reference's own row comes first."""
+
+    sites: np.ndarray
+    rows: list[tuple[str, CaseVerdict, Optional[str]]]
+
+    @property
+    def passed(self) -> bool:
+        return all(v.passed for _, v, _ in self.rows)
+
+
+class Judge:
+    """The judging engine: builds and certifies each implementation in an isolated sandbox
+    (timeout, memory limit, crash containment), the reference once per case, and decides.
+
+    ``isolate=False`` runs the builds in this process (for callers that are themselves a
+    disposable worker). Use as a context manager, or call :meth:`close`, to end the sandboxes.
+    """
+
+    def __init__(self, names: Sequence[str] = (), reference: str = DEFAULT_REFERENCE, *,
+                 probes: int = DEFAULT_PROBES, seed: int = 0, timeout: float = DEFAULT_TIMEOUT,
+                 warmup_timeout: Optional[float] = None, memory_limit_mb: Optional[float] = None,
+                 plugins: Sequence[str] = (), isolate: bool = True) -> None:
+        from vorobench.sandbox import WARMUP_TIMEOUT
+
+        self.names = list(dict.fromkeys(names))
+        self.reference = reference
+        self.probes = probes
+        self.seed = seed
+        self.timeout = timeout
+        self.warmup_timeout = max(WARMUP_TIMEOUT if warmup_timeout is None else warmup_timeout, timeout)
+        self.memory_limit_mb = memory_limit_mb
+        self.plugins = tuple(plugins)
+        self.isolate = isolate
+        self._sandboxes: dict = {}
+
+    def __enter__(self) -> "Judge":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        for box in self._sandboxes.values():
+            box.close()
+        self._sandboxes.clear()
+
+    def build(self, name: str, sites: np.ndarray, *, probes: Optional[int] = None) -> BuildResult:
+        """``name``'s diagram of ``sites`` with its certificate; any failure is in the result."""
+        probes = self.probes if probes is None else probes
+        if not self.isolate:
+            return build_and_certify(name, sites, probes=probes, seed=self.seed)
+        from vorobench.sandbox import Sandbox
+
+        box = self._sandboxes.get(name)
+        if box is None:
+            box = self._sandboxes[name] = Sandbox(name, plugins=self.plugins, memory_limit_mb=self.memory_limit_mb,
+                                                  warmup_timeout=self.warmup_timeout)
+        t0 = time.perf_counter_ns()
+        outcome = box.call(build_and_certify, name, sites, timeout=self.timeout, step="build and certify",
+                           probes=probes, seed=self.seed)
+        if outcome.ok:
+            return outcome.value
+        failure = "crashed" if outcome.kind == "error" else outcome.kind
+        return BuildResult(name, is_exact(name), error=outcome.message, failure=failure,
+                           seconds=(time.perf_counter_ns() - t0) / 1e9)
+
+    def judge(self, sites: ArrayLike, names: Optional[Sequence[str]] = None) -> CaseJudgement:
+        """Every implementation on ``sites``: the reference's own row first, then each against
+        the reference, and each exact one also against the first exact one (exactly)."""
+        sites, _ = prepare(sites)
+        names = list(dict.fromkeys(names if names is not None else self.names))
+        reference = self.reference
+        t0 = time.perf_counter_ns()
+        ref = self.build(reference, sites)
+        rows: list[tuple[str, CaseVerdict, Optional[str]]] = []
+        anchor: Optional[BuildResult] = None
+        for name in [reference] + [n for n in names if n != reference]:
+            started = time.perf_counter_ns()
+            res = ref if name == reference else self.build(name, sites)
+            verdict = decide(name, reference, res, ref)
+            verdict.n_sites = int(sites.shape[0])
+            verdict.seconds = ((time.perf_counter_ns() - (t0 if name == reference else started)) / 1e9)
+            rows.append((name, verdict, None))
+            if res.exact and res.diagram is not None and name != reference:
+                if anchor is None:
+                    anchor = res
+                else:
+                    rows.append((name, agree_exactly(anchor, res), anchor.impl))
+        return CaseJudgement(sites, rows)
+
+
+def judge_case(sites: ArrayLike, names: Sequence[str], reference: str = DEFAULT_REFERENCE,
+               **options: Any) -> CaseJudgement:
+    """One case through a fresh :class:`Judge` (``options`` as for Judge), its sandboxes closed after."""
+    with Judge(names, reference, **options) as judge:
+        return judge.judge(sites)
+
+
+#: Judges kept for the life of this process (a pool worker judges many cases), one per setup.
+_SHARED: dict[tuple, Judge] = {}
+
+
+def shared_judge(names: Sequence[str], reference: str = DEFAULT_REFERENCE, **options: Any) -> Judge:
+    """A :class:`Judge` kept in this process for these names and options, so that its sandboxes
+    serve every case a worker gets. A daemonic process (a Dask worker) may not start processes:
+    there the builds run in the process itself, and the executor's retry-then-lost rule covers
+    a worker that dies."""
+    key = (tuple(names), reference, tuple(sorted(options.items())))
+    judge = _SHARED.get(key)
+    if judge is None:
+        options.setdefault("isolate", not mp.current_process().daemon)
+        judge = _SHARED[key] = Judge(names, reference, **options)
+    return judge
+
+
+@atexit.register
+def close_shared_judges() -> None:
+    """End the sandboxes of every shared judge."""
+    for judge in _SHARED.values():
+        judge.close()
+    _SHARED.clear()

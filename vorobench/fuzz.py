@@ -52,14 +52,14 @@ def parse_budget(text: str) -> Budget:
     try:
         if text and text[-1] in units:
             seconds = float(text[:-1]) * units[text[-1]]
-            if seconds <= 0:
+            if not 0 < seconds < float("inf"):
                 raise ValueError
             return Budget(seconds=seconds)
         cases = int(float(text))
         if cases < 1:
             raise ValueError
         return Budget(cases=cases)
-    except ValueError:
+    except (ValueError, OverflowError):
         raise argparse.ArgumentTypeError(f"budget {text!r}: a case count (100000) or a duration (90s, 10m, 2h)") from None
 
 
@@ -74,6 +74,15 @@ class FuzzCase:
     reference: str
     probes: int = 500
     plugins: tuple[str, ...] = ()
+    timeout: float = 60.0
+    memory_limit_mb: Optional[float] = None
+
+    def judge(self):
+        """This process's judge for the case's implementations and options."""
+        from vorobench.crossval import shared_judge
+
+        return shared_judge(self.impls, self.reference, probes=self.probes, plugins=self.plugins,
+                            timeout=self.timeout, memory_limit_mb=self.memory_limit_mb)
 
     @property
     def key(self) -> tuple[str, int, int]:
@@ -121,31 +130,18 @@ def _verdict_record(v, peer: Optional[str]) -> dict[str, Any]:
 
 
 def check_fuzz_case(case: FuzzCase) -> dict[str, Any]:
-    """Run on a worker: every implementation on the case's points, judged against the reference
-    (and exact ones against the first exact one); a JSON-ready record."""
-    from vorobench.crossval import agree_exactly, build_and_certify, check_case
-    from vorobench.prepare import prepare
+    """Run on a worker: every implementation on the case's points, through the judging engine
+    (isolated builds, the reference certified once); a JSON-ready record."""
     from vorobench.worker import plugins_registered
 
     t0 = time.perf_counter()
     with plugins_registered(case.plugins):
         points = generate(case.generator, case.n, case.seed)
-        sites, _ = prepare(points)
-        ref = build_and_certify(case.reference, sites, probes=case.probes)
-        results, anchor = [], None
-        for name in (case.reference,) + tuple(i for i in case.impls if i != case.reference):
-            v = check_case(name, sites, reference=case.reference, reference_result=ref, probes=case.probes)
-            results.append(_verdict_record(v, None))
-            res = v.result
-            if res is not None and res.exact and res.diagram is not None and name != case.reference:
-                if anchor is None:
-                    anchor = res
-                else:
-                    results.append(_verdict_record(agree_exactly(anchor, res), anchor.impl))
+        judged = case.judge().judge(points)
+    results = [_verdict_record(v, peer) for _, v, peer in judged.rows]
     return {"generator": case.generator, "n": case.n, "seed": case.seed, "status": "checked",
-            "n_points": int(points.shape[0]), "n_sites": int(sites.shape[0]), "results": results,
-            "passed": all(r["passed"] for r in results), "seconds": time.perf_counter() - t0,
-            "host": socket.gethostname()}
+            "n_points": int(points.shape[0]), "n_sites": int(judged.sites.shape[0]), "results": results,
+            "passed": judged.passed, "seconds": time.perf_counter() - t0, "host": socket.gethostname()}
 
 
 @dataclass(frozen=True)
@@ -168,11 +164,13 @@ def shrink_failure(task: ShrinkTask) -> np.ndarray:
     case = task.case
     with plugins_registered(case.plugins):
         sites, _ = prepare(generate(case.generator, case.n, case.seed))
-        verdict = judge(task.impl, sites, reference=case.reference, exact_peer=task.peer, probes=case.probes)
-        if verdict.passed:
+        engine = case.judge()
+        verdict = judge(task.impl, sites, reference=case.reference, exact_peer=task.peer, probes=case.probes,
+                        judge=engine)
+        if verdict.passed or verdict.verdict in ("timeout", "oom"):   # each try would cost the whole allowance
             return sites
         return shrink_case(task.impl, sites, verdict, reference=case.reference, exact_peer=task.peer,
-                           probes=case.probes, time_budget=task.seconds)
+                           probes=case.probes, time_budget=task.seconds, judge=engine)
 
 
 @dataclass
@@ -223,9 +221,12 @@ def _witness_stem(key: tuple[str, int, int], impl: str, peer: Optional[str]) -> 
 def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], budget: Budget, *,
                  executor: str = "local", workers: int = 1, reference: str = "qhull", min_n: int = 3,
                  max_n: int = 40, campaign_seed: int = 0, probes: int = 500, plugins: Sequence[str] = (),
-                 shrink: bool = True, shrink_seconds: float = 30.0, console=None) -> CampaignSummary:
+                 shrink: bool = True, shrink_seconds: float = 30.0, console=None, timeout: float = 60.0,
+                 memory_limit_mb: Optional[float] = None) -> CampaignSummary:
     """Check cases until the budget is spent, skipping those already in ``out/cases.jsonl``;
     then shrink every failure not yet witnessed. Returns what this run did."""
+    from rich.markup import escape
+
     from vorobench.executors import run_tasks
     from vorobench.shrink import write_witness
     from vorobench.worker import plugins_registered
@@ -247,7 +248,7 @@ def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], bud
             if deadline is not None and time.monotonic() >= deadline:
                 return
             if (gen, n, seed) not in done:
-                yield FuzzCase(gen, n, seed, tuple(impls), reference, probes, tuple(plugins))
+                yield FuzzCase(gen, n, seed, tuple(impls), reference, probes, tuple(plugins), timeout, memory_limit_mb)
 
     failures: list[tuple[FuzzCase, str, Optional[str]]] = []
     for r in earlier:   # failures of earlier runs that were not shrunk yet
@@ -255,7 +256,7 @@ def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], bud
             for v in r.get("results", []):
                 if not v["passed"] and (r["generator"], r["n"], r["seed"], v["impl"], v["peer"]) not in witnessed:
                     failures.append((FuzzCase(r["generator"], r["n"], r["seed"], tuple(impls), reference, probes,
-                                              tuple(plugins)), v["impl"], v["peer"]))
+                                              tuple(plugins), timeout, memory_limit_mb), v["impl"], v["peer"]))
     with log_path.open("a") as log:
         for res in run_tasks(executor, workers, check_fuzz_case, todo()):
             case: FuzzCase = res.item
@@ -276,8 +277,8 @@ def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], bud
             _append(log, {"kind": "case", **record})
             if console is not None and not record["passed"]:
                 console.print(f"[red]{record['status'] if not res.ok else 'FAIL'}[/] {case}: "
-                              + (record.get("error") or "; ".join(f"{v['impl']}: {v['verdict']}" for v in
-                                                                  record["results"] if not v["passed"])))
+                              + escape(record.get("error") or "; ".join(f"{v['impl']}: {v['verdict']}" for v in
+                                                                        record["results"] if not v["passed"])))
         summary.seconds = time.monotonic() - started
         if shrink and failures:
             tasks = [ShrinkTask(case, impl, peer, shrink_seconds) for case, impl, peer in failures]
@@ -291,7 +292,7 @@ def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], bud
                         continue
                     stem = _witness_stem(task.case.key, task.impl, task.peer)
                     w = write_witness(out / "witnesses", stem, task.impl, res.value, reference=reference,
-                                      exact_peer=task.peer, probes=probes)
+                                      exact_peer=task.peer, probes=probes, judge=task.case.judge())
                     entry = {"kind": "witness", "generator": task.case.generator, "n": task.case.n,
                              "seed": task.case.seed, "impl": task.impl, "peer": task.peer,
                              "n_points": w.n_points, "verdict": w.verdict.verdict, "points": str(w.points)}
@@ -301,25 +302,32 @@ def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], bud
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from vorobench.cli import parse_list
+    from vorobench import cli_args
 
-    p.add_argument("--impls", type=parse_list, default=None,
+    p.add_argument("--impls", type=cli_args.names, default=None,
                    help="comma-separated implementations (default: all available)")
-    p.add_argument("--generators", type=parse_list, default=None,
+    p.add_argument("--generators", type=cli_args.names, default=None,
                    help=f"comma-separated dataset generators and/or {INT_BOX} (default: all datasets and {INT_BOX})")
     p.add_argument("--budget", type=parse_budget, default=parse_budget("1000"),
                    help="cases in the campaign (100000) or time for this run (90s, 10m, 2h); default 1000")
-    p.add_argument("--min-n", type=int, default=3, help="smallest case size (default 3)")
-    p.add_argument("--max-n", type=int, default=40, help="largest case size (default 40)")
-    p.add_argument("--seed", type=int, default=0, help="campaign seed: fixes the sequence of cases (default 0)")
+    p.add_argument("--min-n", type=cli_args.positive_int, default=3, help="smallest case size (default 3)")
+    p.add_argument("--max-n", type=cli_args.size, default=40, help="largest case size (default 40)")
+    p.add_argument("--seed", type=cli_args.non_negative_int, default=0,
+                   help="campaign seed: fixes the sequence of cases (default 0)")
     p.add_argument("--reference", default="qhull", help="reference implementation (default qhull)")
-    p.add_argument("--probes", type=int, default=500, help="random probes per certificate (default 500)")
+    p.add_argument("--probes", type=cli_args.non_negative_int, default=500,
+                   help="random probes per certificate (default 500)")
+    p.add_argument("--timeout", type=cli_args.positive_float, default=60.0,
+                   help="seconds each implementation may take to build and certify one case (default 60)")
+    p.add_argument("--memory-limit", type=cli_args.positive_float, default=None, metavar="MB",
+                   help="address space an implementation's worker may add (MemoryError instead of the OOM killer)")
     p.add_argument("--executor", default="local", help="'local' (process pool here) or dask://HOST:PORT")
-    p.add_argument("--workers", type=int, default=1, help="local worker processes (default 1)")
+    p.add_argument("--workers", type=cli_args.positive_int, default=1, help="local worker processes (default 1)")
     p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
                    help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
     p.add_argument("--no-shrink", action="store_true", help="save failing cases unshrunk")
-    p.add_argument("--shrink-seconds", type=float, default=30.0, help="time budget per witness (default 30)")
+    p.add_argument("--shrink-seconds", type=cli_args.non_negative_float, default=30.0,
+                   help="time budget per witness (default 30)")
     p.add_argument("--out", default="reports/fuzz", help="campaign directory: cases.jsonl, witnesses/, summary.json "
                                                          "(default reports/fuzz; rerun to resume)")
 
@@ -329,6 +337,7 @@ def run(args: argparse.Namespace) -> int:
     import impls
     from rich.console import Console
 
+    from vorobench.crossval import close_shared_judges
     from vorobench.executors import parse_spec
     from vorobench.worker import plugins_registered
 
@@ -350,11 +359,13 @@ def run(args: argparse.Namespace) -> int:
     s = run_campaign(out, names, generators, args.budget, executor=args.executor, workers=args.workers,
                      reference=args.reference, min_n=args.min_n, max_n=args.max_n, campaign_seed=args.seed,
                      probes=args.probes, plugins=args.plugin, shrink=not args.no_shrink,
-                     shrink_seconds=args.shrink_seconds, console=console)
+                     shrink_seconds=args.shrink_seconds, console=console, timeout=args.timeout,
+                     memory_limit_mb=args.memory_limit)
     summary = {"checked": s.checked, "previously_checked": s.previously, "failed": s.failed, "lost": s.lost,
                "errors": s.errors, "seconds": s.seconds, "cases_per_second": s.rate, "witnesses": s.witnesses,
                "executor": args.executor, "workers": args.workers, "impls": names, "generators": generators}
     (out / "summary.json").write_text(json.dumps(summary, indent=1, default=_json_default))
+    close_shared_judges()
     for w in s.witnesses:
         console.print(f"  witness: {w['impl']} on {w['generator']} n={w['n']} seed={w['seed']}: "
                       f"{w['n_points']} points -> {w['points']}")

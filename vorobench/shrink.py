@@ -18,7 +18,7 @@ from typing import Callable, Optional
 import numpy as np
 from numpy.typing import NDArray
 
-from vorobench.crossval import CaseVerdict, agree_exactly, build_and_certify, check_case
+from vorobench.crossval import CaseVerdict, Judge, agree_exactly, check_case
 
 __all__ = ["ddmin", "judge", "shrink_case", "write_witness", "Witness"]
 
@@ -66,24 +66,28 @@ def ddmin(n: int, fails: Callable[[NDArray[np.int64]], bool], *, max_tests: int 
 
 
 def judge(impl: str, points: NDArray[np.float64], *, reference: str, exact_peer: Optional[str] = None,
-          probes: int = 2000) -> CaseVerdict:
+          probes: int = 2000, judge: Optional[Judge] = None) -> CaseVerdict:
     """``impl`` on ``points``: against ``reference`` (:func:`check_case`), or, with
-    ``exact_peer``, exact agreement with that other exact implementation."""
+    ``exact_peer``, exact agreement with that other exact implementation. Builds go through
+    ``judge`` (isolated workers: a crashing implementation can be shrunk) when given."""
+    engine = judge or Judge(reference=reference, isolate=False)
     if exact_peer is None:
-        return check_case(impl, points, reference=reference, probes=probes)
-    return agree_exactly(build_and_certify(exact_peer, points, probes=probes),
-                         build_and_certify(impl, points, probes=probes))
+        return check_case(impl, points, reference=reference, probes=probes, judge=engine)
+    return agree_exactly(engine.build(exact_peer, points, probes=probes), engine.build(impl, points, probes=probes))
+
+
+_judge = judge     # the module function, for callers whose parameter is also called ``judge``
 
 
 def shrink_case(impl: str, points: NDArray[np.float64], verdict: CaseVerdict, *, reference: str,
                 exact_peer: Optional[str] = None, probes: int = 2000, max_tests: int = 2000,
-                time_budget: float = 120.0) -> NDArray[np.float64]:
+                time_budget: float = 120.0, judge: Optional[Judge] = None) -> NDArray[np.float64]:
     """The smallest subset of ``points`` found by :func:`ddmin` on which ``impl`` fails the same
     way (same verdict and blame) against ``reference`` (or against ``exact_peer``)."""
     want = (verdict.verdict, verdict.blame)
 
     def fails(idx: NDArray[np.int64]) -> bool:
-        v = judge(impl, points[idx], reference=reference, exact_peer=exact_peer, probes=probes)
+        v = _judge(impl, points[idx], reference=reference, exact_peer=exact_peer, probes=probes, judge=judge)
         return (v.verdict, v.blame) == want and not v.passed
 
     keep = ddmin(points.shape[0], fails, max_tests=max_tests, time_budget=time_budget)
@@ -102,7 +106,7 @@ class Witness:
 
 
 def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[np.float64], *, reference: str,
-                  exact_peer: Optional[str] = None, probes: int = 2000) -> Witness:
+                  exact_peer: Optional[str] = None, probes: int = 2000, judge: Optional[Judge] = None) -> Witness:
     """Save ``points`` as ``NAME.npy`` with ``NAME.txt`` (the command that reproduces the failure
     and what it reports) and ``NAME.png`` (both diagrams, differing edges in red)."""
     from vorobench.plotting import save_overlay
@@ -111,7 +115,7 @@ def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[n
     directory.mkdir(parents=True, exist_ok=True)
     npy = directory / f"{name}.npy"
     np.save(npy, np.asarray(points, dtype=np.float64))
-    verdict = judge(impl, points, reference=reference, exact_peer=exact_peer, probes=probes)
+    verdict = _judge(impl, points, reference=reference, exact_peer=exact_peer, probes=probes, judge=judge)
     names = impl if exact_peer is None else f"{exact_peer},{impl}"
     command = (f"vorobench validate --impls {shlex.quote(names)} --reference {shlex.quote(reference)} "
                f"--points {shlex.quote(str(npy))}")

@@ -11,66 +11,77 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
+import tempfile
 from pathlib import Path
-from typing import Any
+from typing import Any, Optional
 
 import numpy as np
 
 from vorobench.certify import DEFAULT_PROBES
-from vorobench.crossval import DEFAULT_REFERENCE, VERDICTS, CaseVerdict, agree_exactly, build_and_certify, check_case
+from vorobench.crossval import (DEFAULT_REFERENCE, DEFAULT_TIMEOUT, VERDICTS, CaseVerdict, close_shared_judges,
+                                shared_judge)
 
 __all__ = ["add_arguments", "run"]
 
 _STYLE = {"exact": "green", "within_tolerance": "green", "certified": "green", "unsupported": "dim",
-          "differs": "bold red", "not_certified": "bold red", "crashed": "bold red"}
+          "differs": "bold red", "not_certified": "bold red", "crashed": "bold red", "timeout": "bold red",
+          "oom": "bold red", "mutated_input": "bold red"}
 _SHORT = {"within_tolerance": "within tol", "not_certified": "NOT CERTIFIED", "differs": "DIFFERS",
-          "crashed": "CRASHED"}
+          "crashed": "CRASHED", "timeout": "TIMEOUT", "oom": "OUT OF MEMORY", "mutated_input": "MUTATED INPUT"}
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--impls", default="all", help="comma-separated implementations (default: all available)")
-    p.add_argument("--datasets", default="all", help="comma-separated datasets, or 'all' (default)")
-    p.add_argument("--sizes", default="10,100,1000", help="comma-separated sizes (default 10,100,1000)")
-    p.add_argument("--seeds", default="0", help="comma-separated dataset seeds (default 0)")
+    from vorobench import cli_args
+
+    p.add_argument("--impls", type=cli_args.names, default=["all"],
+                   help="comma-separated implementations (default: all available)")
+    p.add_argument("--datasets", type=cli_args.names, default=["all"], help="comma-separated datasets, or 'all' (default)")
+    p.add_argument("--sizes", type=cli_args.sizes, default=[10, 100, 1000], help="comma-separated sizes (default 10,100,1000)")
+    p.add_argument("--seeds", type=cli_args.seeds, default=[0], help="comma-separated dataset seeds (default 0)")
     p.add_argument("--reference", default=DEFAULT_REFERENCE, help=f"reference implementation (default {DEFAULT_REFERENCE})")
     p.add_argument("--points", help="validate the points of this file (.npy/.csv/.txt) instead of datasets")
     p.add_argument("--out", default="reports/validate", help="directory for summary.json and witnesses "
                                                              "(default reports/validate)")
-    p.add_argument("--probes", type=int, default=DEFAULT_PROBES, help=f"random probes per certificate "
-                                                                      f"(default {DEFAULT_PROBES})")
+    p.add_argument("--probes", type=cli_args.non_negative_int, default=DEFAULT_PROBES,
+                   help=f"random probes per certificate (default {DEFAULT_PROBES})")
+    p.add_argument("--timeout", type=cli_args.positive_float, default=DEFAULT_TIMEOUT,
+                   help=f"seconds each implementation may take to build and certify one case "
+                        f"(default {DEFAULT_TIMEOUT:g}; its warm-up has --warmup-timeout)")
+    p.add_argument("--warmup-timeout", type=cli_args.positive_float, default=300.0,
+                   help="seconds for starting an implementation's worker, JIT compilation included (default 300)")
+    p.add_argument("--memory-limit", type=cli_args.positive_float, default=None, metavar="MB",
+                   help="address space an implementation's worker may add (MemoryError instead of the OOM killer)")
+    p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
+                   help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
     p.add_argument("--no-shrink", action="store_true", help="save failing point sets as they are, unshrunk")
-    p.add_argument("--shrink-seconds", type=float, default=120.0, help="time budget per witness (default 120)")
+    p.add_argument("--shrink-seconds", type=cli_args.non_negative_float, default=120.0,
+                   help="time budget per witness (default 120)")
     p.add_argument("--executor", default="local", help="where cases are judged: 'local' (default) or dask://HOST:PORT")
-    p.add_argument("--workers", type=int, default=1,
-                   help="local worker processes (default 1: every case in this process)")
+    p.add_argument("--workers", type=cli_args.positive_int, default=1,
+                   help="cases judged at once (default 1); every implementation runs in its own worker either way")
 
 
 def _cases(args: argparse.Namespace) -> list[dict[str, Any]]:
     """(label, dataset, n, seed, points) of every case."""
     import datasets_gen
 
-    from vorobench.cli import parse_list, parse_sizes
-
     if args.points:
         pts = datasets_gen.load(args.points)
         return [dict(dataset=Path(args.points).name, n=int(pts.shape[0]), seed=None, points=pts)]
-    names = parse_list(args.datasets)
+    names = list(args.datasets)
     if not names or names == ["all"]:
         names = datasets_gen.available()
     unknown = [d for d in names if d not in datasets_gen.available() and not d.startswith(datasets_gen.FILE_PREFIX)]
     if unknown:
         raise ValueError(f"unknown dataset(s) {', '.join(unknown)}; see `vorobench datasets`")
-    sizes = parse_sizes(args.sizes)
-    seeds = [int(s) for s in parse_list(args.seeds)]
-    return [dict(dataset=d, n=n, seed=s, points=None) for d in names for n in sizes for s in seeds]
+    return [dict(dataset=d, n=n, seed=s, points=None) for d in names for n in args.sizes for s in args.seeds]
 
 
 def _impl_names(args: argparse.Namespace) -> list[str]:
     import impls
 
-    from vorobench.cli import parse_list
-
-    names = parse_list(args.impls)
+    names = list(args.impls)
     if not names or names == ["all"]:
         names = impls.available()
     for name in names + [args.reference]:
@@ -80,29 +91,25 @@ def _impl_names(args: argparse.Namespace) -> list[str]:
 
 
 def _judge_case(item: tuple) -> tuple[np.ndarray, list[tuple[str, CaseVerdict, Any]]]:
-    """One case on any worker: the reference and every implementation judged against it, and
-    each exact implementation against the first exact one: (sites, [(impl, verdict, peer)])."""
+    """One case on any worker, through the judging engine: (sites, [(impl, verdict, peer)])."""
     import datasets_gen
 
-    from vorobench.prepare import prepare
+    from vorobench.worker import plugins_registered
 
-    case, names, reference, probes = item
-    points = case["points"] if case["points"] is not None else \
-        datasets_gen.generate(case["dataset"], case["n"], seed=case["seed"])
-    sites, _ = prepare(points)
-    ref_res = build_and_certify(reference, sites, probes=probes)
-    anchor = None                       # the first exact implementation: the others must match it exactly
-    judged: list[tuple[str, CaseVerdict, Any]] = []
-    for name in names:
-        verdict = check_case(name, sites, reference=reference, reference_result=ref_res, probes=probes)
-        judged.append((name, verdict, None))
-        res = verdict.result
-        if res is not None and res.exact and res.diagram is not None and name != reference:
-            if anchor is None:
-                anchor = res
-            else:
-                judged.append((name, agree_exactly(anchor, res), anchor.impl))
-    return sites, judged
+    case, names, reference, options = item
+    with plugins_registered(dict(options)["plugins"]):
+        points = case["points"] if case["points"] is not None else \
+            datasets_gen.generate(case["dataset"], case["n"], seed=case["seed"])
+        judged = shared_judge(names, reference, **dict(options)).judge(points)
+    return judged.sites, judged.rows
+
+
+def _write_json(path: Path, data: dict) -> None:
+    """Write ``data`` atomically: a reader never sees half a summary."""
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    with os.fdopen(fd, "w") as f:
+        json.dump(data, f, indent=1, default=_json_default)
+    os.replace(tmp, path)
 
 
 def _worst(verdicts: list[str]) -> str:
@@ -110,78 +117,103 @@ def _worst(verdicts: list[str]) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
+    from vorobench.worker import plugins_registered
+
+    with plugins_registered(args.plugin):
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
     import impls
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
     from rich.table import Table
 
+    from rich.markup import escape
+
+    from vorobench.executors import parse_spec
     from vorobench.shrink import shrink_case, write_witness
 
     console = Console()
+    parse_spec(args.executor)
     names = _impl_names(args)
     cases = _cases(args)
     reference = args.reference
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    path = out / "summary.json"
+    # Until the run ends, the summary on disk says it did not pass: a killed run is no green gate.
+    _write_json(path, dict(reference=reference, impls=names, cases=len(cases), complete=False, passed=False,
+                           note="validation started and has not finished (or was killed)"))
+    options = (("probes", args.probes), ("timeout", args.timeout), ("warmup_timeout", args.warmup_timeout),
+               ("memory_limit_mb", args.memory_limit), ("plugins", tuple(args.plugin)))
     records: list[dict[str, Any]] = []
     failures: list[tuple[dict[str, Any], CaseVerdict, np.ndarray]] = []
     lost_cases: list[tuple[str, str]] = []
-    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                  console=console, transient=True) as progress:
-        task = progress.add_task("validating", total=len(cases))
-        items = [(case, names, reference, args.probes) for case in cases]
-        if args.executor == "local" and args.workers == 1:
-            judged_cases = ((item, _judge_case(item), "") for item in items)     # here, one at a time
-        else:
-            from vorobench.executors import run_tasks
+    judged_count = 0
+    try:
+        with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                      console=console, transient=True) as progress:
+            task = progress.add_task("validating", total=len(cases))
+            items = [(case, names, reference, options) for case in cases]
+            if args.executor == "local" and args.workers == 1:
+                judged_cases = ((item, _judge_case(item), "") for item in items)     # here, one at a time
+            else:
+                from vorobench.executors import run_tasks
 
-            judged_cases = ((r.item, r.value, r.lost or r.error)
-                            for r in run_tasks(args.executor, args.workers, _judge_case, items))
-        for (case, *_), judged, lost in judged_cases:
-            label = f"{case['dataset']} n={case['n']}" + (f" seed={case['seed']}" if case["seed"] is not None else "")
-            progress.update(task, description=f"validated {label}")
-            progress.advance(task)
-            if lost:                            # its worker died (twice): every implementation's row says so
-                lost_cases.append((label, lost))
-                records += [dict(dataset=case["dataset"], n=case["n"], seed=case["seed"], exact_peer=None, impl=name,
-                                 reference=reference, verdict="crashed", passed=False, certified=None,
-                                 reference_certified=None, message=f"case lost: {lost}", blame="unknown",
-                                 n_sites=0, seconds=0.0) for name in names]
-                continue
-            sites, checks = judged
-            for name, v, peer in checks:
-                records.append(dict(dataset=case["dataset"], n=case["n"], seed=case["seed"], exact_peer=peer,
-                                    **v.to_dict()))
-                if not v.passed:
-                    failures.append((dict(case, impl=name, label=label, exact_peer=peer), v, sites))
-    # Witnesses.
-    witnesses = []
-    for case, verdict, sites in failures:
-        name = case["impl"]
-        stem = f"{name}-{case['dataset']}-n{case['n']}" + (f"-s{case['seed']}" if case["seed"] is not None else "")
-        stem = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in stem)
-        peer = case["exact_peer"]
-        if peer:
-            stem += f"-vs-{peer}"
-        with console.status(f"shrinking {name} on {case['label']} ({sites.shape[0]} points)"):
-            small = sites if args.no_shrink else shrink_case(name, sites, verdict, reference=reference,
-                                                            exact_peer=peer, probes=min(args.probes, 2000),
-                                                            time_budget=args.shrink_seconds)
-            w = write_witness(out / "witnesses", stem, name, small, reference=reference, exact_peer=peer,
-                              probes=min(args.probes, 2000))
-        witnesses.append(dict(impl=name, dataset=case["dataset"], n=case["n"], seed=case["seed"],
-                              verdict=verdict.verdict, points=str(w.points), command=str(w.command),
-                              picture=str(w.picture) if w.picture else None, n_points=w.n_points,
-                              shrunk_verdict=w.verdict.verdict))
+                judged_cases = ((r.item, r.value, r.lost or r.error)
+                                for r in run_tasks(args.executor, args.workers, _judge_case, items))
+            for (case, *_), judged, lost in judged_cases:
+                label = f"{case['dataset']} n={case['n']}" + (f" seed={case['seed']}" if case["seed"] is not None else "")
+                progress.update(task, description=f"validated {label}")
+                progress.advance(task)
+                if lost:                        # its worker died (twice): every implementation's row says so
+                    lost_cases.append((label, lost))
+                    records += [dict(dataset=case["dataset"], n=case["n"], seed=case["seed"], exact_peer=None,
+                                     impl=name, reference=reference, verdict="crashed", passed=False, certified=None,
+                                     reference_certified=None, message=f"case lost: {lost}", blame="unknown",
+                                     n_sites=0, seconds=0.0) for name in names]
+                    continue
+                judged_count += 1
+                sites, checks = judged
+                for name, v, peer in checks:
+                    records.append(dict(dataset=case["dataset"], n=case["n"], seed=case["seed"], exact_peer=peer,
+                                        **v.to_dict()))
+                    if not v.passed:
+                        failures.append((dict(case, impl=name, label=label, exact_peer=peer), v, sites))
+        # Witnesses, through a judge of this process (sandboxed like the cases were).
+        witnesses = []
+        shrink_judge = shared_judge(names, reference, **dict(options))
+        for case, verdict, sites in failures:
+            name = case["impl"]
+            stem = f"{name}-{case['dataset']}-n{case['n']}" + (f"-s{case['seed']}" if case["seed"] is not None else "")
+            stem = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in stem)
+            peer = case["exact_peer"]
+            if peer:
+                stem += f"-vs-{peer}"
+            # A hang or an exhausted memory costs its whole allowance per try: not shrunk.
+            shrinkable = not args.no_shrink and verdict.verdict not in ("timeout", "oom")
+            with console.status(f"shrinking {name} on {case['label']} ({sites.shape[0]} points)"):
+                small = sites if not shrinkable else shrink_case(
+                    name, sites, verdict, reference=reference, exact_peer=peer, probes=min(args.probes, 2000),
+                    time_budget=args.shrink_seconds, judge=shrink_judge)
+                w = write_witness(out / "witnesses", stem, name, small, reference=reference, exact_peer=peer,
+                                  probes=min(args.probes, 2000), judge=shrink_judge)
+            witnesses.append(dict(impl=name, dataset=case["dataset"], n=case["n"], seed=case["seed"],
+                                  verdict=verdict.verdict, points=str(w.points), command=str(w.command),
+                                  picture=str(w.picture) if w.picture else None, n_points=w.n_points,
+                                  shrunk_verdict=w.verdict.verdict))
+    finally:
+        close_shared_judges()
     # The matrix: implementation x dataset (datasets as rows so that many fit on a terminal),
     # worst verdict over sizes and seeds.
     datasets = list(dict.fromkeys(r["dataset"] for r in records))
     table = Table(title=f"cross-validation against {reference} ({len(cases)} cases)")
     table.add_column("dataset")
     for name in names:
-        table.add_column(name + (" (ref)" if name == reference else ""))
+        table.add_column(escape(name) + (" (ref)" if name == reference else ""))
     for d in datasets:
-        row = [d]
+        row = [escape(str(d))]
         for name in names:
             vs = [r for r in records if r["impl"] == name and r["dataset"] == d]
             worst = _worst([r["verdict"] for r in vs])
@@ -217,19 +249,21 @@ def run(args: argparse.Namespace) -> int:
         console.print(f"[dim]note:[/] {note}")
     for case, verdict, _ in failures:
         against = f" vs {case['exact_peer']}" if case["exact_peer"] else ""
-        console.print(f"[red]FAIL[/] {case['impl']}{against} on {case['label']}: {verdict.verdict}: "
-                      f"{verdict.message[:400]}")
+        console.print(f"[red]FAIL[/] {escape(case['impl'])}{escape(against)} on {escape(case['label'])}: "
+                      f"{verdict.verdict}: {escape(verdict.message[:400])}")
     for label, why in lost_cases:
-        console.print(f"[red]LOST[/] {label}: {why[:400]}")
+        console.print(f"[red]LOST[/] {escape(label)}: {escape(why[:400])}")
     for w in witnesses:
         console.print(f"  witness: {w['n_points']} points -> {w['points']}  (picture: {w['picture']}; "
                       f"command in {w['command']})")
-    summary = dict(reference=reference, impls=names, datasets=datasets, cases=len(cases),
-                   passed=not failures and not lost_cases, failures=len(failures), lost=len(lost_cases), notes=notes,
-                   witnesses=witnesses, results=records)
-    path = out / "summary.json"
-    path.write_text(json.dumps(summary, indent=1, default=_json_default))
-    ok = not failures and not lost_cases
+    # The gate: every planned case judged, and every verdict a pass.
+    ok = not failures and not lost_cases and judged_count == len(cases)
+    failed_impls = sorted({case["impl"] for case, _, _ in failures})
+    summary = dict(reference=reference, impls=names, datasets=datasets, cases=len(cases), judged=judged_count,
+                   complete=judged_count == len(cases), passed=ok, failures=len(failures), lost=len(lost_cases),
+                   failed_impls=failed_impls, timeout=args.timeout, notes=notes, witnesses=witnesses,
+                   results=records)
+    _write_json(path, summary)
     console.print(f"{'[green]all passed[/]' if ok else f'[red]{len(failures)} failure(s)[/]'}: "
                   f"{len(records)} results written to {path}")
     return 0 if ok else 1

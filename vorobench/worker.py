@@ -81,6 +81,7 @@ def plugins_registered(specs: Sequence[str]) -> Iterator[list[str]]:
     them, so a test double never outlives the run that asked for it."""
     import impls
 
+    before = set(impls.registered())          # a nested use leaves the outer registrations alone
     names: list[str] = []
     try:
         for spec in specs:
@@ -88,7 +89,8 @@ def plugins_registered(specs: Sequence[str]) -> Iterator[list[str]]:
         yield names
     finally:
         for name in names:
-            impls.unregister(name)
+            if name not in before:
+                impls.unregister(name)
 
 
 def reference_diagram(reference: str, dataset: str, n: int, seed: int, sites, cache_dir: Optional[str]):

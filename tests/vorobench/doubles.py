@@ -1,7 +1,9 @@
 """Test-only implementations that misbehave on purpose, loaded into workers with ``--plugin``.
 
-Each wraps Qhull's build (a correct diagram) with one fault: a hard exit, a segfault, a hang,
-an impossible allocation, a Python exception, a refusal, a sleep, a large allocation, or a wrong diagram. ``steady`` sleeps for
+Each wraps Qhull's build (a correct diagram) with one fault: a hard exit (status 3 or 0),
+``SystemExit(0)``, a segfault, a hang, a hang in a grandchild process, an impossible allocation,
+a Python exception, a change to its input, a refusal, a sleep, a large allocation, or a wrong
+diagram. ``steady`` sleeps for
 ``VOROBENCH_TEST_SLEEP`` seconds (default 0.02) before building and reports counters scaled by
 ``VOROBENCH_TEST_COUNTER_SCALE`` (default 1): the environment variables let a test slow it
 down or change its counters between two runs without renaming it.
@@ -12,6 +14,8 @@ from __future__ import annotations
 import ctypes
 import dataclasses
 import os
+import subprocess
+import sys
 import time
 
 import numpy as np
@@ -27,6 +31,32 @@ HUNGRY_MB = 200
 
 def _crash_exit(sites, stats=None):
     os._exit(3)                                  # no exception, no cleanup: the process is gone
+
+
+def _exit_zero(sites, stats=None):
+    os._exit(0)                                  # a "successful" exit in the middle of a build
+
+
+def _system_exit(sites, stats=None):
+    raise SystemExit(0)
+
+
+def _mutate(sites, stats=None):
+    sites.setflags(write=True)                   # a copy it owns may be made writeable again
+    sites[0] += 0.25                             # moves a site, then builds the moved sites correctly
+    return qhull_build(sites, stats)
+
+
+def _hang_with_grandchild(sites, stats=None):
+    """Starts a child that sleeps for an hour, writes both pids to $VOROBENCH_TEST_PIDFILE, spins."""
+    child = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(3600)"])
+    path = os.environ.get("VOROBENCH_TEST_PIDFILE")
+    if path:
+        with open(path + ".tmp", "w") as f:
+            f.write(f"{os.getpid()} {child.pid}\n")
+        os.replace(path + ".tmp", path)
+    while True:                                  # 100 % CPU, like a runaway sweep
+        pass
 
 
 def _crash_segfault(sites, stats=None):
@@ -82,6 +112,10 @@ def _double(name: str, build, **kw) -> Implementation:
 IMPLEMENTATIONS = [
     _double("crash_exit", _crash_exit),
     _double("crash_segfault", _crash_segfault),
+    _double("exit_zero", _exit_zero),
+    _double("system_exit", _system_exit),
+    _double("mutate", _mutate),
+    _double("hang_with_grandchild", _hang_with_grandchild),
     _double("hang", _hang),
     _double("hang_after_warmup", _hang_after_warmup),
     _double("hog", _hog),

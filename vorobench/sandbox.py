@@ -1,0 +1,220 @@
+"""An isolated worker process that builds and certifies diagrams for the judge, one at a time.
+
+A :class:`Sandbox` runs one implementation. Its process is forked from the ``forkserver``
+(numpy, scipy, numba and the implementations imported once), registers the run's plugins,
+runs the implementation's warm-up (JIT compilation: its own allowance) and then serves
+requests. Whatever the implementation does to its process becomes the outcome of that request
+alone: an exception, a segfault, ``os._exit`` or ``SystemExit`` with any status, a hang past the
+timeout, running out of memory. The sandbox is then killed (its process group too) and
+restarted for the next request. A sandbox is reused across cases: judging needs no fresh
+process per case, only one that cannot harm the judge.
+"""
+
+from __future__ import annotations
+
+import multiprocessing as mp
+import os
+import pickle
+import signal
+import time
+import traceback
+from dataclasses import dataclass
+from typing import Any, Callable, Optional, Sequence
+
+from vorobench import isolation
+
+__all__ = ["Sandbox", "Outcome", "WARMUP_TIMEOUT"]
+
+#: Default seconds for starting a sandbox and warming its implementation up (JIT compilation
+#: from a cold numba cache takes tens of seconds on a busy 2-core machine).
+WARMUP_TIMEOUT = 300.0
+
+#: Modules the fork server imports once, so that each sandbox starts with them loaded.
+_PRELOAD = ("numpy", "scipy.spatial", "numba", "impls", "vorobench.crossval", "vorobench.certify",
+            "vorobench.compare", "vorobench.sandbox")
+
+
+@dataclass
+class Outcome:
+    """What one request produced: ``kind`` is "ok" (``value`` holds the result), "error" (the
+    function raised: ``message``), "crashed" (the process died or exited), "timeout" or "oom"."""
+
+    kind: str
+    value: Any = None
+    message: str = ""
+
+    @property
+    def ok(self) -> bool:
+        return self.kind == "ok"
+
+
+def _describe_death(exitcode: Optional[int], step: str) -> Outcome:
+    if exitcode is None:
+        return Outcome("crashed", message=f"the worker ended without a result during {step}")
+    if exitcode < 0:
+        try:
+            name = signal.Signals(-exitcode).name
+        except ValueError:
+            name = f"signal {-exitcode}"
+        if -exitcode == signal.SIGKILL:
+            return Outcome("oom", message=f"the worker was killed by {name} during {step} "
+                                          f"(most likely the out-of-memory killer)")
+        return Outcome("crashed", message=f"the worker was killed by {name} during {step}")
+    return Outcome("crashed", message=f"the worker exited with status {exitcode} during {step} "
+                                      f"(os._exit or sys.exit inside the implementation)")
+
+
+def _limit_memory(extra_mb: Optional[float]) -> None:
+    """Cap the address space so a runaway build raises MemoryError instead of waking the OOM killer."""
+    if not extra_mb:
+        return
+    import resource
+
+    try:
+        with open("/proc/self/status") as f:
+            size_kb = next(int(line.split()[1]) for line in f if line.startswith("VmSize:"))
+    except (OSError, StopIteration, ValueError):
+        return
+    limit = int((size_kb / 1024.0 + extra_mb) * 1024 * 1024)
+    resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+
+
+def _serve(conn, parent: int, impl_blob: Optional[bytes], name: str, plugins: Sequence[str],
+           memory_limit_mb: Optional[float]) -> None:
+    """The sandbox process: set up, warm up, then answer (function, args) requests until EOF."""
+    isolation.enter_worker(parent)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)          # Ctrl-C is the judge's to handle
+    import impls
+    from vorobench.worker import load_plugin
+
+    def send(kind: str, payload: Any) -> None:
+        conn.send((kind, payload))
+
+    try:
+        for spec in plugins:
+            load_plugin(spec)
+        impl = pickle.loads(impl_blob) if impl_blob is not None else impls.get(name)
+        if impl_blob is not None:
+            impls.register(impl)
+        if impl.warmup is not None:
+            impl.warmup()
+        _limit_memory(memory_limit_mb)
+        send("ready", None)
+    except BaseException as exc:  # noqa: BLE001 - a sandbox that cannot start says why
+        send("error", f"{type(exc).__name__}: {exc}")
+        return
+    while True:
+        try:
+            fn, args, kwargs = conn.recv()
+        except (EOFError, OSError):
+            return
+        try:
+            send("ok", fn(*args, **kwargs))
+        except MemoryError as exc:
+            send("oom", f"MemoryError: {exc}")
+        except BaseException as exc:  # noqa: BLE001 - SystemExit included: it is the implementation's
+            frames = traceback.extract_tb(exc.__traceback__)
+            where = f" at {frames[-1].filename}:{frames[-1].lineno}" if frames else ""
+            send("error", f"{type(exc).__name__}: {exc}{where}"[:600])
+
+
+def _context():
+    method = "forkserver" if "forkserver" in mp.get_all_start_methods() else "spawn"
+    ctx = mp.get_context(method)
+    if method == "forkserver":
+        ctx.set_forkserver_preload(list(_PRELOAD))    # only takes effect when the server starts
+    return ctx
+
+
+class Sandbox:
+    """One implementation in its own worker process; :meth:`call` runs a function there."""
+
+    def __init__(self, name: str, *, plugins: Sequence[str] = (), memory_limit_mb: Optional[float] = None,
+                 warmup_timeout: float = WARMUP_TIMEOUT) -> None:
+        self.name = name
+        self.plugins = tuple(plugins)
+        self.memory_limit_mb = memory_limit_mb
+        self.warmup_timeout = warmup_timeout
+        self._proc = None
+        self._conn = None
+        self.start_failure: Optional[Outcome] = None
+        self.warmup_seconds = 0.0
+
+    def _impl_blob(self) -> Optional[bytes]:
+        """An implementation registered in this process (a test double, a plugin) is sent over by
+        pickle (its functions by reference); None lets the sandbox look the name up itself."""
+        import impls
+
+        if self.name not in impls.registered():
+            return None
+        try:
+            return pickle.dumps(impls.get(self.name))
+        except Exception:  # a closure or lambda: the sandbox looks it up by name (a plugin may define it)
+            return None
+
+    def _start(self) -> Optional[Outcome]:
+        """Start the process and wait for its warm-up; a failure is the outcome of the request."""
+        ctx = _context()
+        receiver, sender = ctx.Pipe()
+        proc = ctx.Process(target=_serve, name=f"vorobench-judge-{self.name}", daemon=True,
+                           args=(sender, os.getpid() if ctx.get_start_method() != "forkserver" else None,
+                                 self._impl_blob(), self.name, self.plugins, self.memory_limit_mb))
+        t0 = time.perf_counter()
+        proc.start()
+        isolation.watch(proc.pid)
+        sender.close()
+        self._proc, self._conn = proc, receiver
+        outcome = self._receive(self.warmup_timeout, "start-up and warm-up")
+        self.warmup_seconds = time.perf_counter() - t0
+        if outcome.kind == "ok":
+            return None
+        self.close()
+        return outcome
+
+    def _receive(self, timeout: float, step: str) -> Outcome:
+        try:
+            if not self._conn.poll(timeout):
+                if self._proc.is_alive():
+                    return Outcome("timeout", message=f"no result within {timeout:g} s during {step}")
+                self._proc.join(5)
+                return _describe_death(self._proc.exitcode, step)
+            kind, payload = self._conn.recv()
+        except (EOFError, OSError):
+            self._proc.join(10)
+            return _describe_death(self._proc.exitcode, step)
+        if kind in ("ok", "ready"):
+            return Outcome("ok", payload)
+        return Outcome(kind, message=str(payload))
+
+    def call(self, fn: Callable, *args, timeout: float, step: str = "build", **kwargs) -> Outcome:
+        """``fn(*args, **kwargs)`` in the sandbox, within ``timeout`` seconds (start-up aside)."""
+        if self._proc is None or not self._proc.is_alive():
+            self.close()
+            failure = self._start()
+            if failure is not None:
+                return failure
+        try:
+            self._conn.send((fn, args, kwargs))
+        except (BrokenPipeError, OSError, EOFError):
+            self._proc.join(10)
+            outcome = _describe_death(self._proc.exitcode, "start of " + step)
+            self.close()
+            return outcome
+        outcome = self._receive(timeout, step)
+        if outcome.kind in ("crashed", "timeout") or (outcome.kind == "oom" and not self._proc.is_alive()):
+            self.close()                       # dead or stuck: the next request gets a fresh one
+        elif outcome.kind == "oom":
+            self.close()                       # memory may be fragmented or leaked: start anew
+        return outcome
+
+    def close(self) -> None:
+        """Kill the sandbox (and anything it started); safe to call twice."""
+        if self._proc is not None:
+            if self._conn is not None:
+                self._conn.close()
+            if self._proc.is_alive():
+                isolation.kill_worker(self._proc)
+            else:
+                self._proc.join(1)
+                isolation.release(self._proc.pid)
+        self._proc, self._conn = None, None
