@@ -1,5 +1,7 @@
 """CI gate: every registered implementation against the reference, on every dataset family.
 
+Every build goes through the judging engine (:class:`vorobench.crossval.Judge`): each
+implementation runs in its own sandbox, so a crash or a hang fails its own tests only.
 Implementations join by being registered: the parameters come from ``impls.available()`` at
 collection time. Each must certify (exactly, or within tolerance if floating point), agree
 with the reference (``exact``; ``within_tolerance`` against a floating-point reference), and,
@@ -16,7 +18,7 @@ from hypothesis import strategies as st
 
 import datasets_gen
 import impls
-from vorobench.crossval import DEFAULT_REFERENCE, agree_exactly, build_and_certify, check_case
+from vorobench.crossval import DEFAULT_REFERENCE, Judge, agree_exactly, decide
 from vorobench.prepare import prepare
 
 SIZES = (0, 1, 2, 3, 10, 100, 1000)
@@ -25,6 +27,17 @@ PROBES = 4000
 IMPLS = impls.available()
 EXACT = [name for name in IMPLS if name != DEFAULT_REFERENCE and impls.get(name).exact]
 ANCHOR = EXACT[0] if EXACT else None
+#: Seconds one implementation may take on one case here (n <= 1000; warm-up has its own allowance).
+TIMEOUT = 120.0
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _close_judge():
+    yield
+    JUDGE.close()
+
+
+JUDGE = Judge(IMPLS, DEFAULT_REFERENCE, probes=PROBES, timeout=TIMEOUT)
 
 
 @lru_cache(maxsize=None)
@@ -36,16 +49,16 @@ def _sites(dataset: str, n: int, seed: int):
 
 @lru_cache(maxsize=None)
 def _built(name: str, dataset: str, n: int, seed: int):
-    return build_and_certify(name, _sites(dataset, n, seed), probes=PROBES)
+    return JUDGE.build(name, _sites(dataset, n, seed))
 
 
-def _problems(name: str, sites, ref, anchor=None, probes: int = PROBES) -> list[str]:
+def _problems(name: str, res, ref, anchor=None) -> list[str]:
     out = []
-    v = check_case(name, sites, reference=DEFAULT_REFERENCE, reference_result=ref, probes=probes)
+    v = decide(name, DEFAULT_REFERENCE, res, ref)
     if not v.passed:
         out.append(f"{v.verdict}: {v.message}")
-    if anchor is not None and name != ANCHOR and v.result is not None and v.result.diagram is not None:
-        agreement = agree_exactly(anchor, v.result)
+    if anchor is not None and name != ANCHOR and res.diagram is not None:
+        agreement = agree_exactly(anchor, res)
         if not agreement.passed:
             out.append(agreement.message)
     return out
@@ -57,10 +70,9 @@ def test_implementation_on_dataset(name, dataset):
     failures = []
     for n in SIZES:
         for seed in SEEDS:
-            sites = _sites(dataset, n, seed)
             ref = _built(DEFAULT_REFERENCE, dataset, n, seed)
             anchor = _built(ANCHOR, dataset, n, seed) if ANCHOR and name in EXACT else None
-            for problem in _problems(name, sites, ref, anchor):
+            for problem in _problems(name, _built(name, dataset, n, seed), ref, anchor):
                 failures.append(f"n={n} seed={seed}: {problem}")
     repro = f"vorobench validate --impls {name} --datasets {dataset} --sizes {','.join(map(str, SIZES))} " \
             f"--seeds {','.join(map(str, SEEDS))}"
@@ -90,7 +102,8 @@ point_sets = st.one_of(integer_grid, cocircular, repeated, tiny)
 @given(points=point_sets)
 def test_implementation_on_generated_points(name, points):
     sites, _ = prepare(np.array(points, dtype=np.float64).reshape(-1, 2))
-    ref = build_and_certify(DEFAULT_REFERENCE, sites, probes=1000)
-    anchor = build_and_certify(ANCHOR, sites, probes=1000) if ANCHOR and name in EXACT else None
-    problems = _problems(name, sites, ref, anchor, probes=1000)
+    ref = JUDGE.build(DEFAULT_REFERENCE, sites, probes=1000)
+    anchor = JUDGE.build(ANCHOR, sites, probes=1000) if ANCHOR and name in EXACT else None
+    res = ref if name == DEFAULT_REFERENCE else JUDGE.build(name, sites, probes=1000)
+    problems = _problems(name, res, ref, anchor)
     assert not problems, f"{name} on {sites.tolist()}:\n" + "\n".join(problems)

@@ -19,26 +19,25 @@ DEFAULT_SIZES = "1000,10000,100000"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from vorobench.cli import parse_list, parse_sizes
+    from vorobench import cli_args
 
-    p.add_argument("--impls", type=parse_list, default=None,
+    p.add_argument("--impls", type=cli_args.names, default=None,
                    help="comma-separated implementations (default: all available)")
-    p.add_argument("--datasets", type=parse_list, default=["uniform"],
+    p.add_argument("--datasets", type=cli_args.names, default=["uniform"],
                    help="comma-separated datasets (default uniform); see `vorobench datasets`")
-    p.add_argument("--sizes", type=parse_sizes, default=parse_sizes(DEFAULT_SIZES),
+    p.add_argument("--sizes", type=cli_args.sizes, default=cli_args.sizes(DEFAULT_SIZES),
                    help=f"comma-separated sizes, 1e4/10k accepted (default {DEFAULT_SIZES})")
-    p.add_argument("--seeds", type=lambda s: [int(x) for x in parse_list(s)], default=[0],
-                   help="comma-separated dataset seeds (default 0)")
-    p.add_argument("--repeat", type=int, default=3, help="timed builds per case (default 3)")
-    p.add_argument("--min-time", type=float, default=0.0, metavar="S",
+    p.add_argument("--seeds", type=cli_args.seeds, default=[0], help="comma-separated dataset seeds (default 0)")
+    p.add_argument("--repeat", type=cli_args.positive_int, default=3, help="timed builds per case (default 3)")
+    p.add_argument("--min-time", type=cli_args.non_negative_float, default=0.0, metavar="S",
                    help="repeat builds shorter than this until S seconds are timed (at most 25 builds; default 0)")
-    p.add_argument("--timeout", type=float, default=60.0,
+    p.add_argument("--timeout", type=cli_args.positive_float, default=60.0,
                    help="seconds allowed for each timed build and for the check (default 60)")
-    p.add_argument("--warmup-timeout", type=float, default=300.0,
+    p.add_argument("--warmup-timeout", type=cli_args.positive_float, default=300.0,
                    help="seconds allowed for the warm-up, JIT compilation included (default 300)")
-    p.add_argument("--budget", type=float, default=None,
+    p.add_argument("--budget", type=cli_args.positive_float, default=None,
                    help="skip a case whose build time, extrapolated from smaller n, exceeds this many seconds")
-    p.add_argument("--memory-limit", type=float, default=None, metavar="MB",
+    p.add_argument("--memory-limit", type=cli_args.positive_float, default=None, metavar="MB",
                    help="address space a worker may add after start-up (MemoryError instead of the OOM killer)")
     p.add_argument("--out", default=None,
                    help="results CSV (default results/bench-<date>.csv); metadata goes to <stem>.meta.json")
@@ -54,7 +53,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--executor", default="local",
                    help="where cases run: 'local' (default; worker processes here) or dask://HOST:PORT "
                         "(a running Dask scheduler; run one single-threaded worker per host for fair timings)")
-    p.add_argument("--workers", type=int, default=1,
+    p.add_argument("--workers", type=cli_args.positive_int, default=1,
                    help="local cases run at once (default 1: concurrent cases disturb each other's timings)")
     p.add_argument("--parquet", action="store_true", help="also write <stem>.parquet at the end")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no line per case")

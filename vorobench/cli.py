@@ -104,7 +104,7 @@ def cmd_build(args: argparse.Namespace) -> int:
         impls.get(args.impl)                                   # KeyError naming the available ones
         box = Sandbox(args.impl, plugins=args.plugin, memory_limit_mb=args.memory_limit)
         try:
-            outcome = box.call(_build_in_sandbox, args.impl, sites, timeout=args.timeout or 1e9)
+            outcome = box.call(_build_in_sandbox, args.impl, sites, timeout=args.timeout)
         finally:
             box.close()
     if not outcome.ok:

@@ -61,20 +61,24 @@ def demo_sizes(n_impls: int) -> tuple[int, ...]:
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from vorobench.cli import parse_list, parse_sizes
+    from vorobench import cli_args
 
     p.add_argument("--out", default=None, help="report folder (default reports/<today's date>)")
-    p.add_argument("--impls", type=parse_list, default=None, help="implementations (default: all own ones + installed references)")
-    p.add_argument("--datasets", type=parse_list, default=None,
+    p.add_argument("--impls", type=cli_args.names, default=None,
+                   help="implementations (default: all own ones + installed references)")
+    p.add_argument("--datasets", type=cli_args.names, default=None,
                    help=f"datasets (default {','.join(DEMO_DATASETS)})")
-    p.add_argument("--sizes", type=parse_sizes, default=None,
+    p.add_argument("--sizes", type=cli_args.sizes, default=None,
                    help="sizes (default 1k,3k,10k,30k; up to 300k when only qhull is available)")
-    p.add_argument("--repeat", type=int, default=3, help="timed builds per case, at least (default 3)")
-    p.add_argument("--min-time", type=float, default=0.3,
+    p.add_argument("--repeat", type=cli_args.positive_int, default=3, help="timed builds per case, at least (default 3)")
+    p.add_argument("--min-time", type=cli_args.non_negative_float, default=0.3,
                    help="repeat short builds until this many seconds are timed (default 0.3)")
-    p.add_argument("--budget", type=float, default=2.0,
+    p.add_argument("--budget", type=cli_args.positive_float, default=2.0,
                    help="skip builds extrapolated to take longer than this many seconds (default 2)")
-    p.add_argument("--timeout", type=float, default=60.0, help="seconds per build and per check (default 60)")
+    p.add_argument("--timeout", type=cli_args.positive_float, default=60.0,
+                   help="seconds per build and per check (default 60)")
+    p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
+                   help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
     p.add_argument("--resume", action="store_true", help="continue an interrupted demo in the same folder")
     p.add_argument("--title", default=None, help="report title")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no line per case")
@@ -98,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out) if args.out else Path("reports") / f"{_dt.date.today():%Y-%m-%d}"
     results_csv = out / "results.csv"
     config = RunConfig(repeat=args.repeat, min_time=args.min_time, timeout=args.timeout,
-                       reference="qhull", check=True,
+                       reference="qhull", check=True, plugins=tuple(args.plugin),
                        reference_cache=str(out / ".reference"), budget=args.budget)
     console.print(f"vorobench demo: {', '.join(names)} on {len(datasets)} datasets x sizes "
                   f"{', '.join(map(str, sizes))}, {args.repeat} repeats, certified and compared with qhull")

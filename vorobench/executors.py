@@ -27,7 +27,7 @@ DASK_PREFIX = "dask://"
 _DEATHS = ("BrokenProcessPool", "BrokenExecutor", "KilledWorker", "CommClosedError")
 
 
-class DaskMissing(RuntimeError):
+class DaskMissing(ValueError):
     """``dask://`` was asked for but dask.distributed is not installed."""
 
 
@@ -41,12 +41,46 @@ def parse_spec(spec: str) -> tuple[str, Optional[str]]:
     raise ValueError(f"unknown executor {spec!r}: use 'local' or 'dask://HOST:PORT'")
 
 
+#: Seconds to reach a Dask scheduler before giving up with a plain error.
+CONNECT_TIMEOUT = 10.0
+
+
+def _reach_scheduler(address: str, timeout: float) -> None:
+    """Ask the scheduler who it is, within ``timeout`` seconds in all; ValueError if it does not
+    answer. (``distributed.Client`` bounds the TCP connection but can wait forever for a port
+    that accepts and never speaks.)"""
+    import asyncio
+
+    from distributed.comm import connect
+
+    async def identity() -> None:
+        comm = await connect(address, timeout=timeout)
+        try:
+            await comm.write({"op": "identity", "reply": True})
+            await comm.read()
+        finally:
+            comm.abort()
+
+    try:
+        asyncio.run(asyncio.wait_for(identity(), timeout))
+    except (OSError, asyncio.TimeoutError, TimeoutError, EOFError) as exc:
+        raise ValueError(f"cannot reach the Dask scheduler at {address} within {timeout:g} s "
+                         f"({type(exc).__name__})") from None
+    except Exception as exc:  # the peer answered, but not as a Dask scheduler
+        raise ValueError(f"{address} does not answer as a Dask scheduler ({type(exc).__name__}: {exc})") from None
+
+
 def _dask_client(address: str):
     try:
         from distributed import Client
     except ImportError as exc:
         raise DaskMissing("the dask executor needs dask.distributed: pip install vorobench[dask]") from exc
-    return Client(address, set_as_default=False)
+    _reach_scheduler(address, CONNECT_TIMEOUT)
+    try:
+        return Client(address, set_as_default=False, timeout=f"{CONNECT_TIMEOUT:g}s")
+    except (OSError, TimeoutError) as exc:
+        raise ValueError(f"cannot reach the Dask scheduler at {address} within {CONNECT_TIMEOUT:g} s "
+                         f"({type(exc).__name__})") from None
 
 
 class _DaskExecutor(cf.Executor):

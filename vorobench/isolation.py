@@ -22,7 +22,8 @@ import threading
 from pathlib import Path
 from typing import Optional
 
-__all__ = ["enter_worker", "watch", "release", "kill_worker", "Terminated", "install_termination_handler"]
+__all__ = ["enter_worker", "watch", "release", "kill_worker", "limit_memory", "Terminated",
+           "install_termination_handler"]
 
 _PR_SET_PDEATHSIG = 1
 
@@ -49,6 +50,22 @@ def enter_worker(expected_parent: Optional[int] = None) -> None:
             pass
     if expected_parent is not None and os.getppid() != expected_parent:
         os._exit(1)     # the parent died before the kernel could be told
+
+
+def limit_memory(extra_mb: Optional[float]) -> None:
+    """Cap this process's address space at its current size plus ``extra_mb`` MiB, so that a
+    runaway build raises MemoryError instead of waking the out-of-memory killer."""
+    if not extra_mb:
+        return
+    import resource
+
+    try:
+        with open("/proc/self/status") as f:
+            size_kb = next(int(line.split()[1]) for line in f if line.startswith("VmSize:"))
+    except (OSError, StopIteration, ValueError):
+        return
+    limit = int((size_kb / 1024.0 + extra_mb) * 1024 * 1024)
+    resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
 
 
 class _Reaper:

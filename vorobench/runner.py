@@ -171,14 +171,61 @@ def _describe_exit(exitcode: Optional[int]) -> tuple[str, str]:
     return "crashed", f"worker exited with code {exitcode} without a result"
 
 
+_SCRATCH: list = []
+
+
+def _reference_cache(config: RunConfig) -> str:
+    """The run's reference cache, or a scratch folder of this process when it names none."""
+    if config.reference_cache:
+        return config.reference_cache
+    if not _SCRATCH:
+        import tempfile
+
+        _SCRATCH.append(tempfile.TemporaryDirectory(prefix="vorobench-reference-"))
+    return _SCRATCH[0].name
+
+
+def prepare_reference(case: Case, config: RunConfig) -> Optional[str]:
+    """Build and certify the reference of the case's input once, in a sandbox of the judging
+    engine, and store it where the case's worker will look (nothing to do if it is there).
+    Returns the cache folder, or None when the case is not checked against a reference."""
+    if not (config.check and config.reference):
+        return None
+    from vorobench.worker import reference_path, store_reference
+
+    cache = _reference_cache(config)
+    if case.impl == config.reference:
+        return cache                        # its own case: judged on its own timed build
+    path = reference_path(cache, config.reference, case.dataset, case.n, case.seed)
+    if path.exists():
+        return cache
+    try:
+        import datasets_gen
+        from vorobench.crossval import shared_judge
+        from vorobench.prepare import prepare
+
+        sites, _ = prepare(datasets_gen.generate(case.dataset, case.n, seed=case.seed))
+        judge = shared_judge([], config.reference, timeout=config.timeout, warmup_timeout=config.warmup_timeout,
+                             memory_limit_mb=config.memory_limit_mb, plugins=config.plugins)
+        store_reference(path, judge.build(config.reference, sites))
+    except Exception:  # the input cannot be generated: the case's own worker reports why
+        pass
+    return cache
+
+
 def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], None]] = None) -> CaseOutcome:
     """Run one case in a fresh worker process and return its rows, whatever happens to it."""
+    from vorobench import isolation
     from vorobench.worker import worker_main
 
     started = time.perf_counter()
+    if on_step and config.check and config.reference and case.impl != config.reference:
+        on_step(f"reference {config.reference}")
+    cache = prepare_reference(case, config)
     ctx = _context(config.start_method, case.impl)
     receiver, sender = ctx.Pipe(duplex=False)
     worker_config = config.for_worker()
+    worker_config["reference_cache"] = cache
     # A forked worker would see the fork server's environment; it gets the parent's, as now.
     worker_config["environ"] = dict(os.environ)
     proc = ctx.Process(target=worker_main, args=(sender, asdict(case), worker_config),
@@ -189,6 +236,7 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
     status: Optional[str] = None
     try:
         proc.start()
+        isolation.watch(proc.pid)
         sender.close()
         deadline = time.monotonic() + config.allowance(step)
         while status is None:
@@ -214,9 +262,7 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
     finally:
         if status == "ok":
             proc.join(5)                    # a finished worker is only exiting: let it
-        if proc.is_alive():
-            proc.kill()
-        proc.join(10)
+        isolation.kill_worker(proc)         # its process group too: nothing it started lives on
         receiver.close()
     seconds = time.perf_counter() - started
     info["case_s"] = seconds
@@ -254,7 +300,8 @@ def run_case_in_process(case: Case, config: RunConfig) -> CaseOutcome:
         state["status"] = _absorb(kind, payload, info, repeats) or state["status"]
 
     worker_config = config.for_worker()
-    worker_config.update(environ=None, memory_limit_mb=None)   # this process is shared: leave it as it is
+    worker_config.update(environ=None, memory_limit_mb=None,   # this process is shared: leave it as it is
+                         reference_cache=prepare_reference(case, config))
     run_and_report(asdict(case), worker_config, send)
     status = state["status"] or "crashed"
     seconds = time.perf_counter() - started
@@ -291,7 +338,7 @@ def _rows(case: Case, config: RunConfig, status: str, step: str, info: dict, rep
     row = dict(common)
     row["phase"] = step
     if status in ("crashed", "timeout", "oom", "error"):
-        row["verdict"] = "crashed" if status != "timeout" else "timeout"
+        row["verdict"] = info.get("verdict") or ("crashed" if status != "timeout" else "timeout")
     elif status in ("unsupported", "skipped"):
         row["verdict"] = status
     return [row]

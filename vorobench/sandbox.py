@@ -64,21 +64,6 @@ def _describe_death(exitcode: Optional[int], step: str) -> Outcome:
                                       f"(os._exit or sys.exit inside the implementation)")
 
 
-def _limit_memory(extra_mb: Optional[float]) -> None:
-    """Cap the address space so a runaway build raises MemoryError instead of waking the OOM killer."""
-    if not extra_mb:
-        return
-    import resource
-
-    try:
-        with open("/proc/self/status") as f:
-            size_kb = next(int(line.split()[1]) for line in f if line.startswith("VmSize:"))
-    except (OSError, StopIteration, ValueError):
-        return
-    limit = int((size_kb / 1024.0 + extra_mb) * 1024 * 1024)
-    resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
-
-
 def _serve(conn, parent: int, impl_blob: Optional[bytes], name: str, plugins: Sequence[str],
            memory_limit_mb: Optional[float]) -> None:
     """The sandbox process: set up, warm up, then answer (function, args) requests until EOF."""
@@ -98,7 +83,7 @@ def _serve(conn, parent: int, impl_blob: Optional[bytes], name: str, plugins: Se
             impls.register(impl)
         if impl.warmup is not None:
             impl.warmup()
-        _limit_memory(memory_limit_mb)
+        isolation.limit_memory(memory_limit_mb)
         send("ready", None)
     except BaseException as exc:  # noqa: BLE001 - a sandbox that cannot start says why
         send("error", f"{type(exc).__name__}: {exc}")
@@ -171,7 +156,7 @@ class Sandbox:
         self.close()
         return outcome
 
-    def _receive(self, timeout: float, step: str) -> Outcome:
+    def _receive(self, timeout: Optional[float], step: str) -> Outcome:
         try:
             if not self._conn.poll(timeout):
                 if self._proc.is_alive():
@@ -186,8 +171,9 @@ class Sandbox:
             return Outcome("ok", payload)
         return Outcome(kind, message=str(payload))
 
-    def call(self, fn: Callable, *args, timeout: float, step: str = "build", **kwargs) -> Outcome:
-        """``fn(*args, **kwargs)`` in the sandbox, within ``timeout`` seconds (start-up aside)."""
+    def call(self, fn: Callable, *args, timeout: Optional[float], step: str = "build", **kwargs) -> Outcome:
+        """``fn(*args, **kwargs)`` in the sandbox, within ``timeout`` seconds (None: no limit;
+        start-up and warm-up have their own allowance)."""
         if self._proc is None or not self._proc.is_alive():
             self.close()
             failure = self._start()

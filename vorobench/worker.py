@@ -21,7 +21,6 @@ import gc
 import importlib
 import importlib.util
 import os
-import resource
 import signal
 import sys
 import time
@@ -30,9 +29,10 @@ import zlib
 from pathlib import Path
 from typing import Any, Callable, Iterator, Optional, Sequence
 
-from vorobench import peakmem
+from vorobench import isolation, peakmem
 
-__all__ = ["worker_main", "run_and_report", "load_plugin", "plugins_registered", "check_against_reference", "reference_diagram"]
+__all__ = ["worker_main", "run_and_report", "load_plugin", "plugins_registered", "check_against_reference",
+           "reference_path", "store_reference", "load_reference"]
 
 Send = Callable[[str, Any], None]
 
@@ -93,67 +93,78 @@ def plugins_registered(specs: Sequence[str]) -> Iterator[list[str]]:
                 impls.unregister(name)
 
 
-def reference_diagram(reference: str, dataset: str, n: int, seed: int, sites, cache_dir: Optional[str]):
-    """The reference implementation's diagram of these sites, from the on-disk cache if there.
+def reference_path(cache_dir: str, reference: str, dataset: str, n: int, seed: int) -> Path:
+    """Where the reference's judged build of one (dataset, n, seed) is kept for the run."""
+    return Path(cache_dir) / f"{reference}-{dataset}-{n}-{seed}.pkl"
 
-    Ground truth is computed once per (dataset, n, seed) and stored as ``.npz`` so every other
-    implementation's case loads it instead of rebuilding it.
-    """
+
+def store_reference(path: Path, result) -> None:
+    """Write the reference's build and certificate atomically (a half-written file never looks
+    complete; the temporary name is unpredictable)."""
+    import pickle
+    import tempfile
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            pickle.dump(result, f, protocol=pickle.HIGHEST_PROTOCOL)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def load_reference(path: Path, sites):
+    """The stored reference build of ``sites`` (a :class:`~vorobench.crossval.BuildResult`), or
+    None when there is none or it belongs to other sites."""
+    import pickle
+
     import numpy as np
 
-    import impls
-    from vorobench.diagram import Diagram
-
-    path = None
-    if cache_dir:
-        path = Path(cache_dir) / f"{reference}-{dataset}-{n}-{seed}.npz"
-        if path.exists():
-            try:
-                cached = Diagram.load(path)
-                if cached.sites.shape == sites.shape and np.array_equal(cached.sites, sites):
-                    return cached
-            except Exception:  # a damaged cache file is rebuilt, not trusted
-                pass
-    diagram = impls.get(reference).build(sites, None)
-    if path is not None:
-        store_reference(path, diagram)
-    return diagram
+    try:
+        with open(path, "rb") as f:
+            result = pickle.load(f)
+    except (OSError, EOFError, pickle.UnpicklingError, AttributeError, ValueError):
+        return None
+    diagram = getattr(result, "diagram", None)
+    if diagram is not None and not (diagram.sites.shape == sites.shape and np.array_equal(diagram.sites, sites)):
+        return None
+    return result
 
 
-def store_reference(path: Path, diagram) -> None:
-    """Write a reference diagram atomically (a half-written file never looks complete)."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.{os.getpid()}.npz")
-    diagram.save(tmp)
-    os.replace(tmp, path)
+def _same_diagram(a, b) -> bool:
+    import numpy as np
+
+    return all(np.array_equal(getattr(a, f), getattr(b, f)) for f in ("sites", "vertices", "origin", "twin", "next",
+                                                                       "site"))
 
 
-def check_against_reference(impl_name: str, diagram, reference: str, reference_diagram,
-                            reference_error: str = "") -> dict:
+def check_against_reference(impl_name: str, diagram, reference: str, reference_result=None) -> dict:
     """The correctness verdict of one built diagram, as result columns.
 
-    The single place that judges a case: the already-built diagram (no second build) and the
-    reference's are certified, compared, and the cross-validation rules of
-    :mod:`vorobench.crossval` decide the verdict and who is to blame.
+    The already-built diagram (no second build) is certified and judged against the
+    reference's build (judged once per case by the runner and stored) with the rules of
+    :func:`vorobench.crossval.decide`. The reference's own row reuses the stored certificate
+    when it built the same diagram.
     """
-    import impls
     from vorobench import crossval
     from vorobench.certify import certify
 
-    def exact(name: str) -> bool:
-        try:
-            return bool(impls.get(name).exact)
-        except Exception:  # an unknown reference is judged strictly
-            return True
-
-    res = crossval.BuildResult(impl_name, exact(impl_name), diagram, certify(diagram))
+    stored = reference_result
+    if impl_name == reference and stored is not None and stored.diagram is not None \
+            and _same_diagram(stored.diagram, diagram):
+        res = crossval.BuildResult(impl_name, crossval.is_exact(impl_name), diagram, stored.certificate)
+    else:
+        res = crossval.BuildResult(impl_name, crossval.is_exact(impl_name), diagram, certify(diagram))
     if impl_name == reference:
         ref = res
-    elif reference_diagram is None:
-        ref = crossval.BuildResult(reference, exact(reference), error=reference_error or "no reference diagram")
+    elif stored is None:
+        ref = crossval.BuildResult(reference, crossval.is_exact(reference), error="no reference diagram",
+                                   failure="crashed")
     else:
-        ref = crossval.BuildResult(reference, exact(reference), reference_diagram, certify(reference_diagram))
-    verdict = crossval._decide(impl_name, reference, res, ref)
+        ref = stored
+    verdict = crossval.decide(impl_name, reference, res, ref)
     return {"verdict": verdict.verdict, "check_passed": bool(verdict.passed), "blame": verdict.blame or "",
             "verdict_detail": _first_line(verdict.message)}
 
@@ -163,20 +174,7 @@ def _first_line(obj: object) -> str:
     return text[0][:300] if text else ""
 
 
-def _limit_address_space(extra_mb: Optional[float]) -> None:
-    """Cap the worker's address space so a runaway build raises MemoryError, not the OOM killer."""
-    if not extra_mb:
-        return
-    try:
-        size_kb = next(int(line.split()[1]) for line in Path("/proc/self/status").read_text().splitlines()
-                       if line.startswith("VmSize:"))
-    except (OSError, StopIteration, ValueError):
-        return
-    limit = int((size_kb / 1024.0 + extra_mb) * 1024 * 1024)
-    resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
-
-
-def _timed_build(build, sites, stats) -> tuple[object, int, float, float]:
+def _timed_build(impl, sites, stats) -> tuple[object, int, float, float]:
     """One build: (diagram, wall ns, peak resident MiB during it, own peak above the start)."""
     gc.collect()
     peakmem.reset_peak()
@@ -184,7 +182,7 @@ def _timed_build(build, sites, stats) -> tuple[object, int, float, float]:
     gc.disable()
     try:
         t0 = time.perf_counter_ns()
-        diagram = build(sites, stats)
+        diagram = impl.run(sites, stats, check_supports=False)   # a read-only copy; a change is an error
         elapsed = time.perf_counter_ns() - t0
     finally:
         gc.enable()
@@ -223,19 +221,18 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
     send("data", {"setup_s": (time.perf_counter_ns() - t0) / 1e9,
                   "n_points": int(points.shape[0]), "n_sites": int(sites.shape[0])})
     del points
-    if impl.supports is not None:
-        reason = impl.supports(sites)
-        if reason:
-            send("failed", {"status": "unsupported", "error": str(reason)})
-            return
-    _limit_address_space(config.get("memory_limit_mb"))
+    reason = impl.unsupported_reason(sites)
+    if reason:
+        send("failed", {"status": "unsupported", "error": reason})
+        return
+    isolation.limit_memory(config.get("memory_limit_mb"))
 
     send("step", "warmup")
     t0 = time.perf_counter_ns()
     if impl.warmup is not None:
         impl.warmup()
     small = datasets_gen.generate(case["dataset"], min(case["n"], WARMUP_N), seed=case["seed"])
-    impl.build(prepare(small)[0], {})
+    impl.run(prepare(small)[0], {})
     send("data", {"warmup_s": (time.perf_counter_ns() - t0) / 1e9})
 
     # Everything alive now (libraries, inputs) is moved out of the collector's reach, so the
@@ -250,7 +247,7 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
         send("step", f"repeat {i + 1}/{repeat}" if i < repeat else f"repeat {i + 1} (filling min-time)")
         stats: dict = {}
         diagram = None                      # free the previous result before the next build
-        diagram, ns, peak, own = _timed_build(impl.build, sites, stats)
+        diagram, ns, peak, own = _timed_build(impl, sites, stats)
         timed_ns += ns
         row = {"time_s": ns / 1e9, "peak_rss_mb": peak, "mem_mb": own}
         if i == 0:
@@ -263,18 +260,11 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
         send("step", "check")
         t0 = time.perf_counter_ns()
         try:
-            ref, ref_error = None, ""
-            if impl.name == config["reference"]:
-                if config.get("reference_cache"):
-                    store_reference(Path(config["reference_cache"]) /
-                                    f"{impl.name}-{case['dataset']}-{case['n']}-{case['seed']}.npz", diagram)
-            else:
-                try:
-                    ref = reference_diagram(config["reference"], case["dataset"], case["n"], case["seed"],
-                                            sites, config.get("reference_cache"))
-                except Exception as exc:            # the reference's failure is not this case's
-                    ref_error = f"{type(exc).__name__}: {exc}"
-            verdict = check_against_reference(impl.name, diagram, config["reference"], ref, ref_error)
+            stored = None
+            if config.get("reference_cache"):
+                stored = load_reference(reference_path(config["reference_cache"], config["reference"],
+                                                       case["dataset"], case["n"], case["seed"]), sites)
+            verdict = check_against_reference(impl.name, diagram, config["reference"], stored)
         except Exception as exc:                    # a failing check is reported, not fatal
             verdict = {"verdict": "check_error", "verdict_detail": _first_line(f"{type(exc).__name__}: {exc}")}
         send("data", {**verdict, "check_s": (time.perf_counter_ns() - t0) / 1e9})
@@ -285,8 +275,12 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
 
 def run_and_report(case: dict, config: dict, send: Send) -> None:
     """Run the case's steps in this process; every failure is sent as ``("failed", ...)``."""
+    from impls.base import InputMutated
+
     try:
         _run_steps(case, config, send)
+    except InputMutated as exc:
+        send("failed", {"status": "error", "verdict": "mutated_input", "error": str(exc)[:500]})
     except MemoryError as exc:
         send("failed", {"status": "oom", "error": f"MemoryError: {exc}"[:500]})
     except BaseException as exc:  # noqa: BLE001 - every failure of the case is reported as data
@@ -297,6 +291,7 @@ def run_and_report(case: dict, config: dict, send: Send) -> None:
 
 def worker_main(conn, case: dict, config: dict) -> None:
     """Entry point of the worker process: run the case's steps, report over ``conn``."""
+    isolation.enter_worker()
     signal.signal(signal.SIGINT, signal.SIG_IGN)    # Ctrl-C is the parent's to handle
 
     def send(kind: str, payload: Any) -> None:
