@@ -102,43 +102,46 @@ def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool
     console = console or Console(stderr=True)
     impl_names = list(impl_names) if impl_names else impls.available()
     _validate_names(impl_names, datasets, config.reference if config.check else None)
-    store = results.ResultsFile(out)
-    if store.exists() and not (resume or overwrite):
-        raise ValueError(f"{out} exists; pass --resume to continue it or --overwrite to replace it")
-    if store.exists() and overwrite and not resume:
-        out.unlink()
-        results.metadata_path(out).unlink(missing_ok=True)
-    previous = store.rows() if resume else []
-    done = {results.case_key(r) for r in previous}
-    cases = runner.plan_cases(impl_names, datasets, sizes, seeds,
-                              reference=config.reference if config.check else None)
-    todo = [c for c in cases if c.key not in done]
-    meta = sysinfo.run_metadata()
-    meta.update(run_id=config.run_id, argv=sys.argv[1:], impls=impl_names, datasets=list(datasets),
-                sizes=list(sizes), seeds=list(seeds), repeat=config.repeat, min_time=config.min_time,
-                timeout=config.timeout,
-                reference=config.reference, check=config.check, start_method=config.start_method,
-                cases_planned=len(cases), executor=executor or "local", workers=workers,
-                cases_to_run=len(todo))
-    out.parent.mkdir(parents=True, exist_ok=True)
-    results.append_run_metadata(out, meta)
-    if resume and done:
-        console.print(f"resuming {out}: {len(cases) - len(todo)} of {len(cases)} cases already done")
-    try:
-        outcomes = runner.run_cases(cases, config, store.append, done=done, previous_rows=previous,
-                                    progress=progress, console=console, verbose=verbose,
-                                    executor=executor, workers=workers)
-    except KeyboardInterrupt:
-        saved = len(store.done_keys())
-        _finish_metadata(out, config.run_id, interrupted=True)
-        console.print(f"[yellow]interrupted[/yellow]: {saved} cases are saved in {out}; "
-                      "rerun with --resume to finish")
-        return 130, []
-    counts = runner.exit_status(outcomes)
-    _finish_metadata(out, config.run_id, interrupted=False, statuses=counts)
-    summary = ", ".join(f"{v} {k}" for k, v in sorted(counts.items())) or "nothing to run"
-    console.print(f"{len(outcomes)} cases run ({summary}); results in {out}")
-    return 0, outcomes
+    # One run writes a results file at a time: a second one would rerun what the first has not
+    # saved yet and interleave rows. Taken before reading (resume) or deleting (overwrite) it.
+    with results.writer_lock(out):
+        store = results.ResultsFile(out)
+        if store.exists() and not (resume or overwrite):
+            raise ValueError(f"{out} exists; pass --resume to continue it or --overwrite to replace it")
+        if store.exists() and overwrite and not resume:
+            out.unlink()
+            results.metadata_path(out).unlink(missing_ok=True)
+        previous = store.rows() if resume else []
+        done = {results.case_key(r) for r in previous}
+        cases = runner.plan_cases(impl_names, datasets, sizes, seeds,
+                                  reference=config.reference if config.check else None)
+        todo = [c for c in cases if c.key not in done]
+        meta = sysinfo.run_metadata()
+        meta.update(run_id=config.run_id, argv=sys.argv[1:], impls=impl_names, datasets=list(datasets),
+                    sizes=list(sizes), seeds=list(seeds), repeat=config.repeat, min_time=config.min_time,
+                    timeout=config.timeout,
+                    reference=config.reference, check=config.check, start_method=config.start_method,
+                    cases_planned=len(cases), executor=executor or "local", workers=workers,
+                    cases_to_run=len(todo))
+        out.parent.mkdir(parents=True, exist_ok=True)
+        results.append_run_metadata(out, meta)
+        if resume and done:
+            console.print(f"resuming {out}: {len(cases) - len(todo)} of {len(cases)} cases already done")
+        try:
+            outcomes = runner.run_cases(cases, config, store.append, done=done, previous_rows=previous,
+                                        progress=progress, console=console, verbose=verbose,
+                                        executor=executor, workers=workers)
+        except KeyboardInterrupt:
+            saved = len(store.done_keys())
+            _finish_metadata(out, config.run_id, interrupted=True)
+            console.print(f"[yellow]interrupted[/yellow]: {saved} cases are saved in {out}; "
+                          "rerun with --resume to finish")
+            return 130, []
+        counts = runner.exit_status(outcomes)
+        _finish_metadata(out, config.run_id, interrupted=False, statuses=counts)
+        summary = ", ".join(f"{v} {k}" for k, v in sorted(counts.items())) or "nothing to run"
+        console.print(f"{len(outcomes)} cases run ({summary}); results in {out}")
+        return 0, outcomes
 
 
 def _finish_metadata(out: Path, run_id: str, **fields) -> None:
