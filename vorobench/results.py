@@ -113,7 +113,12 @@ def _intact_length(data: bytes) -> int:
     """
     if not data:
         return 0
-    records = _scan(data)
+    try:
+        records = _scan(data)
+    except csv.Error:
+        # Damage in the middle (e.g. a bare carriage return), not a tear at the end: nothing to
+        # repair, and cutting here could drop many rows; readers report the damage instead.
+        return len(data)
     if not records:
         return len(data)
     header = records[0][1]
@@ -187,8 +192,11 @@ class ResultsFile:
         if not self.exists():
             return []
         data = self.path.read_bytes()
-        text = data[:_intact_length(data)].decode("utf-8")
-        return list(csv.DictReader(io.StringIO(text, newline="")))
+        try:
+            text = data[:_intact_length(data)].decode("utf-8")
+            return list(csv.DictReader(io.StringIO(text, newline="")))
+        except (UnicodeDecodeError, csv.Error) as exc:
+            raise ValueError(f"{self.path}: not a readable results CSV ({exc})") from None
 
     def done_keys(self) -> set[tuple[str, str, int, int]]:
         """Cases that already have a row, whatever their status."""

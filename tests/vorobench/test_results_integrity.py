@@ -154,3 +154,11 @@ def test_rewrite_and_metadata_do_not_write_through_planted_symlinks(tmp_path):
     # nothing left behind but the planted links themselves
     assert sorted(p.name for p in tmp_path.iterdir()) == [".r.csv.tmp", ".r.meta.json.tmp", "r.csv",
                                                            "r.meta.json", "victim"]
+
+
+def test_damage_in_the_middle_is_not_cut_away(tmp_path):
+    path = tmp_path / "r.csv"
+    garbage = bytes(range(256)) * 4                # bare carriage returns: not a tear at the end
+    path.write_bytes(garbage)
+    assert ResultsFile(path).drop_torn_tail() == 0
+    assert path.read_bytes() == garbage
