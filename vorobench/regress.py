@@ -7,7 +7,9 @@ bootstrap confidence interval, and a one-sided Mann-Whitney U test. A slowdown i
 the ratio exceeds 1 + threshold *and* is statistically clear (the interval lies above 1 and,
 when the repeats allow it, p < alpha). Any change of a ``stat_*`` counter is flagged (counters do
 not depend on the machine, so they gate regressions without noise), as is any case that got a
-worse verdict or stopped running. Exit status 1 when anything is flagged, else 0.
+worse verdict or stopped running, and any case of BASE that NEW lacks (a run that lost cases
+must not pass for having fewer to compare). Exit status 1 when anything is flagged, else 0;
+2 when a file is not a results table with at least one case, or an option makes no sense.
 """
 
 from __future__ import annotations
@@ -139,6 +141,8 @@ def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05
             change.base_status, change.base_verdict = _first(b, "status"), _first(b, "verdict")
         if m is not None:
             change.new_status, change.new_verdict = _first(m, "status"), _first(m, "verdict")
+        if m is None:
+            change.flags.append("missing in NEW")
         if b is None or m is None:
             changes.append(change)
             continue
@@ -179,10 +183,13 @@ def _num(value) -> str:
 
 def compare_files(base: str | Path, new: str | Path, threshold: float = 0.10, alpha: float = 0.05,
                   seed: int = 0) -> list[CaseChange]:
-    """:func:`compare_frames` on two results files (CSV or Parquet)."""
-    from vorobench.results import load
+    """:func:`compare_frames` on two results files (CSV or Parquet).
 
-    return compare_frames(load(base), load(new), threshold=threshold, alpha=alpha, seed=seed)
+    Raises ValueError naming the file when one is empty, has no rows or is not a results table.
+    """
+    from vorobench.results import load_checked
+
+    return compare_frames(load_checked(base), load_checked(new), threshold=threshold, alpha=alpha, seed=seed)
 
 
 def _machine_warning(base: Path, new: Path) -> Optional[str]:
@@ -202,12 +209,15 @@ def _machine_warning(base: Path, new: Path) -> Optional[str]:
 # ------------------------------------------------------------------------------ CLI
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    from vorobench.cli_args import fraction, non_negative_int, positive_float
+
     p.add_argument("base", help="baseline results file (.csv or .parquet)")
     p.add_argument("new", help="new results file")
-    p.add_argument("--threshold", type=float, default=0.10,
-                   help="flag slowdowns above this fraction (default 0.10 = 10%%)")
-    p.add_argument("--alpha", type=float, default=0.05, help="significance level (default 0.05)")
-    p.add_argument("--seed", type=int, default=0, help="bootstrap seed (default 0)")
+    p.add_argument("--threshold", type=positive_float, default=0.10,
+                   help="flag slowdowns above this fraction, > 0 (default 0.10 = 10%%)")
+    p.add_argument("--alpha", type=fraction, default=0.05,
+                   help="significance level, between 0 and 1 (default 0.05)")
+    p.add_argument("--seed", type=non_negative_int, default=0, help="bootstrap seed (default 0)")
     p.add_argument("--only-changes", action="store_true", help="show only flagged or changed cases")
     p.add_argument("--json", default=None, help="also write every comparison to this JSON file")
 
@@ -218,13 +228,23 @@ def _fmt_s(x: Optional[float]) -> str:
     return f"{x * 1e3:.3g} ms" if x < 1 else f"{x:.3g} s"
 
 
+#: Lost cases listed by name; the rest are counted.
+_MISSING_LISTED = 5
+
+
+def _print_missing(console, missing: list[CaseChange]) -> None:
+    console.print(f"[bold red]NEW lacks {len(missing)} case(s) that BASE has[/bold red]:")
+    for c in missing[:_MISSING_LISTED]:
+        console.print(f"  {c.impl} {c.dataset} n={c.n} seed={c.seed}", markup=False, highlight=False)
+    if len(missing) > _MISSING_LISTED:
+        console.print(f"  and {len(missing) - _MISSING_LISTED} more")
+
+
 def run(args: argparse.Namespace) -> int:
     from rich.console import Console
+    from rich.markup import escape
     from rich.table import Table
 
-    for path in (args.base, args.new):
-        if not Path(path).exists():
-            raise FileNotFoundError(f"no such results file: {path}")
     changes = compare_files(args.base, args.new, threshold=args.threshold, alpha=args.alpha, seed=args.seed)
     console = Console()
     if not console.is_terminal:
@@ -265,13 +285,20 @@ def run(args: argparse.Namespace) -> int:
                       f"[bold red]{flags}[/bold red]" if flags else "")
     if shown:
         console.print(table)
-    flagged = [c for c in changes if c.flagged]
+    missing = [c for c in changes if c.new_status is None]
+    flagged = [c for c in changes if c.flagged and c.new_status is not None]
     compared = sum(1 for c in changes if c.base_status is not None and c.new_status is not None)
     if args.json:
         Path(args.json).write_text(json.dumps([asdict(c) | {"flagged": c.flagged} for c in changes],
                                               indent=2, default=str) + "\n")
+    if not compared:
+        console.print(f"[bold red]no case in common[/bold red]: {escape(args.new)} has none of the cases of "
+                      f"{escape(args.base)}")
     if flagged:
         console.print(f"[bold red]{len(flagged)} of {compared} compared case(s) flagged[/bold red]")
+    if missing:
+        _print_missing(console, missing)
+    if flagged or missing:
         return 1
     faster = sum(1 for c in changes if c.change == "faster")
     console.print(f"[green]no regression[/green] in {compared} compared case(s)"

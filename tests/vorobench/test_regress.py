@@ -115,9 +115,9 @@ def test_bootstrap_interval_is_seeded_and_brackets_the_ratio():
     assert 1.8 < a[0] and a[1] < 2.2
 
 
-def test_cases_only_on_one_side_are_listed_not_flagged():
+def test_cases_lost_by_new_are_flagged_new_cases_are_not():
     base = _frame({"a": [1.0, 1.0]})
     new = _frame({"b": [1.0, 1.0]})
     changes = regress.compare_frames(base, new)
     assert [(c.impl, c.base_status, c.new_status) for c in changes] == [("a", "ok", None), ("b", None, "ok")]
-    assert not any(c.flagged for c in changes)
+    assert [c.flags for c in changes] == [["missing in NEW"], []]

@@ -1,0 +1,102 @@
+"""`vorobench compare` cannot be passed by leaving things out: lost cases fail, files that are not
+results (empty, header only, garbage) are errors, and nonsense numbers are refused in one line.
+
+Fault doubles: a NEW results file with cases deleted, one with no case of BASE at all, and
+damaged files on either side.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from vorobench import regress
+from vorobench.cli import main
+from vorobench.results import ResultsFile
+
+
+def _write(path, impls=("a", "b"), sizes=(100, 200, 300), seeds=(0,)) -> str:
+    rows = [{"run_id": "r1", "impl": impl, "dataset": "uniform", "n": n, "seed": seed, "repeat": rep,
+             "status": "ok", "verdict": "exact", "time_s": 1.0 + 0.01 * rep}
+            for impl in impls for n in sizes for seed in seeds for rep in range(3)]
+    ResultsFile(path).append(rows)
+    return str(path)
+
+
+@pytest.fixture()
+def base(tmp_path):
+    return _write(tmp_path / "base.csv")
+
+
+def test_new_that_lost_cases_fails_and_names_them(base, tmp_path, capsys):
+    new = _write(tmp_path / "new.csv", impls=("a",))            # b's three cases are gone
+    assert main(["compare", base, new]) == 1
+    out = capsys.readouterr().out
+    assert "NEW lacks 3 case(s) that BASE has" in out
+    for n in (100, 200, 300):
+        assert f"b uniform n={n} seed=0" in out
+    missing = [c for c in regress.compare_files(base, new) if c.new_status is None]
+    assert len(missing) == 3 and all(c.flagged for c in missing)
+
+
+def test_many_lost_cases_are_counted_and_a_few_listed(tmp_path, capsys):
+    base = _write(tmp_path / "base.csv", seeds=range(4))
+    new = _write(tmp_path / "new.csv", impls=("a",), seeds=range(4))   # 12 cases of b lost
+    assert main(["compare", base, new]) == 1
+    out = capsys.readouterr().out
+    assert "NEW lacks 12 case(s) that BASE has" in out and "and 7 more" in out
+    assert out.count(" seed=") == 5                        # the table says "s=", the list "seed="
+
+
+def test_cases_only_in_new_do_not_fail(base, tmp_path, capsys):
+    new = _write(tmp_path / "new.csv", impls=("a", "b", "c"))
+    assert main(["compare", base, new]) == 0
+    assert "no regression in 6 compared case(s)" in capsys.readouterr().out
+
+
+def test_new_with_no_case_in_common_does_not_pass(base, tmp_path, capsys):
+    new = _write(tmp_path / "new.csv", impls=("other",))
+    assert main(["compare", base, new]) == 1
+    out = capsys.readouterr().out
+    assert "no case in common" in out and "NEW lacks 6 case(s)" in out
+
+
+DAMAGED = {
+    "empty": (b"", "is empty"),
+    "header only": (b"run_id,impl,dataset,n,seed,repeat,status,time_s\r\n", "no result rows"),
+    "binary garbage": (bytes(range(256)) * 4, "results"),
+    "unrelated text": (b"hello world\nfoo bar\n", "not a results table"),
+    "rows without a key": (b"impl,dataset,n,seed,status\r\na,uniform,,0,ok\r\n", "lack a case key"),
+}
+
+
+@pytest.mark.parametrize("side", ["base", "new"])
+@pytest.mark.parametrize("kind", list(DAMAGED))
+def test_a_file_that_is_no_results_is_one_line_and_exit_2(kind, side, base, tmp_path, capsys):
+    content, problem = DAMAGED[kind]
+    bad = tmp_path / "bad.csv"
+    bad.write_bytes(content)
+    args = [str(bad), base] if side == "base" else [base, str(bad)]
+    assert main(["compare", *args]) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and str(bad) in lines[0] and problem in lines[0], captured.err
+    assert "Traceback" not in captured.err and "no regression" not in captured.out
+
+
+def test_a_directory_is_one_line_and_exit_2(base, tmp_path, capsys):
+    assert main(["compare", base, str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and str(tmp_path) in err[0]
+
+
+@pytest.mark.parametrize("option, value", [
+    ("--threshold", "-1"), ("--threshold", "0"), ("--threshold", "nan"), ("--threshold", "inf"),
+    ("--alpha", "0"), ("--alpha", "1"), ("--alpha", "2"), ("--alpha", "nan"), ("--alpha", "-0.5"),
+    ("--seed", "-1"), ("--seed", "x"),
+])
+def test_nonsense_numbers_are_one_line_and_exit_2(option, value, base, capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(["compare", base, base, option, value])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and option in err[0] and value in err[0]
