@@ -4,6 +4,10 @@
 
 writes ``README.md`` (Markdown; GitHub shows it for the folder), ``report.html`` (one file,
 images embedded), the PNG figures and a copy of the results with their metadata.
+
+Everything taken from the results or their metadata (names, errors, host, argv) is data, not
+markup: it goes into the Markdown through :func:`_text` or :func:`_code`, and the HTML renderer
+passes no raw HTML through, so a ``<script>`` in an error message stays text.
 """
 
 from __future__ import annotations
@@ -50,8 +54,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     results = Path(args.results)
-    if not results.exists():
-        raise FileNotFoundError(f"no such results file: {results}")
     out = Path(args.out) if args.out else Path("reports") / results.stem
     rep = write_report(results, out, title=args.title, reference=args.reference)
     print(f"wrote {rep.markdown} and {rep.html} ({len(rep.figures)} figures)")
@@ -84,12 +86,37 @@ def _fmt_n(n: float) -> str:
     return str(n)
 
 
+# Characters that can start Markdown markup inside a line (emphasis, code, links, images, raw
+# HTML, entities, strike-through, headings). A backslash makes any of them literal.
+_MARKUP = re.compile(r"([\\`*_\[\]<>#!&~])")
+_LINE_BREAKS = re.compile(r"[ \t]*[\r\n]+[ \t]*")
+
+
+def _one_line(value: object) -> str:
+    # A line break inside a table cell or a list item would end it and start new Markdown.
+    return _LINE_BREAKS.sub(" ", str(value))
+
+
+def _text(value: object) -> str:
+    """A value from the results or metadata as Markdown that shows exactly its characters."""
+    return _MARKUP.sub(r"\\\1", _one_line(value))
+
+
+def _code(value: object) -> str:
+    """A value as a Markdown code span, whatever backticks it holds (the fence is longer)."""
+    text = _one_line(value)
+    fence = "`" * (max((len(run) for run in re.findall(r"`+", text)), default=0) + 1)
+    pad = " " if text.startswith("`") or text.endswith("`") else ""
+    return f"{fence}{pad}{text}{pad}{fence}"
+
+
 def _md_table(header: list[str], rows: list[list[object]], align: Optional[str] = None) -> str:
+    """A pipe table; cells are Markdown already (see :func:`_text`), pipes in them are escaped here."""
     align = align or "l" * len(header)
     marks = {"l": "---", "r": "--:", "c": ":-:"}
     lines = ["| " + " | ".join(header) + " |", "|" + "|".join(marks[a] for a in align) + "|"]
     for r in rows:
-        lines.append("| " + " | ".join(str(c).replace("|", "\\|") for c in r) + " |")
+        lines.append("| " + " | ".join(_one_line(c).replace("|", "\\|") for c in r) + " |")
     return "\n".join(lines)
 
 
@@ -122,10 +149,10 @@ def reading(cases, sizes, exponents, ratios, reference: str) -> list[str]:
         at = g[g["n"] == n_top].sort_values("time_s")
         best, second = at.iloc[0], at.iloc[1]
         wins.setdefault(best["impl"], []).append(
-            f"{dataset} ({_fmt_time(best['time_s'])} at n={_fmt_n(best['n_sites'])}, "
-            f"{_fmt_factor(second['time_s'] / best['time_s'])}x ahead of {second['impl']})")
+            f"{_text(dataset)} ({_fmt_time(best['time_s'])} at n={_fmt_n(best['n_sites'])}, "
+            f"{_fmt_factor(second['time_s'] / best['time_s'])}x ahead of {_code(second['impl'])})")
     for impl, where in sorted(wins.items(), key=lambda kv: -len(kv[1])):
-        points.append(f"**Fastest at the largest common size**: `{impl}` on {len(where)} dataset(s): "
+        points.append(f"**Fastest at the largest common size**: {_code(impl)} on {len(where)} dataset(s): "
                       + "; ".join(where) + ".")
     # Speed against the reference, geometric mean over datasets and sizes.
     if not ratios.empty:
@@ -137,7 +164,7 @@ def reading(cases, sizes, exponents, ratios, reference: str) -> list[str]:
             gm = float(np.exp(np.mean(np.log(g["ratio"]))))
             word = "slower" if gm > 1 else "faster"
             factor = gm if gm > 1 else 1 / gm
-            points.append(f"`{impl}` is {_fmt_factor(factor)}x {word} than `{reference}` (geometric mean of "
+            points.append(f"{_code(impl)} is {_fmt_factor(factor)}x {word} than {_code(reference)} (geometric mean of "
                           f"time ratios over {len(g)} dataset/size pairs, range "
                           f"{g['ratio'].min():.2g}-{g['ratio'].max():.2g}).")
     # Growth.
@@ -145,8 +172,8 @@ def reading(cases, sizes, exponents, ratios, reference: str) -> list[str]:
         lo, hi, med = g["exponent"].min(), g["exponent"].max(), g["exponent"].median()
         spread = f"range {lo:.2f}-{hi:.2f} over {len(g)} datasets, " if len(g) > 1 else ""
         declared = _complexity(impl)
-        points.append(f"`{impl}` grows like n^{med:.2f} (fitted exponent, {spread}worst R² {g['r2'].min():.3f})"
-                      + (f"; declared {declared}." if declared != "?" else "."))
+        points.append(f"{_code(impl)} grows like n^{med:.2f} (fitted exponent, {spread}worst R² {g['r2'].min():.3f})"
+                      + (f"; declared {_text(declared)}." if declared != "?" else "."))
     if not exponents.empty:
         points.append("For comparison: n log n fits as about n^1.1 over n = 10^3..10^5, "
                       "n^1.5 and n^2 would show as such.")
@@ -155,19 +182,19 @@ def reading(cases, sizes, exponents, ratios, reference: str) -> list[str]:
     if not ran.empty:
         others, own = ran[ran["impl"] != reference], ran[ran["impl"] == reference]
         tally = others["verdict"].fillna("none").replace({"skipped": "not checked"}).value_counts()
-        parts = ", ".join(f"{v} {k.replace('_', ' ')}" for k, v in tally.items()) or "none"
-        text = f"**Correctness** of the {len(others)} cases that ran, against `{reference}`: {parts}."
+        parts = ", ".join(f"{v} {_text(str(k).replace('_', ' '))}" for k, v in tally.items()) or "none"
+        text = f"**Correctness** of the {len(others)} cases that ran, against {_code(reference)}: {parts}."
         if not own.empty:
             certified = int((own["verdict"] == "certified").sum())
-            text += (f" `{reference}`'s own {len(own)} cases are judged on their certificates alone: "
+            text += (f" {_code(reference)}'s own {len(own)} cases are judged on their certificates alone: "
                      f"{certified} certified.")
         points.append(text)
     bad = failures(cases)
     if bad.empty:
         points.append("**No failures**: no case crashed, hung, ran out of memory or was refuted.")
     else:
-        listed = [f"`{r.impl}` {r.dataset} n={_fmt_n(r.n)}: {r.status}"
-                  + (f" / {r.verdict}" if r.status == "ok" else "") for r in bad.head(8).itertuples()]
+        listed = [f"{_code(r.impl)} {_text(r.dataset)} n={_fmt_n(r.n)}: {_text(r.status)}"
+                  + (f" / {_text(r.verdict)}" if r.status == "ok" else "") for r in bad.head(8).itertuples()]
         more = f" and {len(bad) - 8} more" if len(bad) > 8 else ""
         points.append(f"**{len(bad)} case(s) failed or were not verified**: " + "; ".join(listed) + more
                       + " (details in the table below).")
@@ -182,10 +209,14 @@ def reading(cases, sizes, exponents, ratios, reference: str) -> list[str]:
 
 def _load_text(run: dict) -> str:
     start, end = run.get("load_average"), run.get("load_average_end")
-    if not start:
+    if not (isinstance(start, list) and start and _is_number(start[0])):
         return ""
     text = f"{start[0]:g} at the start"
-    return text + (f", {end[0]:g} at the end" if end else "")
+    return text + (f", {end[0]:g} at the end" if isinstance(end, list) and end and _is_number(end[0]) else "")
+
+
+def _is_number(x: object) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
 
 
 def busy_machine_note(meta: dict) -> Optional[str]:
@@ -194,8 +225,9 @@ def busy_machine_note(meta: dict) -> Optional[str]:
     if not runs:
         return None
     r = runs[-1]
-    loads = [x[0] for x in (r.get("load_average"), r.get("load_average_end")) if x]
-    cores = r.get("cores") or 0
+    loads = [x[0] for x in (r.get("load_average"), r.get("load_average_end"))
+             if isinstance(x, list) and x and _is_number(x[0])]
+    cores = r.get("cores") if _is_number(r.get("cores")) else 0
     if loads and cores and max(loads) > cores:
         return (f"**The machine was busy**: load average up to {max(loads):g} on {cores} cores, so other "
                 "processes competed for the CPU. Times carry noise of tens of percent (and fitted exponents "
@@ -208,11 +240,11 @@ def _meta_rows(meta: dict) -> list[list[object]]:
     if not runs:
         return [["metadata", "none (no .meta.json next to the results)"]]
     r = runs[-1]
-    v = r.get("versions", {})
-    commit = (r.get("commit") or "?")[:12] + (" (uncommitted changes)" if r.get("dirty") else "")
+    v = r.get("versions") if isinstance(r.get("versions"), dict) else {}
+    commit = str(r.get("commit") or "?")[:12] + (" (uncommitted changes)" if r.get("dirty") else "")
     load = _load_text(r)
     rows = [
-        ["date", r.get("date", "?") + (f" to {r['finished']}" if r.get("finished") else "")],
+        ["date", str(r.get("date", "?")) + (f" to {r['finished']}" if r.get("finished") else "")],
         ["commit", commit],
         ["machine", f"{r.get('cpu', '?')}, {r.get('cores', '?')} cores, {r.get('hostname', '?')}"
                     + (f"; load average {load}" if load else "")],
@@ -223,21 +255,22 @@ def _meta_rows(meta: dict) -> list[list[object]]:
     ]
     if len(runs) > 1:
         rows.append(["runs", f"{len(runs)} (resumed); ids {', '.join(str(x.get('run_id')) for x in runs)}"])
-    return rows
+    # Every value here comes from the metadata file.
+    return [[label, _text(value)] for label, value in rows]
 
 
 def write_report(results_path: str | Path, out: str | Path, title: Optional[str] = None,
                  reference: Optional[str] = None, copy_results: bool = True) -> Report:
     """Write figures, README.md and report.html for a results file into folder ``out``."""
     from vorobench import analysis, figures
-    from vorobench.results import load, metadata_path, read_metadata
+    from vorobench.results import load_checked, metadata_path, read_metadata
 
     results_path, out = Path(results_path), Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    df = load(results_path)
+    df = load_checked(results_path)            # ValueError naming the file if it holds no results
     meta = read_metadata(results_path)
+    out.mkdir(parents=True, exist_ok=True)
     runs = meta.get("runs", [])
-    reference = reference or (runs[-1].get("reference") if runs else None) or "qhull"
+    reference = str(reference or (runs[-1].get("reference") if runs else None) or "qhull")
     title = title or out.name
 
     cases = analysis.case_table(df)
@@ -275,9 +308,9 @@ def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, re
     impl_names = sorted(df["impl"].unique())
     datasets = list(dict.fromkeys(df["dataset"]))
     ns = sorted(df["n"].unique())
-    parts = [f"# vorobench report: {title}", ""]
-    parts.append(f"{len(cases)} cases: {len(impl_names)} implementation(s) ({', '.join(impl_names)}) x "
-                 f"{len(datasets)} dataset(s) ({', '.join(datasets)}) x sizes "
+    parts = [f"# vorobench report: {_text(title)}", ""]
+    parts.append(f"{len(cases)} cases: {len(impl_names)} implementation(s) ({', '.join(map(_text, impl_names))}) x "
+                 f"{len(datasets)} dataset(s) ({', '.join(map(_text, datasets))}) x sizes "
                  f"{', '.join(_fmt_n(n) for n in ns)}; {len(df)} result rows.")
     parts += ["", "## Reading", ""]
     parts += [f"* {p}" for p in reading(cases, sizes, exps, ratios, reference)]
@@ -286,6 +319,7 @@ def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, re
         parts.append(f"* {note}")
     hosts_note = mixed_hosts_note(df)
     if hosts_note:
+        hosts_note = _text(hosts_note)             # it names the hosts found in the results
         parts.append(f"* {hosts_note}")
     parts += ["", "## Run", "", _md_table(["", ""], _meta_rows(meta)), ""]
 
@@ -296,8 +330,8 @@ def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, re
     parts += ["## Time per n log2 n", "",
               "A flat line is O(n log n); a line rising to the right grows faster than that.", "",
               f"![time / (n log2 n)]({FIGURES['nlogn']})", ""]
-    parts += [f"## Speed relative to {reference}", "",
-              f"time / time({reference}) at the same dataset and size: below the dashed line is faster.", "",
+    parts += [f"## Speed relative to {_text(reference)}", "",
+              f"time / time({_text(reference)}) at the same dataset and size: below the dashed line is faster.", "",
               *([hosts_note, ""] if hosts_note else []),
               f"![speed ratio]({FIGURES['ratio']})", ""]
     parts += ["## Peak memory", "",
@@ -306,7 +340,7 @@ def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, re
               f"![peak memory vs n]({FIGURES['memory']})", ""]
     parts += ["## Correctness", "",
               "Every built diagram is certified (empty circles, bisectors, Euler, hull, nearest-site "
-              f"probes) and compared with {reference}'s. Colour = worst verdict over sizes and seeds.", "",
+              f"probes) and compared with {_text(reference)}'s. Colour = worst verdict over sizes and seeds.", "",
               f"![correctness matrix]({FIGURES['correctness']})", ""]
 
     parts += ["## Fitted growth exponents", "",
@@ -315,8 +349,8 @@ def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, re
     if exps.empty:
         parts += ["(too few sizes to fit)", ""]
     else:
-        rows = [[f"`{r.impl}`", r.dataset, f"{r.exponent:.2f}", f"{r.r2:.3f}",
-                 f"{_fmt_n(r.n_min)}-{_fmt_n(r.n_max)} ({r.points})", _complexity(r.impl)]
+        rows = [[_code(r.impl), _text(r.dataset), f"{r.exponent:.2f}", f"{r.r2:.3f}",
+                 f"{_fmt_n(r.n_min)}-{_fmt_n(r.n_max)} ({r.points})", _text(_complexity(r.impl))]
                 for r in exps.itertuples()]
         parts += [_md_table(["impl", "dataset", "exponent", "R²", "n range (sizes)", "declared"], rows,
                             "llrrll"), ""]
@@ -329,21 +363,23 @@ def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, re
         rows = []
         for (dataset, impl), g in sizes.groupby(["dataset", "impl"], sort=False):
             by_n = dict(zip(g["n"], g["time_s"]))
-            rows.append([dataset, f"`{impl}`"] + [_fmt_time(by_n.get(n, float("nan"))) for n in cols])
+            rows.append([_text(dataset), _code(impl)] + [_fmt_time(by_n.get(n, float("nan"))) for n in cols])
         parts += [_md_table(["dataset", "impl"] + [f"n={_fmt_n(n)}" for n in cols], rows,
                             "ll" + "r" * len(cols)), ""]
         warm = cases[cases["status"] == "ok"].groupby("impl")["warmup_s"].median()
         if not warm.empty:
             parts += ["Warm-up per worker (JIT compilation or cache load, plus one small build), median: "
-                      + ", ".join(f"`{k}` {_fmt_time(v)}" for k, v in warm.items()) + ".", ""]
+                      + ", ".join(f"{_code(k)} {_fmt_time(v)}" for k, v in warm.items()) + ".", ""]
 
     bad = failures(cases)
     parts += ["## Failures", ""]
     if bad.empty:
         parts += ["None.", ""]
     else:
-        rows = [[f"`{r.impl}`", r.dataset, _fmt_n(r.n), r.seed, r.status, r.verdict if isinstance(r.verdict, str) else "",
-                 r.phase if isinstance(r.phase, str) else "", (r.error if isinstance(r.error, str) else "")[:120]]
+        rows = [[_code(r.impl), _text(r.dataset), _fmt_n(r.n), _text(r.seed), _text(r.status),
+                 _text(r.verdict if isinstance(r.verdict, str) else ""),
+                 _text(r.phase if isinstance(r.phase, str) else ""),
+                 _text((r.error if isinstance(r.error, str) else "")[:120])]
                 for r in bad.itertuples()]
         parts += [_md_table(["impl", "dataset", "n", "seed", "status", "verdict", "step", "error"], rows), ""]
     skipped = cases[cases["status"] == "skipped"]
@@ -351,15 +387,19 @@ def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, re
         first = skipped.sort_values("n").groupby(["impl", "dataset"], sort=True).first().reset_index()
         parts += ["Skipped (a smaller size timed out or ran out of memory, or the build time extrapolated "
                   "from the smaller sizes exceeded the run's budget): "
-                  + "; ".join(f"`{r.impl}` {r.dataset} from n={_fmt_n(r.n)}" for r in first.itertuples())
+                  + "; ".join(f"{_code(r.impl)} {_text(r.dataset)} from n={_fmt_n(r.n)}" for r in first.itertuples())
                   + ".", ""]
 
     argv = (meta.get("runs") or [{}])[-1].get("argv")
+    argv = [str(a) for a in argv] if isinstance(argv, list) else None
     parts += ["## Data", "",
               "Raw rows: [`results.csv`](results.csv) (one row per case and repeat; "
               "`pandas.read_csv`), metadata: [`results.meta.json`](results.meta.json)."]
     if argv:
-        parts += ["", "Produced by:", "", "```", "vorobench " + shlex.join(argv), "```"]
+        command = "vorobench " + shlex.join(argv)
+        # A fence longer than any backtick run in the command: nothing in it can close the block.
+        fence = "`" * max(3, max((len(run) + 1 for run in re.findall(r"`+", command)), default=0))
+        parts += ["", "Produced by:", "", fence, command, fence]
     return "\n".join(parts) + "\n"
 
 
@@ -376,15 +416,20 @@ pre { background: #f5f5f5; padding: 0.6em; overflow-x: auto; }
 
 
 def _html(title: str, markdown: str, folder: Path) -> str:
-    """Render the Markdown (markdown-it) and inline every local PNG as a base64 data URI."""
+    """Render the Markdown (markdown-it) and inline the report's own figures as base64 data URIs.
+
+    Raw HTML in the Markdown is rendered as text (``html: False``): the page's markup is only
+    what the renderer and this function write, whatever the results contain.
+    """
     from markdown_it import MarkdownIt
 
-    body = MarkdownIt("commonmark").enable("table").render(markdown)
+    body = MarkdownIt("commonmark", {"html": False}).enable("table").render(markdown)
 
     def inline(match: re.Match) -> str:
         src = html.unescape(match.group(1))
         path = folder / src
-        if not src.endswith(".png") or not path.exists():
+        # Only the figures written here: an image link from the data must not embed other files.
+        if src not in FIGURES.values() or not path.exists():
             return match.group(0)
         data = base64.b64encode(path.read_bytes()).decode("ascii")
         return f'src="data:image/png;base64,{data}"'
