@@ -8,11 +8,10 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 from typing import Callable, NoReturn
 
 __all__ = ["OneLineParser", "names", "sizes", "seeds", "positive_float", "non_negative_float", "positive_int",
-           "non_negative_int", "fraction", "MAX_SIZE"]
+           "non_negative_int", "fraction", "size", "MAX_SIZE"]
 
 #: Largest point count a command accepts: 10^8 points are 1.6 GB of coordinates before any
 #: construction; beyond that a run cannot finish on any machine this tool targets.
@@ -44,18 +43,27 @@ def _number(text: str, kind: Callable, what: str):
     return value
 
 
-def positive_float(text: str) -> float:
-    value = _number(text, float, "a number")
-    if value <= 0:
-        raise argparse.ArgumentTypeError(f"must be greater than 0: {text!r}")
+def _at_least(text: str, kind: Callable, what: str, low, strict: bool):
+    value = _number(text, kind, what)
+    if value < low or (strict and value == low):
+        raise argparse.ArgumentTypeError(f"must be {'greater than' if strict else 'at least'} {low}: {text!r}")
     return value
+
+
+def positive_float(text: str) -> float:
+    return _at_least(text, float, "a number", 0, strict=True)
 
 
 def non_negative_float(text: str) -> float:
-    value = _number(text, float, "a number")
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be 0 or more: {text!r}")
-    return value
+    return _at_least(text, float, "a number", 0, strict=False)
+
+
+def positive_int(text: str) -> int:
+    return _at_least(text, int, "a whole number", 1, strict=False)
+
+
+def non_negative_int(text: str) -> int:
+    return _at_least(text, int, "a whole number", 0, strict=False)
 
 
 def fraction(text: str) -> float:
@@ -63,20 +71,6 @@ def fraction(text: str) -> float:
     value = _number(text, float, "a number")
     if not 0 < value < 1:
         raise argparse.ArgumentTypeError(f"must lie strictly between 0 and 1: {text!r}")
-    return value
-
-
-def positive_int(text: str) -> int:
-    value = _number(text, int, "a whole number")
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be 1 or more: {text!r}")
-    return value
-
-
-def non_negative_int(text: str) -> int:
-    value = _number(text, int, "a whole number")
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be 0 or more: {text!r}")
     return value
 
 
@@ -103,9 +97,3 @@ def sizes(text: str) -> list[int]:
 def seeds(text: str) -> list[int]:
     """Comma-separated non-negative dataset seeds, each kept once."""
     return list(dict.fromkeys(non_negative_int(item) for item in names(text)))
-
-
-def fail(prog: str, message: str) -> NoReturn:
-    """End a command with one line on standard error and exit status 2."""
-    print(f"{prog}: error: {message}", file=sys.stderr)
-    raise SystemExit(2)

@@ -22,7 +22,7 @@ import threading
 from pathlib import Path
 from typing import Optional
 
-__all__ = ["enter_worker", "watch", "release", "kill_worker", "limit_memory", "Terminated",
+__all__ = ["enter_worker", "watch", "release", "kill_worker", "limit_memory", "describe_death", "Terminated",
            "install_termination_handler"]
 
 _PR_SET_PDEATHSIG = 1
@@ -66,6 +66,22 @@ def limit_memory(extra_mb: Optional[float]) -> None:
         return
     limit = int((size_kb / 1024.0 + extra_mb) * 1024 * 1024)
     resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+
+
+def describe_death(exitcode: Optional[int]) -> tuple[str, str]:
+    """(kind, how) for a worker that ended without a result: kind "oom" for SIGKILL (the
+    out-of-memory killer's signal), "crashed" for any other signal or any exit status."""
+    if exitcode is None:
+        return "crashed", "the worker ended without a result"
+    if exitcode < 0:
+        try:
+            name = signal.Signals(-exitcode).name
+        except ValueError:
+            name = f"signal {-exitcode}"
+        if -exitcode == signal.SIGKILL:
+            return "oom", f"the worker was killed by {name} (most likely the out-of-memory killer)"
+        return "crashed", f"the worker was killed by {name}"
+    return "crashed", f"the worker exited with status {exitcode} (os._exit or sys.exit inside the implementation)"
 
 
 class _Reaper:

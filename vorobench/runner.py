@@ -18,7 +18,6 @@ import datetime as _dt
 import math
 import multiprocessing as mp
 import os
-import signal
 import socket
 import time
 from dataclasses import asdict, dataclass, field
@@ -156,21 +155,6 @@ def _context(method: str, impl: str):
     return ctx
 
 
-def _describe_exit(exitcode: Optional[int]) -> tuple[str, str]:
-    """(status, message) for a worker that ended without reporting."""
-    if exitcode is None:
-        return "crashed", "worker ended without a result"
-    if exitcode < 0:
-        try:
-            name = signal.Signals(-exitcode).name
-        except ValueError:
-            name = f"signal {-exitcode}"
-        if -exitcode == signal.SIGKILL:
-            return "oom", f"worker killed by {name} (most likely the out-of-memory killer)"
-        return "crashed", f"worker killed by {name}"
-    return "crashed", f"worker exited with code {exitcode} without a result"
-
-
 _SCRATCH: list = []
 
 
@@ -245,7 +229,7 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
                     kind, payload = receiver.recv()
                 except (EOFError, OSError):
                     proc.join(10)
-                    status, info["error"] = _describe_exit(proc.exitcode)
+                    status, info["error"] = isolation.describe_death(proc.exitcode)
                     break
                 if kind == "step":
                     step = payload
@@ -258,7 +242,7 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
                 info["error"] = f"no result within {config.allowance(step):g} s during {step}"
             else:
                 proc.join(10)
-                status, info["error"] = _describe_exit(proc.exitcode)
+                status, info["error"] = isolation.describe_death(proc.exitcode)
     finally:
         if status == "ok":
             proc.join(5)                    # a finished worker is only exiting: let it

@@ -49,19 +49,8 @@ class Outcome:
 
 
 def _describe_death(exitcode: Optional[int], step: str) -> Outcome:
-    if exitcode is None:
-        return Outcome("crashed", message=f"the worker ended without a result during {step}")
-    if exitcode < 0:
-        try:
-            name = signal.Signals(-exitcode).name
-        except ValueError:
-            name = f"signal {-exitcode}"
-        if -exitcode == signal.SIGKILL:
-            return Outcome("oom", message=f"the worker was killed by {name} during {step} "
-                                          f"(most likely the out-of-memory killer)")
-        return Outcome("crashed", message=f"the worker was killed by {name} during {step}")
-    return Outcome("crashed", message=f"the worker exited with status {exitcode} during {step} "
-                                      f"(os._exit or sys.exit inside the implementation)")
+    kind, how = isolation.describe_death(exitcode)
+    return Outcome(kind, message=f"{how} during {step}")
 
 
 def _serve(conn, parent: int, impl_blob: Optional[bytes], name: str, plugins: Sequence[str],
