@@ -56,7 +56,7 @@ def test_every_case_is_recorded_and_healthy_rows_kept(faulty_run):
 def test_hard_crashes_are_recorded(faulty_run):
     exit_row = _rows(faulty_run, "crash_exit").iloc[0]
     assert exit_row["status"] == "crashed"
-    assert "code 3" in exit_row["error"]
+    assert "status 3" in exit_row["error"]
     segv = _rows(faulty_run, "crash_segfault").iloc[0]
     assert segv["status"] == "crashed"
     assert "SIGSEGV" in segv["error"]
@@ -175,7 +175,7 @@ def test_ctrl_c_in_a_real_run_loses_nothing_finished(tmp_path):
 def test_spawned_worker_also_isolates_a_hard_crash():
     config = RunConfig(repeat=1, check=False, plugins=(DOUBLES,), start_method="spawn")
     crash = runner.run_case(Case("crash_exit", "uniform", 20), config)
-    assert crash.status == "crashed" and "code 3" in crash.error
+    assert crash.status == "crashed" and "status 3" in crash.error
     healthy = runner.run_case(Case("steady", "uniform", 20), config)
     assert healthy.status == "ok" and healthy.rows[0]["time_s"] > 0
 
