@@ -14,11 +14,15 @@ case starts.
 
 from __future__ import annotations
 
+import atexit
+import dataclasses
 import datetime as _dt
 import math
 import multiprocessing as mp
 import os
+import shutil
 import socket
+import tempfile
 import time
 from dataclasses import asdict, dataclass, field
 from typing import Callable, Iterable, Optional, Sequence
@@ -159,14 +163,14 @@ _SCRATCH: list = []
 
 
 def _reference_cache(config: RunConfig) -> str:
-    """The run's reference cache, or a scratch folder of this process when it names none."""
+    """The run's reference cache, or a scratch folder of this process (removed at its exit)
+    when a single case is run with none."""
     if config.reference_cache:
         return config.reference_cache
     if not _SCRATCH:
-        import tempfile
-
-        _SCRATCH.append(tempfile.TemporaryDirectory(prefix="vorobench-reference-"))
-    return _SCRATCH[0].name
+        _SCRATCH.append(tempfile.mkdtemp(prefix="vorobench-reference-"))
+        atexit.register(shutil.rmtree, _SCRATCH[0], True)
+    return _SCRATCH[0]
 
 
 def prepare_reference(case: Case, config: RunConfig) -> Optional[str]:
@@ -420,6 +424,11 @@ def run_cases(cases: Sequence[Case], config: RunConfig, sink: Callable[[list[dic
                                TimeRemainingColumn)
 
     console = console or Console(stderr=True)
+    if config.check and config.reference and not config.reference_cache:
+        # The reference is judged once per input and shared through files: a folder for this run.
+        with tempfile.TemporaryDirectory(prefix="vorobench-reference-") as folder:
+            return run_cases(cases, dataclasses.replace(config, reference_cache=folder), sink, done, previous_rows,
+                             progress, console, verbose, executor, workers)
     done = set(done)
     todo = [c for c in cases if c.key not in done]
     history = history_from_rows(previous_rows)
