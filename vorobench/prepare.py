@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from vorobench.scaling import check_exact_range
+
 __all__ = ["prepare"]
 
 
@@ -33,7 +35,11 @@ def prepare(points: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
 
     ``sites`` holds the distinct points in order of first appearance (float64, C-contiguous,
     shape (m, 2)); ``inverse[i]`` is the site of input row i. n = 0 is allowed. Raises
-    ``ValueError`` naming the problem (and the first offending row for NaN/inf).
+    ``ValueError`` naming the problem (and the first offending row for NaN/inf), and
+    :class:`~vorobench.scaling.OutsideExactRange` (a ``ValueError``) for points whose nonzero
+    magnitudes span more than the predicates' exact range after any power-of-two scaling
+    (1.0 together with 1e-300; see :mod:`vorobench.scaling`): refused here, before any
+    implementation sees them, every implementation is refused the same way.
     """
     arr = _as_real_array(points)
     if arr.ndim == 1 and arr.size == 0:
@@ -51,6 +57,7 @@ def prepare(points: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
     n = arr.shape[0]
     if n == 0:
         return arr, np.zeros(0, dtype=np.intp)
+    check_exact_range(arr)
     # -0.0 and 0.0 are the same point: normalise so that the byte-level unique agrees.
     arr = arr + 0.0
     _, first, inverse = np.unique(arr, axis=0, return_index=True, return_inverse=True)

@@ -45,3 +45,25 @@ def test_output_is_contiguous_float64_and_integers_accepted():
     sites, inverse = prepare(np.arange(10, dtype=np.int32).reshape(5, 2))
     assert sites.dtype == np.float64 and sites.flags.c_contiguous
     assert inverse.tolist() == list(range(5))
+
+
+# ------------------------------------------------------------------------------ exact range
+def test_magnitudes_spanning_more_than_the_exact_range_are_refused():
+    """Nonzero magnitudes must fit in [2**-100, 2**100) after one power-of-two scaling:
+    their binary exponents (frexp) may differ by at most 199."""
+    with pytest.raises(ValueError) as info:
+        prepare([[1.0, 0.0], [0.0, 1e-300], [0.5, 0.5]])
+    text = str(info.value)
+    assert "exact range" in text and "2**-100" in text and "2**100" in text and "row 1" in text
+    # the boundary: 2**-199 with 1.0 (exponents 1 and -198) fits, half of it does not
+    sites, _ = prepare([[1.0, 0.0], [0.0, 2.0**-199]])
+    assert sites.shape == (2, 2)
+    with pytest.raises(ValueError, match="exact range"):
+        prepare([[1.0, 0.0], [0.0, 2.0**-200]])
+
+
+@pytest.mark.parametrize("k", [-1070, -1000, -300, 300, 1000, 1020])
+def test_any_magnitude_alone_is_accepted_unchanged(k):
+    pts = np.ldexp(np.array([[1.0, 3.0], [0.0, 2.0], [5.0, 0.0]]), k)
+    sites, _ = prepare(pts)
+    assert np.array_equal(sites, pts)
