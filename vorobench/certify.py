@@ -17,11 +17,22 @@ by being wrong consistently:
   the diagram's own vertices) of their nearest site, and random points lie strictly inside no
   cell of their next nearest sites (no cell claims a neighbour's territory).
 
+Any magnitude: the diagram is first scaled by a power of two (exact) so that its largest site
+coordinate lies in [0.5, 1) (:func:`vorobench.scaling.comfortable_shift`). There orient2d is
+exact and no distance, probe or tolerance underflows or overflows: at subnormal or 1e-200
+scale the orientation tests and probe sides used to underflow to 0, and n - 1 parallel lines
+for a grid were certified; at 1e300 squared distances overflowed. Coordinates rounded to
+subnormals (vertices of subnormal input) carry an absolute error of up to 2**-1075, allowed
+for in every tolerance (``_Context.normal_min``). Sites whose magnitudes span more than the exact
+range (1.0 with 1e-300) cannot be judged exactly: the structure check fails, saying so.
+Messages give coordinates in the diagram's own units.
+
 Geometric tolerances come from :mod:`vorobench.tolerances`. O(n log n).
 """
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import asdict, dataclass, field
 from typing import Any, Callable, Optional
@@ -33,6 +44,7 @@ from numpy.typing import NDArray
 from vorobench.diagram import Diagram
 from vorobench.incidence import vertex_site_lists
 from vorobench.predicates import orient2d, orient2d_many
+from vorobench.scaling import comfortable_shift, scale_points, smallest_normal
 from vorobench.sorting import argsort_keys, sorted_unique
 from vorobench.tolerances import (EQUIDISTANCE_REL_TOL, NEAR_DEGENERATE_REL_TOL, PROBE_REL_TOL, SHORT_EDGE_REL_TOL,
                                   allowed_error, data_scale, length_tolerance)
@@ -145,9 +157,24 @@ class _Context:
     H: int
     seed: int
     probes: int
+    #: the diagram is judged times 2**shift; ``normal_min``: the smallest normal float in those
+    #: units (coordinates below it were subnormals, rounded to absolute multiples of 2**-1074)
+    shift: int = 0
+    normal_min: float = 0.0
+    #: why the sites cannot be judged exactly at any scale, or None
+    range_problem: Optional[str] = None
     structure_ok: bool = False
     _tree: Any = None
     _lists: Optional[tuple[NDArray[np.int64], NDArray[np.int64]]] = None
+
+    def unscaled(self, x: float) -> float:
+        """A length or coordinate back in the diagram's own units (for messages)."""
+        return math.ldexp(float(x), -self.shift)
+
+    def magnitude(self, mag: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Coordinate magnitudes for :func:`length_tolerance`, at least ``normal_min``: the ulps
+        of subnormal coordinates are the absolute 2**-1074, not relative."""
+        return np.maximum(mag, self.normal_min)
 
     @property
     def tree(self):
@@ -187,6 +214,8 @@ def _check_structure(ctx: _Context) -> Check:
         ctx.d.validate()
     except Exception as exc:  # validate's message names the broken invariant and its ids
         return Check("structure", False, f"{type(exc).__name__}: {exc}")
+    if ctx.range_problem:
+        return Check("structure", False, f"valid DCEL, but the sites cannot be judged exactly: {ctx.range_problem}")
     return Check("structure", True, f"valid DCEL ({ctx.H} half-edges, {ctx.V} vertices)")
 
 
@@ -213,7 +242,7 @@ def _check_vertices(ctx: _Context) -> Check:
     few = used[deg[used] < 3]
     r_min, r_max, mag = np.empty(ctx.V), np.empty(ctx.V), np.empty(ctx.V)
     _vertex_kernel(ctx.xy, ctx.sites, ptr, s, r_min, r_max, mag)
-    r_min, r_max, mag = r_min[used], r_max[used], mag[used]
+    r_min, r_max, mag = r_min[used], r_max[used], ctx.magnitude(mag[used])
     # Strict: relative to the vertex's own radius. Near-degenerate (a floating-point library
     # merging nearly cocircular sites): relative to the data scale.
     tol = length_tolerance(EQUIDISTANCE_REL_TOL, r_max, mag)
@@ -231,7 +260,8 @@ def _check_vertices(ctx: _Context) -> Check:
     if unequal.any():
         k = int(np.argmax(spread))
         problems.append(f"{int(unequal.sum())} vertices are not equidistant from their sites "
-                        f"(worst: vertex {int(used[k])}, distances {r_min[k]:.6g} .. {r_max[k]:.6g})")
+                        f"(worst: vertex {int(used[k])}, distances {ctx.unscaled(r_min[k]):.6g} .. "
+                        f"{ctx.unscaled(r_max[k]):.6g})")
     if closer.any():
         problems.append(f"{int(closer.sum())} vertices have a site strictly closer than their own "
                         f"(empty circle violated)")
@@ -284,6 +314,7 @@ def _check_edges(ctx: _Context) -> Check:
     wrong_way = np.zeros(e.size, dtype=bool)
     worst, gap, radius, mag = (np.zeros(e.size) for _ in range(4))
     _edge_kernel(ctx.sites, ctx.xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, mag)
+    mag = ctx.magnitude(mag)
     off = ~(gap <= length_tolerance(EQUIDISTANCE_REL_TOL, radius, mag))     # NaN is off
     off_far = ~(gap <= length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(ctx.scale, radius), mag))
     problems = []
@@ -463,7 +494,8 @@ _PROBE_NEIGHBOURS = 3
 
 
 @njit(cache=True)
-def _probe_kernel(pts, cell, cptr, by_cell, sites, xy, site, twin, origin, scale, rel_tol, outside, strictly_inside):
+def _probe_kernel(pts, cell, cptr, by_cell, sites, xy, site, twin, origin, scale, normal_min, rel_tol, outside,
+                  strictly_inside):
     """Where probe pts[i] lies relative to the polygon of cell[i] as the diagram draws it: each
     half-edge h bounds the cell by the line through its finite end (the diagram's own
     vertex), or through the sites' midpoint for a full line, in direction perp(b - a), with
@@ -487,7 +519,7 @@ def _probe_kernel(pts, cell, cptr, by_cell, sites, xy, site, twin, origin, scale
                 ax, ay = 0.5 * (sites[a, 0] + sites[b, 0]), 0.5 * (sites[a, 1] + sites[b, 1])
             side = (dx * (py - ay) - dy * (px - ax)) / np.hypot(dx, dy)   # signed distance, + = left
             radius = np.hypot(ax - sites[a, 0], ay - sites[a, 1])
-            tol = allowed_error(rel_tol, max(scale, radius), max(abs(px), abs(py), abs(ax), abs(ay)))
+            tol = allowed_error(rel_tol, max(scale, radius), max(abs(px), abs(py), abs(ax), abs(ay), normal_min))
             if not side >= -tol:                 # NaN counts as outside
                 out = True
             if not side > tol:
@@ -496,7 +528,7 @@ def _probe_kernel(pts, cell, cptr, by_cell, sites, xy, site, twin, origin, scale
 
 
 @njit(cache=True)
-def _site_probe_kernel(sites, xy, site, twin, origin, scale, rel_tol, outside):
+def _site_probe_kernel(sites, xy, site, twin, origin, scale, normal_min, rel_tol, outside):
     """outside[i]: site i is outside the polygon of its own cell (same lines as
     :func:`_probe_kernel`); one pass over the half-edges in order."""
     for h in range(site.size):
@@ -510,7 +542,7 @@ def _site_probe_kernel(sites, xy, site, twin, origin, scale, rel_tol, outside):
         px, py = sites[a, 0], sites[a, 1]
         side = (dx * (py - ay) - dy * (px - ax)) / np.hypot(dx, dy)
         radius = np.hypot(ax - px, ay - py)
-        tol = allowed_error(rel_tol, max(scale, radius), max(abs(px), abs(py), abs(ax), abs(ay)))
+        tol = allowed_error(rel_tol, max(scale, radius), max(abs(px), abs(py), abs(ax), abs(ay), normal_min))
         if not side >= -tol:
             outside[a] = True
 
@@ -526,7 +558,8 @@ def _check_probes(ctx: _Context) -> Check:
     near = near.reshape(random.shape[0], k).astype(np.int64)
     # Sites as near as the nearest one, to float precision, are ties: the probe may be in any
     # of their cells (on their common boundary, as far as floats can tell).
-    tie = dist - dist[:, :1] <= length_tolerance(PROBE_REL_TOL, ctx.scale, np.abs(random).max(1))[:, None]
+    slack = length_tolerance(PROBE_REL_TOL, ctx.scale, ctx.magnitude(np.abs(random).max(1)))
+    tie = dist - dist[:, :1] <= slack[:, None]
     # Rows: each random probe against its k nearest cells, through the half-edges of the
     # cells touched (grouped by cell); then every site against its own cell (its nearest site
     # is itself: sites are distinct) in one pass over all half-edges.
@@ -542,10 +575,11 @@ def _check_probes(ctx: _Context) -> Check:
     strictly_inside = np.zeros(pts.shape[0], dtype=bool)
     xy = ctx.xy if ctx.V else np.zeros((1, 2))
     _probe_kernel(pts, cell, cptr, by_cell, ctx.sites, xy, ctx.site, ctx.twin, ctx.origin,
-                  ctx.scale, PROBE_REL_TOL, outside, strictly_inside)
+                  ctx.scale, ctx.normal_min, PROBE_REL_TOL, outside, strictly_inside)
     site_outside = np.zeros(n, dtype=bool)
     site_outside[np.bincount(ctx.site, minlength=n) == 0] = True          # a site without a cell
-    _site_probe_kernel(ctx.sites, xy, ctx.site, ctx.twin, ctx.origin, ctx.scale, PROBE_REL_TOL, site_outside)
+    _site_probe_kernel(ctx.sites, xy, ctx.site, ctx.twin, ctx.origin, ctx.scale, ctx.normal_min, PROBE_REL_TOL,
+                       site_outside)
     out_q = outside.reshape(-1, k)
     in_q = strictly_inside.reshape(-1, k)
     bad_own = np.flatnonzero(~(tie & ~out_q).any(axis=1))      # in no cell of a nearest site
@@ -560,12 +594,14 @@ def _check_probes(ctx: _Context) -> Check:
         if bad_own.size:
             q = int(bad_own[0])
             parts.append(f"{bad_own.size} of {ctx.probes} random probes lie outside the cell of their nearest "
-                         f"site (first: ({random[q, 0]:.6g}, {random[q, 1]:.6g}) nearest to site {int(near[q, 0])})")
+                         f"site (first: ({ctx.unscaled(random[q, 0]):.6g}, {ctx.unscaled(random[q, 1]):.6g}) "
+                         f"nearest to site {int(near[q, 0])})")
             ids += _ids(near[bad_own, 0])
         if bad_other.size:
             q, j = divmod(int(bad_other[0]), k)
             parts.append(f"{bad_other.size} times a cell claims a random probe nearer to another site (first: "
-                         f"({random[q, 0]:.6g}, {random[q, 1]:.6g}) inside cell {int(near[q, j])}, nearest site "
+                         f"({ctx.unscaled(random[q, 0]):.6g}, {ctx.unscaled(random[q, 1]):.6g}) inside cell "
+                         f"{int(near[q, j])}, nearest site "
                          f"{int(near[q, 0])})")
             ids += _ids(near.reshape(-1)[bad_other])
         return Check("probes", False, "; ".join(parts), [int(i) for i in dict.fromkeys(ids)][:_MAX_IDS], "site")
@@ -603,9 +639,16 @@ def certify(diagram: Diagram, *, probes: int = DEFAULT_PROBES, seed: int = 0) ->
     origin = np.asarray(d.origin, np.int64)
     twin = np.asarray(d.twin, np.int64)
     sites = np.ascontiguousarray(d.sites, dtype=np.float64)
-    ctx = _Context(d, sites, np.ascontiguousarray(d.vertices, dtype=np.float64), origin, twin,
-                   np.asarray(d.site, np.int64), origin[twin], data_scale(sites), d.n_sites, d.n_vertices,
-                   d.n_half_edges, seed, int(probes))
+    xy = np.ascontiguousarray(d.vertices, dtype=np.float64)
+    # Judged at sites * 2**shift, largest coordinate in [0.5, 1): exact, no under/overflow.
+    shift, range_problem = comfortable_shift(sites[np.isfinite(sites).all(axis=1)])
+    if shift:
+        sites = scale_points(sites, shift)
+        with np.errstate(over="ignore", under="ignore"):
+            xy = scale_points(xy, shift)
+    ctx = _Context(d, sites, xy, origin, twin, np.asarray(d.site, np.int64), origin[twin], data_scale(sites),
+                   d.n_sites, d.n_vertices, d.n_half_edges, seed, int(probes), shift, smallest_normal(shift),
+                   range_problem)
     checks = []
     for name in CHECKS:
         t0 = time.perf_counter_ns()

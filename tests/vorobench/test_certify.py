@@ -224,3 +224,63 @@ def test_non_finite_vertex_fails_every_geometric_check():
     cert = certify(with_arrays(d, vertices=vertices))
     assert {"structure", "vertices", "edges"} <= failed(cert)
     assert 3 in cert.check("vertices").offending
+
+
+# ------------------------------------------------------------------------------ any magnitude
+def scaled(d: Diagram, k: int) -> Diagram:
+    """``d`` with every coordinate times 2**k (exact while nothing leaves the float range;
+    subnormal results are rounded once)."""
+    return with_arrays(d, sites=np.ldexp(d.sites, k), vertices=np.ldexp(d.vertices, k))
+
+
+GRID6 = np.array([[x, y] for x in range(6) for y in range(6)], dtype=float) / 8
+#: 2**k: the 6x6 grid times 2**-1060 (subnormal), ~1e-200, ~1e300, ~1e-30, ~1e30
+EXTREME = [-1057, -664, 997, -100, 100]
+
+
+@pytest.mark.parametrize("k", EXTREME)
+def test_right_diagrams_certify_at_any_magnitude(k):
+    for d in (impls.build("fortune", GRID6), impls.build("qhull", datasets_gen.generate("uniform", 60))):
+        if k < -1000 and d.n_sites != GRID6.shape[0]:
+            continue                     # random sites would lose bits as subnormals: another input
+        cert = certify(scaled(d, k))
+        assert cert.ok, str(cert)
+
+
+@pytest.mark.parametrize("k", EXTREME)
+def test_parallel_lines_for_a_grid_fail_at_any_magnitude(k):
+    """The n - 1 parallel lines of 'collinear' sites, for a grid that is not collinear: what
+    implementations returned for subnormal and 1e-200-scale input, and certify accepted
+    (its orientation tests and probes underflowed to 0)."""
+    cert = certify(collinear_diagram(np.ldexp(GRID6, k)))
+    assert not cert.ok and not cert.ok_within_tolerance, str(cert)
+    assert {"hull", "probes"} <= failed(cert)
+
+
+@pytest.mark.parametrize("k", EXTREME)
+def test_moved_vertex_and_dropped_edge_fail_at_any_magnitude(k):
+    d = impls.build("fortune", GRID6) if k < -1000 else qhull("uniform", 60)
+    d = scaled(d, k)
+    vertices = d.vertices.copy()
+    vertices[3] += np.ldexp(1e-3, k)
+    cert = certify(with_arrays(d, vertices=vertices))
+    assert not cert.ok and "vertices" in failed(cert), str(cert)
+    e = d.edges()
+    u_all, v_all = d.origin[e], d.origin[d.twin[e]]
+    real = (u_all >= 0) & (v_all >= 0)
+    real[real] = (d.vertices[u_all[real]] != d.vertices[v_all[real]]).any(axis=1)   # not zero-length
+    h = int(e[np.flatnonzero(real)[0]])
+    u, v = int(d.origin[h]), int(d.origin[d.twin[h]])
+    pairs = np.stack([d.site[e], d.site[d.twin[e]]], 1)
+    ends = np.stack([d.origin[e], d.origin[d.twin[e]]], 1)
+    keep = e != min(h, int(d.twin[h]))
+    broken = assemble(d.sites, d.vertices, pairs[keep], np.where(ends == v, u, ends)[keep], compact_vertices=True)
+    cert = certify(broken)
+    assert not cert.ok and not cert.ok_within_tolerance, str(cert)
+
+
+def test_sites_beyond_the_exact_range_are_not_certified():
+    """Magnitudes 1 and 1e-300 in one diagram: no power of two makes its tests exact."""
+    d = assemble(np.array([[1.0, 0.0], [0.0, 1e-300]]), np.zeros((0, 2)), [[0, 1]], [[-1, -1]])
+    cert = certify(d)
+    assert not cert.ok and "exact range" in cert.check("structure").detail
