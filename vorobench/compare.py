@@ -17,11 +17,19 @@ the sites are nearly collinear and the exact vertices lie far apart), and the co
 is repeated ("within_tolerance"). A vertex merged under tolerance may then lie anywhere
 within its members' spread when coordinates are matched.
 
+Any magnitude: both diagrams are compared at their coordinates times one power of two (exact),
+the largest site coordinate in [0.5, 1) (:func:`vorobench.scaling.comfortable_shift`), where
+incircle is exact and no distance or tolerance underflows or overflows (at subnormal and
+1e-200 scale the exact contraction's incircle tests underflowed); subnormal coordinates'
+absolute rounding (2**-1075) is allowed for. Reported coordinates and lengths are in the
+diagrams' own units.
+
 Everything is sorting and array indexing; n = 10^6 takes seconds.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass, field
 from typing import Any, Optional
 
@@ -32,6 +40,7 @@ from numpy.typing import NDArray
 from vorobench.diagram import Diagram
 from vorobench.incidence import vertex_site_lists
 from vorobench.predicates import incircle, orient2d
+from vorobench.scaling import comfortable_shift, scale_points, smallest_normal
 from vorobench.sorting import argsort_keys, dense_rank, is_member, sorted_unique
 from vorobench.tolerances import (COINCIDENCE_FILTER_REL_TOL, COINCIDENCE_FILTER_ULPS, SHORT_EDGE_REL_TOL,
                                   VERTEX_MATCH_REL_TOL, allowed_error, circumcentre_tolerance, data_scale)
@@ -241,23 +250,24 @@ class _Form:
     m_cv: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, np.int64))
 
 
-def _exactly_coincident(sites, xy, ptr, s, a, b, u, v, scale: float) -> NDArray[np.bool_]:
+def _exactly_coincident(sites, xy, ptr, s, a, b, u, v, scale: float, normal_min: float) -> NDArray[np.bool_]:
     """Edges (a, b) from vertex u to v whose end vertices coincide: all sites of u and v on one circle.
 
     Decided exactly on the sites: with c a third site of u, every site x of u and v other
     than a, b, c must satisfy incircle(a, b, c, x) == 0, and a, b, c must not be collinear.
     Vertices whose coordinates lie farther apart than any rounding of a circumcentre could
     explain (``COINCIDENCE_FILTER_*``) are not tested: that settles almost every edge cheaply.
+    ``normal_min``: the smallest normal float in these units (subnormals are rounded absolutely).
     """
     out = np.zeros(a.size, dtype=bool)
     if a.size:
-        _coincident_kernel(sites, xy, ptr, s, a, b, u, v, scale, COINCIDENCE_FILTER_REL_TOL,
+        _coincident_kernel(sites, xy, ptr, s, a, b, u, v, scale, normal_min, COINCIDENCE_FILTER_REL_TOL,
                            COINCIDENCE_FILTER_ULPS * np.finfo(np.float64).eps, out)
     return out
 
 
 @njit(cache=True)
-def _coincident_kernel(sites, xy, ptr, s, a, b, u, v, scale, filter_rel, filter_abs, out):
+def _coincident_kernel(sites, xy, ptr, s, a, b, u, v, scale, normal_min, filter_rel, filter_abs, out):
     for k in range(a.size):
         aa, bb, uu, vv = a[k], b[k], u[k], v[k]
         ax, ay, bx, by = sites[aa, 0], sites[aa, 1], sites[bb, 0], sites[bb, 1]
@@ -266,7 +276,7 @@ def _coincident_kernel(sites, xy, ptr, s, a, b, u, v, scale, filter_rel, filter_
         # than a small fraction of R; far more than both means two different vertices.
         px, py, qx, qy = xy[uu, 0], xy[uu, 1], xy[vv, 0], xy[vv, 1]
         radius = np.hypot(px - ax, py - ay)
-        magnitude = max(abs(px), abs(py), abs(qx), abs(qy))
+        magnitude = max(abs(px), abs(py), abs(qx), abs(qy), normal_min)
         bound = filter_rel * max(radius, scale) + \
             filter_abs * (magnitude + radius * radius / max(np.hypot(ax - bx, ay - by), 1e-300))
         if np.hypot(px - qx, py - qy) > bound:
@@ -324,7 +334,7 @@ def _successor(nxt: NDArray[np.int64], kept: NDArray[np.bool_]) -> NDArray[np.in
 
 
 @njit(cache=True)
-def _nearly_cocircular_kernel(xy, sites, ptr, s, u, v, rel_tol, out):
+def _nearly_cocircular_kernel(xy, sites, ptr, s, u, v, rel_tol, normal_min, out):
     """out[k]: vertex u[k] or v[k] is equidistant, within ``rel_tol`` of the radius (plus
     roundoff), from every site of both: the two vertices are one vertex of nearly cocircular
     sites, as a floating-point library may merge them."""
@@ -332,7 +342,7 @@ def _nearly_cocircular_kernel(xy, sites, ptr, s, u, v, rel_tol, out):
         for w in (u[k], v[k]):
             px, py = xy[w, 0], xy[w, 1]
             lo, hi = np.inf, 0.0
-            mag = max(abs(px), abs(py))
+            mag = max(abs(px), abs(py), normal_min)
             for z in (u[k], v[k]):
                 for j in range(ptr[z], ptr[z + 1]):
                     x = s[j]
@@ -344,7 +354,7 @@ def _nearly_cocircular_kernel(xy, sites, ptr, s, u, v, rel_tol, out):
 
 
 def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optional[float], scale: float,
-               consistent: bool) -> _Form:
+               consistent: bool, normal_min: float = 0.0) -> _Form:
     """Canonical form of ``d``: contract exactly-zero edges (and, with ``rel_tol``, edges
     shorter than ``rel_tol * scale`` or between vertices of nearly cocircular sites), merge
     their vertices, list the kept half-edges with their merged ends. ``consistent``: the
@@ -368,14 +378,15 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optiona
     a, b = site[e], site[twin[e]]
     exact = loop.copy()
     xy = np.asarray(d.vertices, np.float64).reshape(-1, 2)
-    exact[~loop] = _exactly_coincident(common_sites, xy, ptr, s, a[~loop], b[~loop], u[~loop], v[~loop], scale)
+    exact[~loop] = _exactly_coincident(common_sites, xy, ptr, s, a[~loop], b[~loop], u[~loop], v[~loop], scale,
+                                       normal_min)
     contract = exact.copy()
     short: list[tuple[int, int, float]] = []
     n_short = 0
     if rel_tol is not None and e.size:
         length = np.hypot(*(xy[u] - xy[v]).T)
         is_short = length < rel_tol * scale
-        _nearly_cocircular_kernel(xy, common_sites, ptr, s, u, v, rel_tol, is_short)
+        _nearly_cocircular_kernel(xy, common_sites, ptr, s, u, v, rel_tol, normal_min, is_short)
         is_short &= ~exact
         n_short = int(is_short.sum())
         for k in np.flatnonzero(is_short)[:_MAX_SHORT_LISTED]:
@@ -477,10 +488,15 @@ def _site_tuple(f: _Form, m: int) -> tuple[int, ...]:
     return tuple(int(x) for x in f.m_sites[f.m_ptr[m]:f.m_ptr[m + 1]])
 
 
-def _end_text(f: _Form, m: int) -> str:
+def _own_units(xy: NDArray[np.float64], shift: int) -> list[float]:
+    """Coordinates judged at 2**shift times the diagram's, back in its own units."""
+    return np.ldexp(np.asarray(xy, dtype=np.float64), -shift).tolist()
+
+
+def _end_text(f: _Form, m: int, shift: int = 0) -> str:
     if m < 0:
         return "infinity"
-    x, y = f.m_xy[m]
+    x, y = _own_units(f.m_xy[m], shift)
     return f"{list(_site_tuple(f, m))} at ({x:.6g}, {y:.6g})"
 
 
@@ -499,7 +515,7 @@ def _cycle(f: _Form, cell: int) -> list[int]:
 
 
 def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale: float,
-                 coord_tol: float, labels: tuple[str, str]) -> _Diff:
+                 coord_tol: float, labels: tuple[str, str], shift: int = 0, normal_min: float = 0.0) -> _Diff:
     la, lb = labels
     counts = {k: 0 for k in DIFFERENCE_KINDS}
     diffs: list[Difference] = []
@@ -518,8 +534,9 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
         only = live[other[f.m_cv[live]] < 0]
         counts[kind] = int(only.size)
         for m in only[:_MAX_LISTED]:
-            diffs.append(Difference(kind, _site_tuple(f, int(m)), f"vertex at {tuple(f.m_xy[m].round(12).tolist())} "
-                                    f"only in {label}", [tuple(f.m_xy[m].tolist())]))
+            xy = tuple(_own_units(f.m_xy[m], shift))
+            diffs.append(Difference(kind, _site_tuple(f, int(m)), f"vertex at ({xy[0]:.12g}, {xy[1]:.12g}) "
+                                    f"only in {label}", [xy]))
     # Coordinates of matched vertices.
     ma = live_a[where_b[fa.m_cv[live_a]] >= 0]
     mb = where_b[fa.m_cv[ma]]
@@ -542,7 +559,7 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
             s0, s1, s2 = (sites[fa.m_sites[np.minimum(first + k, last)]] for k in range(3))
             shortest = np.minimum(np.minimum(np.hypot(*(s0 - s1).T), np.hypot(*(s1 - s2).T)), np.hypot(*(s0 - s2).T))
             shortest = np.where(shortest > 0, shortest, scale)
-            magnitude = np.maximum(np.abs(pa[cand]).max(1), np.abs(pb[cand]).max(1))
+            magnitude = np.maximum(np.maximum(np.abs(pa[cand]).max(1), np.abs(pb[cand]).max(1)), normal_min)
             # A vertex merged under tolerance may lie anywhere within its members' spread.
             allowed = circumcentre_tolerance(coord_tol, local[cand], radius[cand], shortest, magnitude) + extent[cand]
             ratio = err[cand] / allowed
@@ -551,10 +568,10 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
             bad = cand[over]
             counts["coordinate_mismatches"] = int(bad.size)
             for k, r in zip(bad[:_MAX_LISTED], ratio[over][:_MAX_LISTED]):
+                xa, xb = tuple(_own_units(pa[k], shift)), tuple(_own_units(pb[k], shift))
                 diffs.append(Difference("coordinate_mismatches", _site_tuple(fa, int(ma[k])),
-                                        f"vertex at {tuple(pa[k].tolist())} in {la}, {tuple(pb[k].tolist())} in {lb} "
-                                        f"(error {rel[k]:.3g} of the local scale, {r:.3g} x allowed)",
-                                        [tuple(pa[k].tolist()), tuple(pb[k].tolist())]))
+                                        f"vertex at {xa} in {la}, {xb} in {lb} "
+                                        f"(error {rel[k]:.3g} of the local scale, {r:.3g} x allowed)", [xa, xb]))
     # Edges by site pair, each represented by its half-edge with cell < neighbour (the twin
     # carries the same pair reversed): ends, and the next neighbour on both sides.
     low_a = np.flatnonzero(fa.cell < fa.nb)
@@ -586,8 +603,8 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
         counts[kind] = int(only.size)
         for k in only[:_MAX_LISTED]:
             diffs.append(Difference(kind, (int(f.cell[k]), int(f.nb[k])),
-                                    f"edge from {_end_text(f, int(f.start[k]))} to {_end_text(f, int(f.end[k]))} "
-                                    f"only in {label}", _edge_points(f, k)))
+                                    f"edge from {_end_text(f, int(f.start[k]), shift)} to "
+                                    f"{_end_text(f, int(f.end[k]), shift)} only in {label}", _edge_points(f, k, shift)))
     # Matched edges: same ends, and the same next neighbour on both sides?
     diff_ends = np.zeros(ia.size, dtype=bool)
     succ_differs = np.zeros(ia.size, dtype=bool)
@@ -599,9 +616,11 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
     for k in bad_edges[:_MAX_LISTED]:
         x, y = ia[k], ib[k]
         diffs.append(Difference("edges_with_different_ends", (int(fa.cell[x]), int(fa.nb[x])),
-                                f"{la}: {_end_text(fa, int(fa.start[x]))} -> {_end_text(fa, int(fa.end[x]))}; "
-                                f"{lb}: {_end_text(fb, int(fb.start[y]))} -> {_end_text(fb, int(fb.end[y]))}",
-                                _edge_points(fa, x) + _edge_points(fb, y)))
+                                f"{la}: {_end_text(fa, int(fa.start[x]), shift)} -> "
+                                f"{_end_text(fa, int(fa.end[x]), shift)}; "
+                                f"{lb}: {_end_text(fb, int(fb.start[y]), shift)} -> "
+                                f"{_end_text(fb, int(fb.end[y]), shift)}",
+                                _edge_points(fa, x, shift) + _edge_points(fb, y, shift)))
     for f, idx in ((fa, ia), (fb, ib)):
         hl = hl_a if f is fa else hl_b
         hl += [f.h[idx[bad_edges]], f.h[f.tw[idx[bad_edges]]], f.h[idx[succ_differs]], f.h[f.tw[idx[twin_succ_differs]]]]
@@ -611,7 +630,7 @@ def _differences(fa: _Form, fb: _Form, sites: NDArray[np.float64], n: int, scale
     for c in bad_cells[:_MAX_LISTED]:
         diffs.append(Difference("cells_with_different_neighbours", (int(c),),
                                 f"neighbours {_cycle(fa, int(c))} in {la}, {_cycle(fb, int(c))} in {lb}",
-                                [tuple(sites[c].tolist())]))
+                                [tuple(_own_units(sites[c], shift))]))
     return _Diff(counts, diffs, sorted_unique(np.concatenate(hl_a)), sorted_unique(np.concatenate(hl_b)),
                  max_err, max_ratio)
 
@@ -640,11 +659,21 @@ def _first_of_runs(sorted_keys: NDArray[np.int64]) -> NDArray[np.int64]:
     return np.flatnonzero(np.concatenate([[True], sorted_keys[1:] != sorted_keys[:-1]]))
 
 
-def _edge_points(f: _Form, k: int) -> list[tuple[float, float]]:
-    return [tuple(f.m_xy[m].tolist()) for m in (int(f.start[k]), int(f.end[k])) if m >= 0]
+def _edge_points(f: _Form, k: int, shift: int = 0) -> list[tuple[float, float]]:
+    return [tuple(_own_units(f.m_xy[m], shift)) for m in (int(f.start[k]), int(f.end[k])) if m >= 0]
 
 
 # ---------------------------------------------------------------------------------- entry point
+def _scaled(d: Diagram, shift: int) -> Diagram:
+    """``d`` with sites and vertices times 2**shift (exact inside the float range)."""
+    if shift == 0:
+        return d
+    with np.errstate(over="ignore", under="ignore"):
+        return Diagram(scale_points(np.asarray(d.sites, np.float64).reshape(-1, 2), shift),
+                       scale_points(np.asarray(d.vertices, np.float64).reshape(-1, 2), shift),
+                       d.origin, d.twin, d.next, d.site)
+
+
 def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coord_tol: Optional[float] = None,
             labels: tuple[str, str] = ("a", "b")) -> Comparison:
     """Compare two diagrams of the same sites combinatorially and by vertex coordinates.
@@ -678,20 +707,25 @@ def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coor
     if not (_indices_usable(a) and _indices_usable(b)):
         return Comparison(False, "differs", counts, [], sites_reordered=reordered, structure_errors=structure, **base)
     identity = np.arange(n, dtype=np.int64)
+    # Compared at 2**shift times the coordinates (largest site coordinate in [0.5, 1)): exact.
+    shift, _ = comfortable_shift(np.asarray(a.sites, np.float64).reshape(-1, 2))
+    a, b = _scaled(a, shift), _scaled(b, shift)
+    normal_min = smallest_normal(shift)
     sites = np.asarray(a.sites, np.float64)
+    unit_scale = data_scale(sites)
     result = None
     for stage, tol in (("exact", None), ("within_tolerance", rel_tol)):
-        forms = [_canonical(a, identity, n, tol, scale, err_a is None),
-                 _canonical(b, site_map, n, tol, scale, err_b is None)]
+        forms = [_canonical(a, identity, n, tol, unit_scale, err_a is None, normal_min),
+                 _canonical(b, site_map, n, tol, unit_scale, err_b is None, normal_min)]
         _joint_vertex_ids(forms, n)
-        diff = _differences(forms[0], forms[1], sites, n, scale, coord_tol, (la, lb))
+        diff = _differences(forms[0], forms[1], sites, n, unit_scale, coord_tol, (la, lb), shift, normal_min)
         result = (stage, forms, diff)
         if diff.combinatorial == 0 or rel_tol <= 0:
             break
     stage, forms, diff = result
     diff.counts["invalid_structure"] = counts["invalid_structure"]
     ok = diff.combinatorial == 0 and diff.counts["coordinate_mismatches"] == 0 and err_a is None and err_b is None
-    short = [dict(diagram=lbl, sites=[x, y], length=length)
+    short = [dict(diagram=lbl, sites=[x, y], length=math.ldexp(length, -shift))
              for lbl, f in zip((la, lb), forms) for x, y, length in f.short]
     return Comparison(
         equal=ok, verdict=stage if ok else "differs", counts=diff.counts, differences=diff.differences,

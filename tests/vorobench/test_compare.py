@@ -277,3 +277,35 @@ def test_non_finite_vertex_is_reported():
     c = compare(d, with_arrays(d, vertices=vertices))
     assert not c.equal and c.counts["coordinate_mismatches"] == 1 and c.counts["invalid_structure"] == 1
     assert "not finite" in str(c)
+
+
+# ------------------------------------------------------------------------------ any magnitude
+def scaled(d: Diagram, k: int) -> Diagram:
+    """``d`` with every coordinate times 2**k (exact for these diagrams)."""
+    return Diagram(np.ldexp(d.sites, k), np.ldexp(d.vertices, k), d.origin, d.twin, d.next, d.site)
+
+
+GRID6 = np.array([[x, y] for x in range(6) for y in range(6)], dtype=float) / 8
+
+
+@pytest.mark.parametrize("k", [-1057, -664, 997])
+def test_split_and_merged_degree_4_vertices_are_equal_at_any_magnitude(k):
+    """A grid: Fortune splits its degree-4 vertices, Qhull merges them. The exact contraction
+    decides with incircle on the sites, which underflowed at subnormal and 1e-200 scale."""
+    split, merged = impls.build("fortune", GRID6), impls.build("qhull", GRID6)
+    assert compare(split, merged).verdict == "exact"
+    c = compare(scaled(split, k), scaled(merged, k))
+    assert c.verdict == "exact", str(c)
+    assert c.zero_length_edges["a"] == 25
+
+
+@pytest.mark.parametrize("k", [-664, 997])
+def test_moved_vertex_is_reported_in_the_input_units_at_any_magnitude(k):
+    d = scaled(qhull("uniform", 40), k)
+    vertices = d.vertices.copy()
+    vertices[5] += [np.ldexp(1e-4, k), 0.0]
+    c = compare(d, with_arrays(d, vertices=vertices))
+    assert c.verdict == "differs" and c.counts["coordinate_mismatches"] == 1, str(c)
+    assert np.allclose(c.differences[0].points, [d.vertices[5], vertices[5]], rtol=1e-12, atol=0)
+    vertices[5] = d.vertices[5] + [np.ldexp(1e-14, k), 0.0]
+    assert compare(d, with_arrays(d, vertices=vertices)).verdict == "exact"
