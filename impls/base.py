@@ -9,6 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vorobench.diagram import Diagram
+from vorobench.scaling import exact_shift, scale_back_vertices, scale_points
 
 __all__ = ["Implementation", "BuildFunction", "UnsupportedInput", "InputMutated"]
 
@@ -63,16 +64,43 @@ class Implementation:
         read-only copy, so ``sites`` itself is never touched; writing through that copy
         raises inside the implementation, and a copy made writeable again and changed is
         caught by the comparison afterwards.
+
+        Magnitudes: sites outside the range where the predicates are exact are scaled by a
+        power of two into it first (exact; same combinatorics), the implementation builds
+        (and ``supports`` screens, whatever ``check_supports`` says, since the caller
+        screened other numbers) the scaled sites, and the vertices are scaled back; the
+        diagram's ``sites`` are a copy of ``sites``, bit for bit. Sites that no power of two
+        brings into the range, and diagrams whose vertices leave the float range when scaled
+        back, raise :class:`~vorobench.scaling.OutsideExactRange` (a ``ValueError``); see
+        :mod:`vorobench.scaling` for the rule. Inside the range this costs one pass over the
+        coordinates.
         """
-        if check_supports:
-            reason = self.unsupported_reason(sites)
+        shift = exact_shift(sites)
+        if shift == 0:
+            expected = sites
+            given = np.array(sites, dtype=np.float64, order="C", copy=True)
+        else:
+            expected = scale_points(sites, shift)
+            given = expected.copy()
+        given.setflags(write=False)
+        if check_supports or shift != 0:
+            reason = self.unsupported_reason(given)
             if reason:
                 raise UnsupportedInput(f"{self.name} does not support these sites: {reason}")
-        given = np.array(sites, dtype=np.float64, order="C", copy=True)
-        given.setflags(write=False)
         diagram = self.build(given, stats)
-        if not np.array_equal(given, sites):
-            rows = np.flatnonzero((given != sites).any(axis=1)) if given.shape == sites.shape else []
+        if not np.array_equal(given, expected):
+            rows = np.flatnonzero((given != expected).any(axis=1)) if given.shape == expected.shape else []
             where = f" (row {int(rows[0])}; {len(rows)} row(s) changed)" if len(rows) else ""
             raise InputMutated(f"{self.name} changed the sites it was given{where}: inputs are read-only")
-        return diagram
+        if shift == 0:
+            return diagram
+        return _scaled_back(diagram, sites, shift)
+
+
+def _scaled_back(diagram: Diagram, sites: NDArray[np.float64], shift: int) -> Diagram:
+    """The diagram built on ``sites * 2**shift``, for ``sites``: the same DCEL, the vertices
+    times 2**-shift, and a read-only copy of the caller's sites (bit for bit)."""
+    own = np.array(sites, dtype=np.float64, order="C", copy=True)
+    own.setflags(write=False)
+    return Diagram(own, scale_back_vertices(diagram.vertices, shift), diagram.origin, diagram.twin,
+                   diagram.next, diagram.site)

@@ -60,6 +60,7 @@ from vorobench.dcel import assemble, collinear_diagram
 from vorobench.diagram import Diagram
 from vorobench.predicates import (INCIRCLE_CALLS, INCIRCLE_EXACT, ORIENT_CALLS, ORIENT_EXACT, incircle_counted,
                                   orient2d_counted, orient2d_many)
+from vorobench.scaling import exact_range_sites
 
 __all__ = ["build", "cells", "supports", "IMPLEMENTATION", "AT_INFINITY", "MAX_SITES"]
 
@@ -446,7 +447,11 @@ def _all_collinear(sites: NDArray[np.float64]) -> bool:
 
 
 def supports(sites: NDArray[np.float64]) -> Optional[str]:
-    """None if the sites can be processed, else why not."""
+    """None if the sites can be processed, else why not: too many, or magnitudes that no
+    power of two brings into the predicates' exact range (``run`` scales the rest)."""
+    _, problem = exact_range_sites(sites)
+    if problem:
+        return problem
     if sites.shape[0] > MAX_SITES:
         return f"more than {MAX_SITES} sites (vertex keys pack a site triple in an int64)"
     return None

@@ -52,6 +52,7 @@ from impls.external.screen import changed_decisions, circumcentres, triangulatio
 from vorobench.dcel import assemble
 from vorobench.diagram import Diagram
 from vorobench.predicates import orient2d_many
+from vorobench.scaling import exact_range_sites
 
 __all__ = ["build", "supports", "to_grid", "vertex_triples", "GRID_HALF_SPAN_BITS", "IMPLEMENTATION"]
 
@@ -122,6 +123,9 @@ def supports(sites: NDArray[np.float64]) -> Optional[str]:
     the diagram of different sites. This catches inputs degenerate at a finer scale than
     the grid (``near_grid``, ``parabola``, far-flung ``kuzmin``).
     """
+    sites, problem = exact_range_sites(sites)     # what run() will hand over, at any magnitude
+    if problem:
+        return problem
     n = sites.shape[0]
     if n <= 1:
         return None

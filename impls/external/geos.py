@@ -54,6 +54,7 @@ from vorobench.certify import convex_hull_boundary
 from vorobench.dcel import assemble
 from vorobench.diagram import Diagram
 from vorobench.predicates import orient2d_many
+from vorobench.scaling import exact_range_sites
 from vorobench.sorting import argsort_keys, dense_rank
 
 __all__ = ["build", "supports", "diagram_from_cells", "InconsistentCellsError", "ENVELOPE_EXPONENTS",
@@ -103,6 +104,9 @@ def supports(sites: NDArray[np.float64]) -> Optional[str]:
     old = _too_old()
     if old:
         return old
+    sites, problem = exact_range_sites(sites)     # what run() will hand over, at any magnitude
+    if problem:
+        return problem
     n = sites.shape[0]
     if n <= 1:
         return None

@@ -53,6 +53,7 @@ from impls.incremental.dual import voronoi_edges
 from vorobench.dcel import assemble, collinear_diagram
 from vorobench.diagram import Diagram
 from vorobench.predicates import INCIRCLE_CALLS, INCIRCLE_EXACT
+from vorobench.scaling import exact_range_sites
 
 __all__ = ["build", "build_with", "ghost_layout", "sweep_supports", "SWEEP_MIN_FLATNESS", "SWITCHES",
            "DIVIDE_AND_CONQUER", "SWEEP", "INCREMENTAL", "IMPLEMENTATION"]
@@ -181,6 +182,9 @@ def sweep_supports(sites: NDArray[np.float64]) -> Optional[str]:
     triangle of the sites' Delaunay triangulation is flatter than ``SWEEP_MIN_FLATNESS``
     (height over longest side). On such inputs Triangle's sweep drops sites or returns
     non-Delaunay triangulations (witnesses in ``tests/impls/witnesses/triangle_sweep_*``)."""
+    sites, problem = exact_range_sites(sites)     # what run() will hand over, at any magnitude
+    if problem:
+        return problem
     if sites.shape[0] <= 3:
         return None
     tr = triangulation(sites)

@@ -7,9 +7,11 @@ beach-line treap and the event heap, both expected/worst-case logarithmic), O(n)
 
 Input: prepared sites (distinct, finite float64), any n >= 0. The predicates are exact as
 long as their float filters and expansion products neither overflow nor underflow: site
-coordinates (and their differences) of magnitude 0 or within about [1e-30, 1e30] are safe for
-the filters; the degree-20 comparison of two circle events rescales its differences by a power
-of two first. Offsets of 1e9 with spacing 1e-3, and spacing 1e-9 near 0, are well inside.
+coordinates of magnitude 0 or in [2**-100, 2**100) (about [7.9e-31, 1.3e30]; the degree-6
+circle tops are the binding ones), where ``Implementation.run`` scales every input by a
+power of two (:mod:`vorobench.scaling`); the degree-20 comparison of two circle events
+rescales its differences by a power of two itself. Offsets of 1e9 with spacing 1e-3, and
+spacing 1e-9 near 0, are well inside.
 
 Structure (three separate files, as in Boost.Polygon's builder / predicates / output):
 * ``sweep.py``: the sweep. Sites are pre-sorted by (y, x); the sweep line moves upward. A

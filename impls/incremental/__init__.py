@@ -7,7 +7,8 @@ Complexity: O(n log n) expected. Sites are inserted in a biased randomized inser
 does not depend on the input order (``sorted`` included), and each new site is located by a
 visibility walk from the previous insertion, short because consecutive sites are close.
 Input: prepared sites (distinct, finite float64), any n >= 0; coordinates within the range
-where :mod:`vorobench.predicates` is exact (|x| in [1e-50, 1e50] or 0).
+where :mod:`vorobench.predicates` is exact (|x| in [2**-100, 2**100) or 0), where
+``Implementation.run`` scales every input by a power of two (:mod:`vorobench.scaling`).
 Exactness: every decision is an exact predicate (orient2d for the walk and for hull
 conflicts, incircle for conflicts and for merging cocircular triangles); floating point is
 used only for the vertex coordinates.
