@@ -40,6 +40,18 @@ e.g. coordinates around 1e9 differing by a single ulp (1.2e-7) are fine.
 Outside those ranges the results may be wrong; NaN/inf inputs give
 unspecified results.
 
+The project's range lies inside the range of every predicate here (the
+narrowest are the sweep's degree-6 circle tops; see "Expansions" below):
+every nonzero coordinate of magnitude in [2**-100, 2**100). It is kept in
+:mod:`vorobench.scaling` (free of numba, so that ``prepare`` can check it),
+where it is derived; ``Implementation.run`` scales every input into it by a
+power of two (exact), and ``prepare`` refuses inputs that no power of two fits
+(magnitudes more than ~2**199 apart). One predicate is scale-free instead:
+``circle_events_order_exact`` rescales its own differences, and its degree-20
+squaring is exact when their significant bits span at most ~53 binary orders
+(20 x 53 < 1074), which the range rule does not guarantee for coordinates of
+very different binades; it is the last resort after every filter and exact key.
+
 Evaluation strategy: a floating-point filter with Shewchuk's rigorous a-priori
 error bounds decides almost all calls without allocating anything; if it cannot
 decide, an exact evaluation with floating-point expansions (Shewchuk, "Adaptive
