@@ -174,6 +174,10 @@ def run(args: argparse.Namespace) -> int:
 
     config, out = config_from_args(args)
     parse_spec(args.executor)
+    if args.overwrite and not args.resume and out.exists():
+        import shutil
+
+        shutil.rmtree(config.reference_cache, ignore_errors=True)   # references of the run replaced
     if args.workers < 1:
         raise ValueError("--workers must be at least 1")
     code, _ = execute(args.impls, args.datasets, args.sizes, args.seeds, out, config,

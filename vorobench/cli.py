@@ -78,17 +78,26 @@ def load_points(dataset: Optional[str], n: int, seed: int, points_file: Optional
 
 
 def _build_in_sandbox(name: str, sites):
-    """Runs in the sandbox: (status, diagram, stats, seconds); status "unsupported" with the reason."""
+    """Runs in the sandbox: ({"unsupported", "seconds", "stats"}, the diagram's arrays)."""
+    import numbers
+
     import impls
+    from vorobench.diagram import Diagram
 
     impl = impls.get(name)
     reason = impl.unsupported_reason(sites)
     if reason:
-        return "unsupported", reason, {}, 0.0
+        return {"unsupported": reason}, None
     stats: dict = {}
     t0 = time.perf_counter_ns()
     diagram = impl.run(sites, stats, check_supports=False)
-    return "ok", diagram, stats, (time.perf_counter_ns() - t0) / 1e9
+    seconds = (time.perf_counter_ns() - t0) / 1e9
+    if type(diagram) is not Diagram:
+        raise TypeError(f"build returned {type(diagram).__name__}, not a Diagram")
+    counters = {str(k): (int(v) if isinstance(v, numbers.Integral) else float(v))
+                for k, v in stats.items() if isinstance(v, numbers.Real)}
+    return ({"unsupported": "", "seconds": seconds, "stats": counters},
+            {f: getattr(diagram, f) for f in ("sites", "vertices", "origin", "twin", "next", "site")})
 
 
 def cmd_build(args: argparse.Namespace) -> int:
@@ -110,9 +119,16 @@ def cmd_build(args: argparse.Namespace) -> int:
     if not outcome.ok:
         print(f"vorobench build: {args.impl} failed on {label}: {outcome.kind}: {outcome.message}", file=sys.stderr)
         return 1
-    status, diagram, stats, elapsed = outcome.value
-    if status == "unsupported":
-        raise ValueError(f"{args.impl} does not support {label}: {diagram}")
+    data, arrays = outcome.value
+    if data["unsupported"]:
+        raise ValueError(f"{args.impl} does not support {label}: {data['unsupported']}")
+    from vorobench.diagram import Diagram
+
+    diagram = Diagram(*(arrays[f] for f in ("sites", "vertices", "origin", "twin", "next", "site")))
+    if not (diagram.sites.shape == sites.shape and (diagram.sites == sites).all()):
+        print(f"vorobench build: {args.impl} returned the diagram of other sites than {label}", file=sys.stderr)
+        return 1
+    stats, elapsed = data["stats"], data["seconds"]
     diagram.validate()
     c = diagram.counts()
     print(f"{args.impl} on {label}: {points.shape[0]} points, {c['n']} distinct sites")
@@ -193,7 +209,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     install_termination_handler()
     try:
         return int(args.func(args) or 0)
-    except (ValueError, KeyError, FileNotFoundError, OverflowError) as exc:
+    except (ValueError, KeyError, FileNotFoundError, FileExistsError, NotADirectoryError, IsADirectoryError,
+            PermissionError, OverflowError) as exc:
         msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
         print(f"vorobench {args.command}: error: {_one_line(msg)}", file=sys.stderr)
         return 2

@@ -34,13 +34,14 @@ from typing import Any, Optional, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from impls.base import InputMutated
+from impls.base import InputMutated, UnsupportedInput
 from vorobench.certify import DEFAULT_PROBES, Certificate, certify
 from vorobench.compare import Comparison, compare
 from vorobench.diagram import Diagram
 from vorobench.prepare import prepare
+from vorobench.scaling import OutsideExactRange
 
-__all__ = ["CaseVerdict", "BuildResult", "CaseJudgement", "Judge", "judge_case", "build_and_certify", "check_case",
+__all__ = ["CaseVerdict", "BuildResult", "CaseJudgement", "Judge", "judge_case", "build_only", "certify_result", "build_and_certify", "build_in_sandbox", "check_case",
            "decide", "agree_exactly", "is_exact", "VERDICTS", "PASSING", "FAILURES", "DEFAULT_REFERENCE",
            "DEFAULT_TIMEOUT", "shared_judge", "close_shared_judges"]
 
@@ -51,11 +52,11 @@ DEFAULT_TIMEOUT = 60.0
 
 #: Every verdict, from best to worst. "certified": no comparison was possible (this is the
 #: reference, or the reference crashed) but the implementation certifies.
-VERDICTS = ("exact", "within_tolerance", "certified", "unsupported", "differs", "not_certified", "mutated_input",
-            "oom", "timeout", "crashed")
+VERDICTS = ("exact", "within_tolerance", "certified", "unsupported", "differs", "not_certified", "wrong_sites",
+            "mutated_input", "oom", "timeout", "crashed")
 
 #: Verdicts that say the implementation produced no diagram it may be judged on.
-FAILURES = ("mutated_input", "oom", "timeout", "crashed")
+FAILURES = ("not_certified", "wrong_sites", "mutated_input", "oom", "timeout", "crashed")
 
 #: Verdicts that pass (``differs`` passes only when the reference is to blame: see ``passed``).
 PASSING = ("exact", "within_tolerance", "certified", "unsupported")
@@ -92,29 +93,34 @@ class BuildResult:
         return None if self.certificate is None else self.certificate.ok
 
 
-def build_and_certify(impl_name: str, sites: ArrayLike, *, probes: int = DEFAULT_PROBES, seed: int = 0) -> BuildResult:
-    """Build ``sites`` with ``impl_name`` in this process (an exception is recorded, not raised)
-    and certify the result. This is what a judge's sandbox runs; call it directly only where a
-    hard crash of the implementation may take the calling process down."""
+def build_only(impl_name: str, sites: np.ndarray) -> BuildResult:
+    """Build prepared ``sites`` with ``impl_name`` in this process; every failure is recorded in
+    the result, not raised. No certificate yet: that is the judge's, outside the implementation's
+    process."""
     import impls
 
-    sites, _ = prepare(sites)
     try:
         impl = impls.get(impl_name)
     except Exception as exc:  # unknown or broken plugin: recorded like a crash
         return BuildResult(impl_name, True, error=f"{type(exc).__name__}: {exc}", failure="crashed")
     result = BuildResult(impl_name, bool(impl.exact))
-    reason = impl.unsupported_reason(sites)
+    try:
+        reason = impl.unsupported_reason(sites)
+    except Exception as exc:  # a supports() that raises is the implementation's crash
+        result.error, result.failure = f"supports() raised {type(exc).__name__}: {exc}", "crashed"
+        return result
     if reason:
         result.unsupported = reason
         return result
     t0 = time.perf_counter_ns()
     try:
         result.diagram = impl.run(sites, None, check_supports=False)
-        if not isinstance(result.diagram, Diagram):
+        if type(result.diagram) is not Diagram:
             raise TypeError(f"build returned {type(result.diagram).__name__}, not a Diagram")
     except InputMutated as exc:
         result.diagram, result.error, result.failure = None, str(exc), "mutated_input"
+    except (UnsupportedInput, OutsideExactRange) as exc:   # refused on the scaled sites, or a vertex beyond floats
+        result.diagram, result.unsupported = None, str(exc)
     except MemoryError as exc:
         result.diagram, result.error, result.failure = None, f"MemoryError: {exc}", "oom"
     except Exception as exc:  # any failure inside the implementation is its crash
@@ -124,9 +130,60 @@ def build_and_certify(impl_name: str, sites: ArrayLike, *, probes: int = DEFAULT
         result.error = f"{type(exc).__name__}: {exc}{where}"
         result.failure = "crashed"
     result.seconds = (time.perf_counter_ns() - t0) / 1e9
-    if result.diagram is not None:
-        result.certificate = certify(result.diagram, probes=probes, seed=seed)
     return result
+
+
+def certify_result(result: BuildResult, sites: np.ndarray, *, probes: int = DEFAULT_PROBES,
+                   seed: int = 0) -> BuildResult:
+    """Certify ``result``'s diagram, which must be the diagram of exactly ``sites``: a diagram
+    of other sites (moved, dropped, relabelled) is a failure, however well it certifies."""
+    d = result.diagram
+    if d is None:
+        return result
+    if not (d.sites.shape == sites.shape and np.array_equal(d.sites, sites)):
+        result.diagram, result.failure = None, "wrong_sites"
+        result.error = (f"returned the diagram of other sites ({d.sites.shape[0]} sites, not the "
+                        f"{sites.shape[0]} it was given, or moved)")
+        return result
+    try:
+        result.certificate = certify(d, probes=probes, seed=seed)
+    except Exception as exc:  # a diagram the certifier cannot even read certifies nothing
+        result.diagram, result.failure = None, "not_certified"
+        result.error = f"the certifier could not read the diagram: {type(exc).__name__}: {exc}"
+    return result
+
+
+def build_and_certify(impl_name: str, sites: ArrayLike, *, probes: int = DEFAULT_PROBES, seed: int = 0) -> BuildResult:
+    """Build ``sites`` with ``impl_name`` in this process and certify the result. Call it
+    directly only where a hard crash of the implementation may take the calling process
+    down; :class:`Judge` isolates the build."""
+    sites, _ = prepare(sites)
+    return certify_result(build_only(impl_name, sites), sites, probes=probes, seed=seed)
+
+
+_DIAGRAM_FIELDS = ("sites", "vertices", "origin", "twin", "next", "site")
+
+
+def build_in_sandbox(impl_name: str, sites: np.ndarray) -> tuple[dict, dict]:
+    """Runs in a sandbox: :func:`build_only` as plain data and arrays (nothing to unpickle)."""
+    res = build_only(impl_name, sites)
+    data = {"exact": res.exact, "error": res.error, "unsupported": res.unsupported, "seconds": res.seconds,
+            "failure": res.failure, "has_diagram": res.diagram is not None}
+    arrays = {f: np.asarray(getattr(res.diagram, f)) for f in _DIAGRAM_FIELDS} if res.diagram is not None else None
+    return data, arrays
+
+
+def _result_from_sandbox(impl_name: str, data: dict, arrays: dict) -> BuildResult:
+    """A :class:`BuildResult` rebuilt in the judge from what a sandbox sent."""
+    res = BuildResult(impl_name, bool(data["exact"]), error=str(data["error"] or ""),
+                      unsupported=str(data["unsupported"] or ""), seconds=float(data["seconds"] or 0.0),
+                      failure=str(data["failure"] or ""))
+    if data["has_diagram"]:
+        try:
+            res.diagram = Diagram(*(arrays[f] for f in _DIAGRAM_FIELDS))
+        except Exception as exc:  # arrays of the wrong kind or shape
+            res.error, res.failure = f"returned an unreadable diagram: {type(exc).__name__}: {exc}", "crashed"
+    return res
 
 
 @dataclass
@@ -229,7 +286,7 @@ def decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) -
     if res.crashed:
         kind = res.failure or "crashed"
         what = {"crashed": "crashed", "timeout": "timed out", "oom": "ran out of memory",
-                "mutated_input": "changed its input"}.get(kind, kind)
+                "mutated_input": "changed its input", "wrong_sites": "failed", "not_certified": "failed"}.get(kind, kind)
         return make(kind, False, f"{impl_name} {what}: {res.error}", "impl")
     standard = "exactly" if res.exact else "within tolerance (floating point)"
     if not res.certified:
@@ -365,10 +422,9 @@ class Judge:
             box = self._sandboxes[name] = Sandbox(name, plugins=self.plugins, memory_limit_mb=self.memory_limit_mb,
                                                   warmup_timeout=self.warmup_timeout)
         t0 = time.perf_counter_ns()
-        outcome = box.call(build_and_certify, name, sites, timeout=self.timeout, step="build and certify",
-                           probes=probes, seed=self.seed)
+        outcome = box.call(build_in_sandbox, name, sites, timeout=self.timeout, step="build")
         if outcome.ok:
-            return outcome.value
+            return certify_result(_result_from_sandbox(name, *outcome.value), sites, probes=probes, seed=self.seed)
         failure = "crashed" if outcome.kind == "error" else outcome.kind
         return BuildResult(name, is_exact(name), error=outcome.message, failure=failure,
                            seconds=(time.perf_counter_ns() - t0) / 1e9)

@@ -15,7 +15,10 @@ from __future__ import annotations
 
 import argparse
 import json
+import multiprocessing as mp
+import os
 import socket
+import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -180,6 +183,7 @@ class CampaignSummary:
     checked: int = 0
     previously: int = 0
     failed: int = 0
+    failed_before: int = 0
     lost: int = 0
     errors: int = 0
     seconds: float = 0.0
@@ -213,6 +217,18 @@ def _json_default(x: Any) -> Any:
     return str(x)
 
 
+def _setup_text(setup: dict[str, Any]) -> str:
+    return ", ".join(f"{k} {v}" for k, v in setup.items() if k != "kind")
+
+
+def _write_json(path: Path, data: dict[str, Any]) -> None:
+    """Write ``data`` atomically: a reader never sees half a summary."""
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    with os.fdopen(fd, "w") as f:
+        json.dump(data, f, indent=1, default=_json_default)
+    os.replace(tmp, path)
+
+
 def _witness_stem(key: tuple[str, int, int], impl: str, peer: Optional[str]) -> str:
     stem = f"{impl}-{key[0]}-n{key[1]}-s{key[2]}" + (f"-vs-{peer}" if peer else "")
     return "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in stem)
@@ -234,6 +250,17 @@ def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], bud
     out.mkdir(parents=True, exist_ok=True)
     log_path = out / LOG_NAME
     earlier = _read_log(log_path)
+    # A log answers only for the setup it was made with: reusing it under other implementations,
+    # reference, probes or plugins would skip cases nobody judged that way.
+    setup = {"kind": "setup", "impls": sorted(impls), "reference": reference, "probes": probes,
+             "plugins": sorted(str(Path(p).resolve()) if p.endswith(".py") else p for p in plugins),
+             "min_n": min_n, "max_n": max_n, "campaign_seed": campaign_seed}
+    logged = [r for r in earlier if r.get("kind") == "setup"]
+    if logged and {k: v for k, v in logged[0].items()} != setup:
+        raise ValueError(f"{log_path} was made with another setup ({_setup_text(logged[0])}); "
+                         f"use another --out for this one")
+    if earlier and not logged:
+        raise ValueError(f"{log_path} has no setup record (an older campaign): use another --out")
     done = {(r["generator"], r["n"], r["seed"]) for r in earlier if r.get("kind", "case") == "case"}
     witnessed = {(r["generator"], r["n"], r["seed"], r["impl"], r.get("peer")) for r in earlier
                  if r.get("kind") == "witness"}
@@ -257,8 +284,15 @@ def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], bud
                 if not v["passed"] and (r["generator"], r["n"], r["seed"], v["impl"], v["peer"]) not in witnessed:
                     failures.append((FuzzCase(r["generator"], r["n"], r["seed"], tuple(impls), reference, probes,
                                               tuple(plugins), timeout, memory_limit_mb), v["impl"], v["peer"]))
+    summary.failed_before = sum(1 for r in earlier if r.get("kind", "case") == "case" and not r.get("passed"))
+    limit = None
+    if mp.current_process().daemon or not executor.startswith("local"):
+        # Off this machine a build may run without its sandbox: the case as a whole is bounded.
+        limit = (len(impls) + 1) * (timeout + 300.0)
     with log_path.open("a") as log:
-        for res in run_tasks(executor, workers, check_fuzz_case, todo()):
+        if not logged:
+            _append(log, setup)
+        for res in run_tasks(executor, workers, check_fuzz_case, todo(), timeout=limit):
             case: FuzzCase = res.item
             summary.checked += 1
             if res.ok:
@@ -354,6 +388,10 @@ def run(args: argparse.Namespace) -> int:
     if unknown:
         raise ValueError(f"unknown generator(s) {', '.join(unknown)}; see `vorobench datasets` (or {INT_BOX})")
     out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    # Until this run ends, the summary says it did not pass: a killed run is no green gate.
+    _write_json(out / "summary.json", {"passed": False, "complete": False,
+                                       "note": "fuzzing started and has not finished (or was killed)"})
     console.print(f"fuzzing {', '.join(names)} against {args.reference} on {args.executor} "
                   f"({args.workers} workers if local); budget {args.budget}; log {out / LOG_NAME}")
     s = run_campaign(out, names, generators, args.budget, executor=args.executor, workers=args.workers,
@@ -361,17 +399,20 @@ def run(args: argparse.Namespace) -> int:
                      probes=args.probes, plugins=args.plugin, shrink=not args.no_shrink,
                      shrink_seconds=args.shrink_seconds, console=console, timeout=args.timeout,
                      memory_limit_mb=args.memory_limit)
-    summary = {"checked": s.checked, "previously_checked": s.previously, "failed": s.failed, "lost": s.lost,
+    # The gate covers the whole campaign: a failure logged by an earlier run still fails it.
+    bad = s.failed + s.failed_before + s.lost + s.errors
+    summary = {"passed": not bad, "complete": True, "checked": s.checked, "previously_checked": s.previously,
+               "failed": s.failed, "failed_before": s.failed_before, "lost": s.lost,
                "errors": s.errors, "seconds": s.seconds, "cases_per_second": s.rate, "witnesses": s.witnesses,
                "executor": args.executor, "workers": args.workers, "impls": names, "generators": generators}
-    (out / "summary.json").write_text(json.dumps(summary, indent=1, default=_json_default))
+    _write_json(out / "summary.json", summary)
     close_shared_judges()
     for w in s.witnesses:
         console.print(f"  witness: {w['impl']} on {w['generator']} n={w['n']} seed={w['seed']}: "
                       f"{w['n_points']} points -> {w['points']}")
-    bad = s.failed + s.lost + s.errors
     console.print(f"{s.checked} cases checked in {s.seconds:.1f} s ({s.rate:.2f} cases/s; "
                   f"{s.previously} done before); "
                   + ("[green]all passed[/]" if not bad else
-                     f"[red]{s.failed} failed, {s.lost} lost, {s.errors} errors[/]"))
+                     f"[red]{s.failed} failed, {s.failed_before} failed in earlier runs, {s.lost} lost, "
+                     f"{s.errors} errors[/]"))
     return 0 if not bad else 1

@@ -1,7 +1,7 @@
 """Worker processes that never outlive the harness, and never take it down with them.
 
 Every process that runs an implementation (a benchmark worker, a judging sandbox) calls
-:func:`enter_worker` first: it leads a process group of its own (so killing the group takes
+:func:`enter_worker` first: it leads a session and process group of its own (so killing the group takes
 any grandchild with it) and asks the kernel for SIGKILL when its parent dies (Linux
 ``PR_SET_PDEATHSIG``). The harness side registers each worker with :func:`watch` and ends it
 with :func:`kill_worker`. A reaper process (:mod:`vorobench.reaper`) holds the same list and
@@ -39,9 +39,12 @@ def enter_worker(expected_parent: Optional[int] = None) -> None:
     is already gone, the worker exits at once instead of running orphaned.
     """
     try:
-        os.setpgid(0, 0)
-    except OSError:     # already a group leader, or not allowed here: the kill falls back to the pid
-        pass
+        os.setsid()     # a session and group of its own: its killpg(0, ...) cannot reach the harness
+    except OSError:
+        try:
+            os.setpgid(0, 0)
+        except OSError:     # already a group leader, or not allowed here: the kill falls back to the pid
+            pass
     if sys.platform.startswith("linux"):
         try:
             libc = ctypes.CDLL(None, use_errno=True)
@@ -79,7 +82,8 @@ def describe_death(exitcode: Optional[int]) -> tuple[str, str]:
         except ValueError:
             name = f"signal {-exitcode}"
         if -exitcode == signal.SIGKILL:
-            return "oom", f"the worker was killed by {name} (most likely the out-of-memory killer)"
+            return "oom", (f"the worker was killed by {name} (most likely the out-of-memory killer; "
+                           f"or the implementation killed itself)")
         return "crashed", f"the worker was killed by {name}"
     return "crashed", f"the worker exited with status {exitcode} (os._exit or sys.exit inside the implementation)"
 

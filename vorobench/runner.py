@@ -187,6 +187,7 @@ def prepare_reference(case: Case, config: RunConfig) -> Optional[str]:
     path = reference_path(cache, config.reference, case.dataset, case.n, case.seed)
     if path.exists():
         return cache
+    # Not stored: build it here (a failure is then passed on to this case, never cached).
     try:
         import datasets_gen
         from vorobench.crossval import shared_judge
@@ -195,7 +196,9 @@ def prepare_reference(case: Case, config: RunConfig) -> Optional[str]:
         sites, _ = prepare(datasets_gen.generate(case.dataset, case.n, seed=case.seed))
         judge = shared_judge([], config.reference, timeout=config.timeout, warmup_timeout=config.warmup_timeout,
                              memory_limit_mb=config.memory_limit_mb, plugins=config.plugins)
-        store_reference(path, judge.build(config.reference, sites))
+        result = judge.build(config.reference, sites)
+        if result.diagram is not None or result.unsupported:
+            store_reference(path, result)   # a failure is not kept: a later run must try again
     except Exception:  # the input cannot be generated: the case's own worker reports why
         pass
     return cache

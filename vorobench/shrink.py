@@ -106,16 +106,18 @@ class Witness:
 
 
 def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[np.float64], *, reference: str,
-                  exact_peer: Optional[str] = None, probes: int = 2000, judge: Optional[Judge] = None) -> Witness:
+                  exact_peer: Optional[str] = None, probes: int = 2000, judge: Optional[Judge] = None,
+                  verdict: Optional[CaseVerdict] = None) -> Witness:
     """Save ``points`` as ``NAME.npy`` with ``NAME.txt`` (the command that reproduces the failure
-    and what it reports) and ``NAME.png`` (both diagrams, differing edges in red)."""
+    and what it reports; ``verdict`` if given, else ``points`` judged again) and ``NAME.png`` (both diagrams, differing edges in red)."""
     from vorobench.plotting import save_overlay
 
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     npy = directory / f"{name}.npy"
     np.save(npy, np.asarray(points, dtype=np.float64))
-    verdict = _judge(impl, points, reference=reference, exact_peer=exact_peer, probes=probes, judge=judge)
+    if verdict is None:     # given when judging again would only cost the same timeout twice
+        verdict = _judge(impl, points, reference=reference, exact_peer=exact_peer, probes=probes, judge=judge)
     names = impl if exact_peer is None else f"{exact_peer},{impl}"
     command = (f"vorobench validate --impls {shlex.quote(names)} --reference {shlex.quote(reference)} "
                f"--points {shlex.quote(str(npy))}")

@@ -161,8 +161,10 @@ def _run(args: argparse.Namespace) -> int:
             else:
                 from vorobench.executors import run_tasks
 
+                # Off this machine a build may run without its sandbox: each case as a whole is bounded.
+                limit = None if args.executor == "local" else len(names) * (args.timeout + args.warmup_timeout)
                 judged_cases = ((r.item, r.value, r.lost or r.error)
-                                for r in run_tasks(args.executor, args.workers, _judge_case, items))
+                                for r in run_tasks(args.executor, args.workers, _judge_case, items, timeout=limit))
             for (case, *_), judged, lost in judged_cases:
                 label = f"{case['dataset']} n={case['n']}" + (f" seed={case['seed']}" if case["seed"] is not None else "")
                 progress.update(task, description=f"validated {label}")
@@ -198,7 +200,8 @@ def _run(args: argparse.Namespace) -> int:
                     name, sites, verdict, reference=reference, exact_peer=peer, probes=min(args.probes, 2000),
                     time_budget=args.shrink_seconds, judge=shrink_judge)
                 w = write_witness(out / "witnesses", stem, name, small, reference=reference, exact_peer=peer,
-                                  probes=min(args.probes, 2000), judge=shrink_judge)
+                                  probes=min(args.probes, 2000), judge=shrink_judge,
+                                  verdict=None if shrinkable else verdict)
             witnesses.append(dict(impl=name, dataset=case["dataset"], n=case["n"], seed=case["seed"],
                                   verdict=verdict.verdict, points=str(w.points), command=str(w.command),
                                   picture=str(w.picture) if w.picture else None, n_points=w.n_points,
@@ -256,12 +259,18 @@ def _run(args: argparse.Namespace) -> int:
     for w in witnesses:
         console.print(f"  witness: {w['n_points']} points -> {w['points']}  (picture: {w['picture']}; "
                       f"command in {w['command']})")
+    # An implementation that declared every case unsupported was never judged: no pass.
+    never_judged = sorted({r["impl"] for r in records} - {r["impl"] for r in records if r["verdict"] != "unsupported"})
+    if never_judged:
+        notes.append(f"{', '.join(never_judged)} declared every case unsupported: nothing of "
+                     f"{'it' if len(never_judged) == 1 else 'them'} was judged, so the gate does not pass.")
+        console.print(f"[red]NOT JUDGED[/] {escape(', '.join(never_judged))}: unsupported on every case")
     # The gate: every planned case judged, and every verdict a pass.
-    ok = not failures and not lost_cases and judged_count == len(cases)
+    ok = not failures and not lost_cases and judged_count == len(cases) and not never_judged
     failed_impls = sorted({case["impl"] for case, _, _ in failures})
     summary = dict(reference=reference, impls=names, datasets=datasets, cases=len(cases), judged=judged_count,
                    complete=judged_count == len(cases), passed=ok, failures=len(failures), lost=len(lost_cases),
-                   failed_impls=failed_impls, timeout=args.timeout, notes=notes, witnesses=witnesses,
+                   failed_impls=failed_impls, never_judged=never_judged, timeout=args.timeout, notes=notes, witnesses=witnesses,
                    results=records)
     _write_json(path, summary)
     console.print(f"{'[green]all passed[/]' if ok else f'[red]{len(failures)} failure(s)[/]'}: "

@@ -52,24 +52,36 @@ def load_plugin(spec: str) -> list[str]:
     """
     import impls
 
-    if spec.endswith(".py") or os.sep in spec:
-        path = Path(spec).resolve()
-        if not path.is_file():
-            raise FileNotFoundError(f"plugin file not found: {spec}")
-        name = f"vorobench_plugin_{zlib.crc32(str(path).encode()):08x}"
-        module = sys.modules.get(name)
-        if module is None:
-            module_spec = importlib.util.spec_from_file_location(name, path)
-            module = importlib.util.module_from_spec(module_spec)
-            sys.modules[name] = module
-            module_spec.loader.exec_module(module)
-    else:
-        module = importlib.import_module(spec)
+    try:
+        if spec.endswith(".py") or os.sep in spec:
+            path = Path(spec).resolve()
+            if not path.is_file():
+                raise FileNotFoundError(f"plugin file not found: {spec}")
+            name = f"vorobench_plugin_{zlib.crc32(str(path).encode()):08x}"
+            module = sys.modules.get(name)
+            if module is None:
+                module_spec = importlib.util.spec_from_file_location(name, path)
+                module = importlib.util.module_from_spec(module_spec)
+                sys.modules[name] = module
+                try:
+                    module_spec.loader.exec_module(module)
+                except BaseException:
+                    del sys.modules[name]
+                    raise
+        else:
+            module = importlib.import_module(spec)
+    except FileNotFoundError:
+        raise
+    except Exception as exc:  # a plugin that cannot load is a usage error, said in one line
+        raise ValueError(f"plugin {spec!r} could not be loaded: {type(exc).__name__}: {exc}") from None
     found = list(getattr(module, "IMPLEMENTATIONS", []))
     if hasattr(module, "IMPLEMENTATION"):
         found.append(module.IMPLEMENTATION)
     if not found:
         raise ValueError(f"plugin {spec!r} defines neither IMPLEMENTATIONS nor IMPLEMENTATION")
+    wrong = [type(impl).__name__ for impl in found if not isinstance(impl, impls.Implementation)]
+    if wrong:
+        raise ValueError(f"plugin {spec!r}: IMPLEMENTATIONS must hold impls.Implementation objects, not {wrong[0]}")
     for impl in found:
         impls.register(impl)
     return [impl.name for impl in found]

@@ -14,6 +14,7 @@ from __future__ import annotations
 import ctypes
 import dataclasses
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -22,6 +23,7 @@ import numpy as np
 
 from impls.base import Implementation
 from impls.qhull import build as qhull_build
+from vorobench.diagram import Diagram
 
 __all__ = ["IMPLEMENTATIONS", "HUNGRY_MB"]
 
@@ -57,6 +59,41 @@ def _hang_with_grandchild(sites, stats=None):
         os.replace(path + ".tmp", path)
     while True:                                  # 100 % CPU, like a runaway sweep
         pass
+
+
+def _other_sites(sites, stats=None):
+    """The diagram of other sites: the first one moved, the sites labelled as moved."""
+    moved = np.array(sites)
+    moved[0] += 0.05
+    return qhull_build(moved, stats)
+
+
+class _Booby(Diagram):
+    """A Diagram whose unpickling would end the process that reads it."""
+
+    def __reduce__(self):
+        return (os._exit, (0,))
+
+
+def _booby_trapped(sites, stats=None):
+    d = qhull_build(sites, stats)
+    return _Booby(d.sites, d.vertices, d.origin, d.twin, d.next, d.site)
+
+
+def _kill_group(sites, stats=None):
+    os.killpg(0, signal.SIGTERM)                 # "its" process group: must not reach the judge
+    time.sleep(5)
+    return qhull_build(sites, stats)
+
+
+def _fork_and_die(sites, stats=None):
+    """Leaves a child sleeping for an hour (pid in $VOROBENCH_TEST_PIDFILE), then ends itself."""
+    child = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(3600)"])
+    path = os.environ.get("VOROBENCH_TEST_PIDFILE")
+    if path:
+        with open(path, "w") as f:
+            f.write(f"{child.pid}\n")
+    os._exit(3)
 
 
 def _crash_segfault(sites, stats=None):
@@ -116,6 +153,10 @@ IMPLEMENTATIONS = [
     _double("system_exit", _system_exit),
     _double("mutate", _mutate),
     _double("hang_with_grandchild", _hang_with_grandchild),
+    _double("other_sites", _other_sites),
+    _double("booby_trapped", _booby_trapped),
+    _double("kill_group", _kill_group),
+    _double("fork_and_die", _fork_and_die),
     _double("hang", _hang),
     _double("hang_after_warmup", _hang_after_warmup),
     _double("hog", _hog),

@@ -57,6 +57,8 @@ def test_campaign_resumes_without_rerunning_checked_cases(tmp_path):
     second = run_campaign(tmp_path, ["fortune"], ["uniform", "int_box"], Budget(cases=7), max_n=10, probes=100)
     assert (second.checked, second.previously) == (3, 4) and second.rate > 0
     records = [json.loads(line) for line in (tmp_path / fuzz.LOG_NAME).read_text().splitlines()]
+    assert records[0]["kind"] == "setup" and records[0]["impls"] == ["fortune"]    # what the log answers for
+    records = records[1:]
     keys = [(r["generator"], r["n"], r["seed"]) for r in records]
     assert keys == list(itertools.islice(plan(["uniform", "int_box"], 3, 10, 0), 7))    # each once, in order
     assert all(r["passed"] and {v["impl"] for v in r["results"]} == {"qhull", "fortune"} for r in records)
@@ -105,6 +107,7 @@ def _campaign(out: Path, executor: str, workers: int) -> dict:
                      workers=workers, max_n=12, campaign_seed=3, probes=100, plugins=[DYING], shrink=False)
     assert s.checked == 8
     records = [json.loads(line) for line in (out / fuzz.LOG_NAME).read_text().splitlines()]
+    records = [r for r in records if r["kind"] == "case"]
     by_key = {(r["generator"], r["n"], r["seed"]): r for r in records}
     assert len(by_key) == len(records) == 8                                 # none dropped, none twice
     return by_key

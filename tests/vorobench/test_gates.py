@@ -41,6 +41,9 @@ FAULTS = {
     "hang": "timeout",
     "hog": "oom",
     "mutate": "mutated_input",
+    "other_sites": "wrong_sites",
+    "booby_trapped": "crashed",
+    "kill_group": "crashed",
 }
 
 
@@ -81,6 +84,34 @@ def test_judge_keeps_every_fault_to_its_own_row():
         assert not case.passed
 
 
+def test_a_diagram_of_other_sites_fails_where_qhull_is_only_within_tolerance(tmp_path):
+    # near_grid n=1000: qhull certifies within tolerance only, which once excused any difference.
+    run = _vorobench("validate", "--plugin", DOUBLES, "--impls", "other_sites", "--datasets", "near_grid",
+                     "--sizes", "1000", "--no-shrink", "--out", str(tmp_path))
+    assert run.returncode == 1, run.stdout + run.stderr
+    rows = {r["impl"]: r for r in json.loads((tmp_path / "summary.json").read_text())["results"]}
+    assert rows["other_sites"]["verdict"] == "wrong_sites" and not rows["other_sites"]["passed"]
+
+
+def test_an_implementation_that_supports_nothing_is_no_pass(tmp_path):
+    run = _vorobench("validate", "--plugin", DOUBLES, "--impls", "refuse", "--datasets", "uniform",
+                     "--sizes", "10", "--no-shrink", "--out", str(tmp_path))
+    assert run.returncode == 1, run.stdout + run.stderr
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["never_judged"] == ["refuse"] and summary["passed"] is False
+
+
+def test_a_child_left_by_a_dead_sandbox_is_killed(tmp_path, monkeypatch):
+    pidfile = tmp_path / "pid"
+    monkeypatch.setenv("VOROBENCH_TEST_PIDFILE", str(pidfile))
+    with plugins_registered([DOUBLES]):
+        with Judge(["fork_and_die"], timeout=20, plugins=[DOUBLES]) as judge:
+            res = judge.build("fork_and_die", datasets_gen.generate("uniform", 10))
+            assert res.failure == "crashed" and "status 3" in res.error
+            child = int(pidfile.read_text())
+            assert not _wait_gone([child], 10), "the sandbox's child outlived it"
+
+
 def test_validate_on_two_workers_blames_the_segfault_alone(tmp_path):
     run = _vorobench("validate", "--plugin", DOUBLES, "--impls", "fortune,crash_segfault", "--datasets",
                      "uniform,grid", "--sizes", "10", "--workers", "2", "--no-shrink", "--out", str(tmp_path))
@@ -98,10 +129,22 @@ def test_fuzz_finishes_on_a_hanging_implementation(tmp_path):
                      timeout=180)
     assert run.returncode == 1, run.stdout + run.stderr
     records = [json.loads(line) for line in (tmp_path / "cases.jsonl").read_text().splitlines()]
+    records = [r for r in records if r["kind"] == "case"]
     assert len(records) == 2
     for record in records:
         verdicts = {v["impl"]: v["verdict"] for v in record["results"] if v["peer"] is None}
         assert verdicts["hang"] == "timeout" and verdicts["fortune"] == "exact"
+
+
+def test_fuzz_gate_covers_earlier_runs_and_refuses_another_setup(tmp_path, capsys):
+    argv = ["fuzz", "--plugin", DOUBLES, "--impls", "other_sites", "--generators", "uniform", "--budget", "2",
+            "--max-n", "10", "--no-shrink", "--out", str(tmp_path)]
+    assert main(argv) == 1
+    assert main(argv) == 1                      # nothing new checked, but the campaign has failures
+    assert json.loads((tmp_path / "summary.json").read_text())["passed"] is False
+    capsys.readouterr()
+    assert main([*argv[:4], "fortune", *argv[5:]]) == 2      # another implementation: not this log
+    assert "another setup" in capsys.readouterr().err
 
 
 # ------------------------------------------------------------------------ inputs are read-only
@@ -263,6 +306,25 @@ def test_bad_arguments_get_one_line_and_exit_2(argv, capsys, tmp_path, monkeypat
     err = capsys.readouterr().err
     assert code == 2, err
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+
+
+@pytest.mark.parametrize("source", ["raise RuntimeError('boom')", "def broken(:", "IMPLEMENTATIONS = [1]",
+                                    "X = 1"])
+def test_a_plugin_that_cannot_load_is_one_line(source, tmp_path, capsys):
+    plugin = tmp_path / "bad_plugin.py"
+    plugin.write_text(source + "\n")
+    code = main(["validate", "--plugin", str(plugin), "--impls", "qhull", "--sizes", "10", "--datasets", "uniform",
+                 "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2 and "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_an_out_that_is_a_file_is_one_line(tmp_path, capsys):
+    taken = tmp_path / "taken"
+    taken.write_text("")
+    code = main(["validate", "--impls", "qhull", "--sizes", "10", "--datasets", "uniform", "--out", str(taken)])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
 
 
 def test_repeated_names_run_once(tmp_path):
