@@ -99,8 +99,14 @@ class Implementation:
 
 def _scaled_back(diagram: Diagram, sites: NDArray[np.float64], shift: int) -> Diagram:
     """The diagram built on ``sites * 2**shift``, for ``sites``: the same DCEL, the vertices
-    times 2**-shift, and a read-only copy of the caller's sites (bit for bit)."""
-    own = np.array(sites, dtype=np.float64, order="C", copy=True)
+    times 2**-shift, and a read-only copy of the caller's sites (bit for bit) when the
+    diagram is of the sites it was given; a diagram of other sites keeps its own sites,
+    scaled back, so the judge still sees the difference."""
+    built = np.asarray(diagram.sites, dtype=np.float64)
+    if built.shape == sites.shape and np.array_equal(built, scale_points(sites, shift)):
+        own = np.array(sites, dtype=np.float64, order="C", copy=True)
+    else:
+        own = scale_back_vertices(built, shift)
     own.setflags(write=False)
     return Diagram(own, scale_back_vertices(diagram.vertices, shift), diagram.origin, diagram.twin,
                    diagram.next, diagram.site)

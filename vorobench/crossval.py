@@ -142,8 +142,9 @@ def certify_result(result: BuildResult, sites: np.ndarray, *, probes: int = DEFA
         return result
     if not (d.sites.shape == sites.shape and np.array_equal(d.sites, sites)):
         result.diagram, result.failure = None, "wrong_sites"
-        result.error = (f"returned the diagram of other sites ({d.sites.shape[0]} sites, not the "
-                        f"{sites.shape[0]} it was given, or moved)")
+        result.error = ("returned the diagram of other sites: "
+                        + (f"{d.sites.shape[0]} sites for the {sites.shape[0]} it was given"
+                           if d.sites.shape != sites.shape else "some of them moved"))
         return result
     try:
         result.certificate = certify(d, probes=probes, seed=seed)

@@ -93,6 +93,15 @@ def test_a_diagram_of_other_sites_fails_where_qhull_is_only_within_tolerance(tmp
     assert rows["other_sites"]["verdict"] == "wrong_sites" and not rows["other_sites"]["passed"]
 
 
+@pytest.mark.parametrize("scale", [1.0, 2.0**-1060, 1e-200, 1e300])
+def test_a_diagram_of_other_sites_is_caught_at_every_scale(scale):
+    from vorobench.crossval import build_and_certify
+
+    with plugins_registered([DOUBLES]):
+        res = build_and_certify("other_sites", datasets_gen.generate("grid", 36) * scale)
+    assert res.failure == "wrong_sites" and "moved" in res.error and res.diagram is None
+
+
 def test_an_implementation_that_supports_nothing_is_no_pass(tmp_path):
     run = _vorobench("validate", "--plugin", DOUBLES, "--impls", "refuse", "--datasets", "uniform",
                      "--sizes", "10", "--no-shrink", "--out", str(tmp_path))
