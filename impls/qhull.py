@@ -121,9 +121,16 @@ def _build_from_joggled_delaunay(sites: NDArray[np.float64]) -> Diagram:
     infinity. Vertices are the circumcentres of the original (not joggled) sites.
     """
     centre = 0.5 * (sites.min(axis=0) + sites.max(axis=0))
-    tri = Delaunay(sites - centre, qhull_options="Qbb Qc QJ")
-    simplices = np.asarray(tri.simplices, dtype=np.int64)
-    neighbours = np.asarray(tri.neighbors, dtype=np.int64)
+    if sites.shape[0] == 3:
+        # Three sites that are not collinear (decided exactly before) are one triangle; Qhull
+        # cannot start its lifted hull from three nearly collinear points, joggled or not.
+        ccw = orient2d_many(sites[:1], sites[1:2], sites[2:3])[0] > 0
+        simplices = np.array([[0, 1, 2] if ccw else [0, 2, 1]], dtype=np.int64)
+        neighbours = np.full((1, 3), -1, dtype=np.int64)
+    else:
+        tri = Delaunay(sites - centre, qhull_options="Qbb Qc QJ")
+        simplices = np.asarray(tri.simplices, dtype=np.int64)
+        neighbours = np.asarray(tri.neighbors, dtype=np.int64)
     T = simplices.shape[0]
     tid = np.arange(T)
     vertices = _circumcentres(sites[simplices[:, 0]], sites[simplices[:, 1]], sites[simplices[:, 2]])

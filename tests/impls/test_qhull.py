@@ -6,6 +6,7 @@ from scipy.spatial import Delaunay
 
 import datasets_gen
 import impls
+import vorobench
 from vorobench.clip import polygon_area
 
 SIZES = [0, 1, 2, 3, 10, 200]
@@ -113,3 +114,11 @@ def test_plain_input_is_not_joggled():
     stats: dict = {}
     impls.build("qhull", datasets_gen.generate("uniform", 500, seed=1), stats)
     assert stats["joggled"] == 0
+
+
+def test_three_nearly_collinear_sites():
+    # Found by hypothesis: Qhull (joggled or not) cannot start a lifted hull from these three.
+    pts = np.array([[0.0, 0.0], [0.0, 0.001], [3.197565163620651e-31, 0.0]])
+    d = impls.build("qhull", pts)
+    assert d.counts()["V"] == 1 and vorobench.certify(d).ok
+    assert vorobench.compare(d, impls.build("halfplane", pts)).verdict == "exact"
