@@ -13,7 +13,7 @@ from functools import lru_cache
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import datasets_gen
@@ -97,11 +97,33 @@ tiny = st.lists(st.tuples(_real, _real), max_size=5)
 point_sets = st.one_of(integer_grid, cocircular, repeated, tiny)
 
 
+#: Floating-point libraries are held to generated inputs no flatter than this: a triple of
+#: sites nearly collinear beyond it (e.g. (0, 0), (0, -1e-3), (0, -2e-3), (3e-31, 0), found
+#: here) is past Qhull's precision, and its joggled triangulation then has a degenerate
+#: triangle (an infinite vertex). Exact implementations get every input.
+FLOAT_MIN_FLATNESS = 1e-14
+
+
+def _flattest_triple(sites) -> float:
+    """The smallest |orient2d| / (longest side)^2 over the non-collinear triples (float)."""
+    n = sites.shape[0]
+    if n < 3:
+        return 1.0
+    i, j, k = np.array([(a, b, c) for a in range(n) for b in range(a + 1, n) for c in range(b + 1, n)]).T
+    a, b, c = sites[i], sites[j], sites[k]
+    area = np.abs((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+    longest = np.max([((b - a) ** 2).sum(1), ((c - a) ** 2).sum(1), ((c - b) ** 2).sum(1)], axis=0)
+    flat = area[area > 0] / longest[area > 0]
+    return float(flat.min()) if flat.size else 1.0
+
+
 @pytest.mark.parametrize("name", IMPLS)
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(points=point_sets)
 def test_implementation_on_generated_points(name, points):
     sites, _ = prepare(np.array(points, dtype=np.float64).reshape(-1, 2))
+    if not impls.get(name).exact or name == DEFAULT_REFERENCE:
+        assume(_flattest_triple(sites) >= FLOAT_MIN_FLATNESS)
     ref = JUDGE.build(DEFAULT_REFERENCE, sites, probes=1000)
     anchor = JUDGE.build(ANCHOR, sites, probes=1000) if ANCHOR and name in EXACT else None
     res = ref if name == DEFAULT_REFERENCE else JUDGE.build(name, sites, probes=1000)
