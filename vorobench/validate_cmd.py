@@ -54,6 +54,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="address space an implementation's worker may add (MemoryError instead of the OOM killer)")
     p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
                    help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
+    p.add_argument("--junit", metavar="FILE", help="also write the verdicts as JUnit XML (one test case per row)")
+    p.add_argument("--markdown", metavar="FILE",
+                   help="also write a Markdown digest (for $GITHUB_STEP_SUMMARY or a pull-request comment)")
     p.add_argument("--no-shrink", action="store_true", help="save failing point sets as they are, unshrunk")
     p.add_argument("--shrink-seconds", type=cli_args.non_negative_float, default=120.0,
                    help="time budget per witness (default 120)")
@@ -273,6 +276,12 @@ def _run(args: argparse.Namespace) -> int:
                    failed_impls=failed_impls, never_judged=never_judged, timeout=args.timeout, notes=notes, witnesses=witnesses,
                    results=records)
     _write_json(path, summary)
+    from vorobench.ci_outputs import write_junit, write_markdown
+
+    if args.junit:
+        console.print(f"JUnit XML: {write_junit(summary, args.junit)}")
+    if args.markdown:
+        console.print(f"Markdown digest: {write_markdown(summary, args.markdown)}")
     console.print(f"{'[green]all passed[/]' if ok else f'[red]{len(failures)} failure(s)[/]'}: "
                   f"{len(records)} results written to {path}")
     return 0 if ok else 1
