@@ -4,7 +4,7 @@ One JUnit test case per (dataset, n, seed, implementation[, exact peer]) row of
 ``summary.json``: a failing verdict is a ``<failure>`` with the verdict's message, an
 ``unsupported`` row is ``<skipped>``. The Markdown digest (for ``$GITHUB_STEP_SUMMARY`` or a
 pull-request comment) says whether the gate passed and lists every failure. Text from the
-results is escaped: XML by the serializer, Markdown by :func:`_cell`.
+results is escaped: XML by the serializer, Markdown by :mod:`vorobench.markdown_text`.
 """
 
 from __future__ import annotations
@@ -12,6 +12,8 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Any
+
+from vorobench.markdown_text import cell as _cell
 
 __all__ = ["write_junit", "write_markdown"]
 
@@ -49,14 +51,6 @@ def write_junit(summary: dict[str, Any], path: str | Path) -> Path:
     root.append(suite)
     ET.ElementTree(root).write(path, encoding="utf-8", xml_declaration=True)
     return path
-
-
-def _cell(value: object) -> str:
-    """Results text as one Markdown table cell that shows its characters, nothing more."""
-    text = " ".join(str(value).split())
-    for ch in "\\`*_[]<>#!&~|":
-        text = text.replace(ch, "\\" + ch)
-    return text
 
 
 def write_markdown(summary: dict[str, Any], path: str | Path) -> Path:

@@ -23,6 +23,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional
 
+from vorobench.markdown_text import one_line, text
+
 __all__ = ["add_arguments", "run", "write_report", "Report", "reading"]
 
 FIGURES = {
@@ -86,20 +88,7 @@ def _fmt_n(n: float) -> str:
     return str(n)
 
 
-# Characters that can start Markdown markup inside a line (emphasis, code, links, images, raw
-# HTML, entities, strike-through, headings). A backslash makes any of them literal.
-_MARKUP = re.compile(r"([\\`*_\[\]<>#!&~])")
-_LINE_BREAKS = re.compile(r"[ \t]*[\r\n]+[ \t]*")
-
-
-def _one_line(value: object) -> str:
-    # A line break inside a table cell or a list item would end it and start new Markdown.
-    return _LINE_BREAKS.sub(" ", str(value))
-
-
-def _text(value: object) -> str:
-    """A value from the results or metadata as Markdown that shows exactly its characters."""
-    return _MARKUP.sub(r"\\\1", _one_line(value))
+_one_line, _text = one_line, text     # results text as Markdown (vorobench.markdown_text)
 
 
 def _code(value: object) -> str:
