@@ -20,7 +20,8 @@ from impls.base import Implementation, InputMutated, UnsupportedInput
 from vorobench.diagram import Diagram
 from vorobench.prepare import prepare
 
-__all__ = ["Implementation", "UnsupportedInput", "InputMutated", "available", "get", "build", "register", "registered", "unregister", "ENTRY_POINT_GROUP"]
+__all__ = ["Implementation", "UnsupportedInput", "InputMutated", "available", "get", "build", "register", "registered",
+           "unregister", "ENTRY_POINT_GROUP"]
 
 ENTRY_POINT_GROUP = "vorobench.impls"
 

@@ -6,7 +6,7 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import Callable, Optional, Sequence
+from typing import Optional, Sequence
 
 __all__ = ["main", "parse_list", "parse_sizes"]
 
@@ -82,6 +82,7 @@ def _build_in_sandbox(name: str, sites):
     import numbers
 
     import impls
+    from vorobench.crossval import diagram_arrays
     from vorobench.diagram import Diagram
 
     impl = impls.get(name)
@@ -96,8 +97,7 @@ def _build_in_sandbox(name: str, sites):
         raise TypeError(f"build returned {type(diagram).__name__}, not a Diagram")
     counters = {str(k): (int(v) if isinstance(v, numbers.Integral) else float(v))
                 for k, v in stats.items() if isinstance(v, numbers.Real)}
-    return ({"unsupported": "", "seconds": seconds, "stats": counters},
-            {f: getattr(diagram, f) for f in ("sites", "vertices", "origin", "twin", "next", "site")})
+    return {"unsupported": "", "seconds": seconds, "stats": counters}, diagram_arrays(diagram)
 
 
 def cmd_build(args: argparse.Namespace) -> int:
@@ -122,9 +122,9 @@ def cmd_build(args: argparse.Namespace) -> int:
     data, arrays = outcome.value
     if data["unsupported"]:
         raise ValueError(f"{args.impl} does not support {label}: {data['unsupported']}")
-    from vorobench.diagram import Diagram
+    from vorobench.crossval import diagram_from_arrays
 
-    diagram = Diagram(*(arrays[f] for f in ("sites", "vertices", "origin", "twin", "next", "site")))
+    diagram = diagram_from_arrays(arrays)
     if not (diagram.sites.shape == sites.shape and (diagram.sites == sites).all()):
         print(f"vorobench build: {args.impl} returned the diagram of other sites than {label}", file=sys.stderr)
         return 1

@@ -41,7 +41,7 @@ from vorobench.diagram import Diagram
 from vorobench.prepare import prepare
 from vorobench.scaling import OutsideExactRange
 
-__all__ = ["CaseVerdict", "BuildResult", "CaseJudgement", "Judge", "judge_case", "build_only", "certify_result", "build_and_certify", "build_in_sandbox", "check_case",
+__all__ = ["CaseVerdict", "BuildResult", "CaseJudgement", "Judge", "judge_case", "build_only", "certify_result", "build_and_certify", "build_in_sandbox", "diagram_arrays", "diagram_from_arrays", "check_case",
            "decide", "agree_exactly", "is_exact", "VERDICTS", "PASSING", "FAILURES", "DEFAULT_REFERENCE",
            "DEFAULT_TIMEOUT", "shared_judge", "close_shared_judges"]
 
@@ -165,12 +165,22 @@ def build_and_certify(impl_name: str, sites: ArrayLike, *, probes: int = DEFAULT
 _DIAGRAM_FIELDS = ("sites", "vertices", "origin", "twin", "next", "site")
 
 
+def diagram_arrays(d: Diagram) -> dict[str, np.ndarray]:
+    """The DCEL's arrays by field name: what a sandbox sends instead of an object."""
+    return {f: np.asarray(getattr(d, f)) for f in _DIAGRAM_FIELDS}
+
+
+def diagram_from_arrays(arrays: dict[str, np.ndarray]) -> Diagram:
+    """A :class:`Diagram` of the judge's own class from arrays a sandbox sent."""
+    return Diagram(*(arrays[f] for f in _DIAGRAM_FIELDS))
+
+
 def build_in_sandbox(impl_name: str, sites: np.ndarray) -> tuple[dict, dict]:
     """Runs in a sandbox: :func:`build_only` as plain data and arrays (nothing to unpickle)."""
     res = build_only(impl_name, sites)
     data = {"exact": res.exact, "error": res.error, "unsupported": res.unsupported, "seconds": res.seconds,
             "failure": res.failure, "has_diagram": res.diagram is not None}
-    arrays = {f: np.asarray(getattr(res.diagram, f)) for f in _DIAGRAM_FIELDS} if res.diagram is not None else None
+    arrays = diagram_arrays(res.diagram) if res.diagram is not None else None
     return data, arrays
 
 
@@ -181,7 +191,7 @@ def _result_from_sandbox(impl_name: str, data: dict, arrays: dict) -> BuildResul
                       failure=str(data["failure"] or ""))
     if data["has_diagram"]:
         try:
-            res.diagram = Diagram(*(arrays[f] for f in _DIAGRAM_FIELDS))
+            res.diagram = diagram_from_arrays(arrays)
         except Exception as exc:  # arrays of the wrong kind or shape
             res.error, res.failure = f"returned an unreadable diagram: {type(exc).__name__}: {exc}", "crashed"
     return res

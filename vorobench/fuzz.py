@@ -16,15 +16,15 @@ from __future__ import annotations
 import argparse
 import json
 import multiprocessing as mp
-import os
 import socket
-import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterator, Optional, Sequence
 
 import numpy as np
+
+from vorobench.atomic import replace_atomically
 
 __all__ = ["add_arguments", "run", "Budget", "parse_budget", "FuzzCase", "plan", "generate", "check_fuzz_case",
            "shrink_failure", "run_campaign", "INT_BOX", "LOG_NAME"]
@@ -221,12 +221,9 @@ def _setup_text(setup: dict[str, Any]) -> str:
     return ", ".join(f"{k} {v}" for k, v in setup.items() if k != "kind")
 
 
-def _write_json(path: Path, data: dict[str, Any]) -> None:
+def _write_json(path: Path, data: dict) -> None:
     """Write ``data`` atomically: a reader never sees half a summary."""
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    with os.fdopen(fd, "w") as f:
-        json.dump(data, f, indent=1, default=_json_default)
-    os.replace(tmp, path)
+    replace_atomically(path, lambda f: json.dump(data, f, indent=1, default=_json_default))
 
 
 def _witness_stem(key: tuple[str, int, int], impl: str, peer: Optional[str]) -> str:

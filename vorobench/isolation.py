@@ -22,10 +22,16 @@ import threading
 from pathlib import Path
 from typing import Optional
 
-__all__ = ["enter_worker", "watch", "release", "kill_worker", "limit_memory", "describe_death", "Terminated",
+__all__ = ["FORKSERVER_PRELOAD", "enter_worker", "watch", "release", "kill_worker", "limit_memory", "describe_death", "Terminated",
            "install_termination_handler"]
 
 _PR_SET_PDEATHSIG = 1
+
+#: Modules the fork server imports once, so that every worker forked from it (benchmark
+#: workers and judging sandboxes alike: one server per process) starts with them loaded.
+FORKSERVER_PRELOAD = ("numpy", "scipy.spatial", "numba", "datasets_gen", "impls", "vorobench.prepare",
+                      "vorobench.certify", "vorobench.compare", "vorobench.crossval", "vorobench.sandbox",
+                      "vorobench.worker")
 
 
 class Terminated(BaseException):

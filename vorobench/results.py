@@ -19,10 +19,11 @@ import io
 import json
 import math
 import os
-import tempfile
 from contextlib import contextmanager
 from pathlib import Path
-from typing import IO, Any, Callable, Iterable, Iterator, Optional
+from typing import IO, Any, Iterable, Iterator, Optional
+
+from vorobench.atomic import replace_atomically
 
 __all__ = [
     "COLUMNS",
@@ -144,28 +145,6 @@ def _intact_length(data: bytes) -> int:
     return cut
 
 
-def _replace_atomically(target: Path, write: Callable[[IO[str]], None]) -> None:
-    """Write ``target`` through a new temporary file in its folder, then rename it over ``target``.
-
-    ``mkstemp`` creates a file no one else can have prepared (O_EXCL, random name): a fixed name
-    such as ``.results.csv.tmp`` could be a symlink planted by someone else, and writing it
-    would overwrite whatever the link points to.
-    """
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", newline="", encoding="utf-8") as f:
-            write(f)
-            f.flush()
-            os.fsync(f.fileno())
-        # mkstemp makes the file private (0600); keep the permissions the file had, else the usual ones.
-        os.chmod(tmp, target.stat().st_mode & 0o777 if target.exists() else 0o644)
-        os.replace(tmp, target)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
 class ResultsFile:
     """A results CSV opened for reading what is done and appending what finishes.
 
@@ -243,7 +222,7 @@ class ResultsFile:
             for row in old + rows:
                 writer.writerow([_cell(row.get(c)) for c in columns])
 
-        _replace_atomically(self.path, write)
+        replace_atomically(self.path, write)
 
 
 @contextmanager
@@ -385,7 +364,7 @@ def read_metadata(results_path: str | os.PathLike) -> dict[str, Any]:
 
 
 def _write_metadata(p: Path, meta: dict[str, Any]) -> None:
-    _replace_atomically(p, lambda f: f.write(json.dumps(meta, indent=2, default=str) + "\n"))
+    replace_atomically(p, lambda f: f.write(json.dumps(meta, indent=2, default=str) + "\n"))
 
 
 def append_run_metadata(results_path: str | os.PathLike, run: dict[str, Any]) -> Path:

@@ -35,9 +35,6 @@ __all__ = ["Case", "RunConfig", "CaseOutcome", "plan_cases", "run_case", "run_ca
 #: Allowance for starting the worker, importing, and generating the input (not the impl's time).
 STARTUP_TIMEOUT = 180.0
 
-#: Modules the fork server imports once, so that each worker starts with them loaded.
-_PRELOAD = ("numpy", "scipy.spatial", "numba", "datasets_gen", "impls", "vorobench.worker",
-            "vorobench.prepare", "vorobench.certify", "vorobench.compare")
 
 
 def default_start_method() -> str:
@@ -148,7 +145,9 @@ def plan_cases(impls: Sequence[str], datasets: Sequence[str], sizes: Sequence[in
 def _context(method: str, impl: str):
     ctx = mp.get_context(method)
     if method == "forkserver":
-        modules = list(_PRELOAD)
+        from vorobench.isolation import FORKSERVER_PRELOAD
+
+        modules = list(FORKSERVER_PRELOAD)
         try:
             import impls
 

@@ -38,9 +38,6 @@ __all__ = ["Sandbox", "Outcome", "WARMUP_TIMEOUT"]
 #: from a cold numba cache takes tens of seconds on a busy 2-core machine).
 WARMUP_TIMEOUT = 300.0
 
-#: Modules the fork server imports once, so that each sandbox starts with them loaded.
-_PRELOAD = ("numpy", "scipy.spatial", "numba", "impls", "vorobench.crossval", "vorobench.certify",
-            "vorobench.compare", "vorobench.sandbox")
 
 
 @dataclass
@@ -129,7 +126,7 @@ def _context():
     method = "forkserver" if "forkserver" in mp.get_all_start_methods() else "spawn"
     ctx = mp.get_context(method)
     if method == "forkserver":
-        ctx.set_forkserver_preload(list(_PRELOAD))    # only takes effect when the server starts
+        ctx.set_forkserver_preload(list(isolation.FORKSERVER_PRELOAD))    # only takes effect when the server starts
     return ctx
 
 
@@ -145,7 +142,6 @@ class Sandbox:
         self._proc = None
         self._conn = None
         self.start_failure: Optional[Outcome] = None
-        self.warmup_seconds = 0.0
 
     def _impl_blob(self) -> Optional[bytes]:
         """An implementation registered in this process (a test double, a plugin) is sent over by
@@ -167,13 +163,11 @@ class Sandbox:
                            args=(sender, os.getpid() if ctx.get_start_method() != "forkserver" else None,
                                  self._impl_blob(), self.name, self.plugins, self.memory_limit_mb,
                                  dict(os.environ)))
-        t0 = time.perf_counter()
         proc.start()
         isolation.watch(proc.pid)
         sender.close()
         self._proc, self._conn = proc, receiver
         outcome = self._receive(self.warmup_timeout, "start-up and warm-up")
-        self.warmup_seconds = time.perf_counter() - t0
         if outcome.kind == "ok":
             return None
         self.close()

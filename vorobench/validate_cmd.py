@@ -11,13 +11,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import tempfile
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any
 
 import numpy as np
 
+from vorobench.atomic import replace_atomically
 from vorobench.certify import DEFAULT_PROBES
 from vorobench.crossval import (DEFAULT_REFERENCE, DEFAULT_TIMEOUT, VERDICTS, CaseVerdict, close_shared_judges,
                                 shared_judge)
@@ -109,10 +108,7 @@ def _judge_case(item: tuple) -> tuple[np.ndarray, list[tuple[str, CaseVerdict, A
 
 def _write_json(path: Path, data: dict) -> None:
     """Write ``data`` atomically: a reader never sees half a summary."""
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    with os.fdopen(fd, "w") as f:
-        json.dump(data, f, indent=1, default=_json_default)
-    os.replace(tmp, path)
+    replace_atomically(path, lambda f: json.dump(data, f, indent=1, default=_json_default))
 
 
 def _worst(verdicts: list[str]) -> str:

@@ -27,7 +27,7 @@ import time
 import traceback
 import zlib
 from pathlib import Path
-from typing import Any, Callable, Iterator, Optional, Sequence
+from typing import Any, Callable, Iterator, Sequence
 
 from vorobench import isolation, peakmem
 
@@ -114,17 +114,10 @@ def store_reference(path: Path, result) -> None:
     """Write the reference's build and certificate atomically (a half-written file never looks
     complete; the temporary name is unpredictable)."""
     import pickle
-    import tempfile
 
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            pickle.dump(result, f, protocol=pickle.HIGHEST_PROTOCOL)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    from vorobench.atomic import replace_atomically
+
+    replace_atomically(path, lambda f: pickle.dump(result, f, protocol=pickle.HIGHEST_PROTOCOL), binary=True)
 
 
 def load_reference(path: Path, sites):
@@ -148,8 +141,9 @@ def load_reference(path: Path, sites):
 def _same_diagram(a, b) -> bool:
     import numpy as np
 
-    return all(np.array_equal(getattr(a, f), getattr(b, f)) for f in ("sites", "vertices", "origin", "twin", "next",
-                                                                       "site"))
+    from vorobench.crossval import diagram_arrays
+
+    return all(np.array_equal(x, y) for x, y in zip(diagram_arrays(a).values(), diagram_arrays(b).values()))
 
 
 def check_against_reference(impl_name: str, diagram, reference: str, reference_result=None) -> dict:
