@@ -2,19 +2,43 @@
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, field
-from typing import Callable, Optional
+from typing import Callable, Iterator, Optional
 
 import numpy as np
 from numpy.typing import NDArray
 
 from vorobench.diagram import Diagram
 from vorobench.scaling import exact_shift, scale_back_vertices, scale_points
+from vorobench.schema import CounterError, check_counters
 
-__all__ = ["Implementation", "BuildFunction", "UnsupportedInput", "InputMutated"]
+__all__ = ["Implementation", "BuildFunction", "UnsupportedInput", "InputMutated", "CounterError", "record_timing"]
 
-#: ``build(sites, stats)``: sites are prepared (distinct, finite float64); stats is a dict or None.
+#: ``build(sites, stats)``: sites are prepared (distinct, finite float64); stats is a dict or
+#: None, for counters only (machine-independent integers); times go to :func:`record_timing`.
 BuildFunction = Callable[[NDArray[np.float64], Optional[dict]], Diagram]
+
+#: Where :func:`record_timing` adds seconds during a build (None: nobody asked for them).
+_PHASE_TIMES: ContextVar[Optional[dict]] = ContextVar("vorobench_phase_times", default=None)
+
+
+def record_timing(phase: str, seconds: float) -> None:
+    """Add ``seconds`` to the time of ``phase`` (e.g. ``library``: the outside library's own
+    call) of the build that is running; kept apart from the counters, since it is a time."""
+    times = _PHASE_TIMES.get()
+    if times is not None:
+        times[phase] = times.get(phase, 0.0) + float(seconds)
+
+
+@contextmanager
+def _collecting_times(times: Optional[dict]) -> Iterator[None]:
+    token = _PHASE_TIMES.set(times)
+    try:
+        yield
+    finally:
+        _PHASE_TIMES.reset(token)
 
 
 class UnsupportedInput(ValueError):
@@ -56,11 +80,13 @@ class Implementation:
         return str(reason) if reason else None
 
     def run(self, sites: NDArray[np.float64], stats: Optional[dict] = None, *,
-            check_supports: bool = True) -> Diagram:
+            timings: Optional[dict] = None, check_supports: bool = True) -> Diagram:
         """Build the diagram of prepared ``sites``.
 
-        Raises :class:`UnsupportedInput` when ``supports`` refuses the sites, and
-        :class:`InputMutated` when the build changed its input. The implementation gets a
+        ``stats`` (a dict) receives the build's counters, ``timings`` the seconds of the parts
+        it timed (:func:`record_timing`). Raises :class:`UnsupportedInput` when ``supports``
+        refuses the sites, :class:`InputMutated` when the build changed its input, and
+        :class:`CounterError` when it put anything but integers into ``stats``. The implementation gets a
         read-only copy, so ``sites`` itself is never touched; writing through that copy
         raises inside the implementation, and a copy made writeable again and changed is
         caught by the comparison afterwards.
@@ -87,7 +113,10 @@ class Implementation:
             reason = self.unsupported_reason(given)
             if reason:
                 raise UnsupportedInput(f"{self.name} does not support these sites: {reason}")
-        diagram = self.build(given, stats)
+        with _collecting_times(timings):
+            diagram = self.build(given, stats)
+        if stats:
+            stats.update(check_counters(stats, who=self.name))
         if not np.array_equal(given, expected):
             rows = np.flatnonzero((given != expected).any(axis=1)) if given.shape == expected.shape else []
             where = f" (row {int(rows[0])}; {len(rows)} row(s) changed)" if len(rows) else ""

@@ -12,6 +12,8 @@ from typing import Optional
 import numpy as np
 import pandas as pd
 
+from vorobench.schema import VERDICT_RANK, verdict_rank
+
 __all__ = [
     "VERDICT_RANK",
     "mixed_hosts_note",
@@ -26,30 +28,8 @@ __all__ = [
     "passed",
 ]
 
-#: Verdicts from best to worst; None = says nothing about correctness (not checked or not run).
-VERDICT_RANK: dict[str, Optional[int]] = {
-    "exact": 0,
-    "within_tolerance": 1,
-    "certified": 1,
-    "no_reference": 1,
-    "differs": 2,
-    "not_certified": 3,
-    "check_error": 3,
-    "timeout": 4,
-    "crashed": 5,
-    "skipped": None,
-    "unsupported": None,
-}
-
 #: Fits of log time against log n use sizes from here up (smaller ones measure overheads).
 FIT_MIN_SITES = 1000
-
-
-def verdict_rank(verdict: object) -> Optional[int]:
-    """Rank of a verdict (0 = exact); unknown verdicts rank as failures of the check."""
-    if verdict is None or (isinstance(verdict, float) and np.isnan(verdict)) or verdict == "":
-        return None
-    return VERDICT_RANK.get(str(verdict), VERDICT_RANK["check_error"])
 
 
 def worst_verdict(verdicts) -> Optional[str]:

@@ -39,6 +39,7 @@ from vorobench.certify import DEFAULT_PROBES, Certificate, certify
 from vorobench.compare import Comparison, compare
 from vorobench.diagram import Diagram
 from vorobench.prepare import prepare
+from vorobench.schema import Verdict
 from vorobench.scaling import OutsideExactRange
 
 __all__ = ["CaseVerdict", "BuildResult", "CaseJudgement", "Judge", "judge_case", "build_only", "certify_result", "build_and_certify", "build_in_sandbox", "diagram_arrays", "diagram_from_arrays", "check_case",
@@ -52,8 +53,8 @@ DEFAULT_TIMEOUT = 60.0
 
 #: Every verdict, from best to worst. "certified": no comparison was possible (this is the
 #: reference, or the reference crashed) but the implementation certifies.
-VERDICTS = ("exact", "within_tolerance", "certified", "unsupported", "differs", "not_certified", "wrong_sites",
-            "mutated_input", "oom", "timeout", "crashed")
+VERDICTS = tuple(v.value for v in Verdict
+                 if v not in (Verdict.NO_REFERENCE, Verdict.SKIPPED, Verdict.CHECK_ERROR))
 
 #: Verdicts that say the implementation produced no diagram it may be judged on.
 FAILURES = ("not_certified", "wrong_sites", "mutated_input", "oom", "timeout", "crashed")

@@ -1,7 +1,8 @@
 """The tidy results table: one CSV row per case and repeat, appended case by case, plus metadata.
 
 Layout: fixed leading columns (:data:`COLUMNS`), then the implementations' counters
-(``stat_<name>``) in sorted order. A failed case has one row with its status and no time.
+(``stat_<name>``, integers) and the parts of the build time (``time_<phase>_s``) in sorted
+order; :mod:`vorobench.schema` says what each kind of column is. A failed case has one row with its status and no time.
 Every append is flushed and fsynced before the next case starts, and a change of columns
 rewrites the file atomically. A crash (or a full disk) in the middle of an append can still
 leave a torn last row: readers ignore it together with the rest of its case, and the next
@@ -24,6 +25,7 @@ from pathlib import Path
 from typing import IO, Any, Iterable, Iterator, Optional
 
 from vorobench.atomic import replace_atomically
+from vorobench.schema import Status, check_table, upgrade_legacy
 
 __all__ = [
     "COLUMNS",
@@ -40,10 +42,10 @@ __all__ = [
     "case_key",
 ]
 
-#: Outcome of a case. "skipped": not run because a smaller n of it timed out or ran out of
-#: memory, or its extrapolated time exceeds the run's budget. "lost": its (executor) worker died
-#: on every try, so nothing of the case came back.
-STATUSES = ("ok", "crashed", "timeout", "oom", "error", "unsupported", "skipped", "lost")
+#: Outcome of a case (:class:`vorobench.schema.Status`). "skipped": not run because a smaller n
+#: of it timed out or ran out of memory, or its extrapolated time exceeds the run's budget.
+#: "lost": its (executor) worker died on every try, so nothing of the case came back.
+STATUSES = tuple(s.value for s in Status)
 
 #: Leading columns, in order; ``stat_*`` columns follow.
 COLUMNS = (
@@ -286,6 +288,7 @@ def _read(path: Path):
 def _with_all_columns(df):
     import pandas as pd
 
+    df = upgrade_legacy(df)
     for column in COLUMNS:
         if column not in df.columns:
             df[column] = pd.Series(float("nan"), index=df.index, dtype=object if column in _TEXT else float)
@@ -331,7 +334,9 @@ def load_checked(path: str | os.PathLike):
     if bad.any():
         raise ValueError(f"{path}: {int(bad.sum())} of {len(df)} row(s) lack a case key "
                          f"(impl, dataset, n, seed), the first on data row {int(bad.to_numpy().argmax()) + 1}")
-    return _with_all_columns(df)
+    df = _with_all_columns(df)
+    check_table(df, str(path))
+    return df
 
 
 def to_parquet(csv_path: str | os.PathLike, parquet_path: Optional[str | os.PathLike] = None) -> Path:

@@ -310,6 +310,12 @@ def lost_outcome(case: Case, config: RunConfig, why: str, status: str = "lost") 
     return CaseOutcome(case, status, [row], 0.0)
 
 
+def _once_per_case(column: str) -> bool:
+    """Whether a measurement is taken on the first build only: the structure's size and the
+    counters, which the same input gives whatever the repeat."""
+    return column in ("V", "E") or column.startswith("stat_")
+
+
 def _rows(case: Case, config: RunConfig, status: str, step: str, info: dict, repeats: list[dict]) -> list[dict]:
     common = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "n": case.n,
               "seed": case.seed, "status": status, "host": socket.gethostname(),
@@ -320,9 +326,11 @@ def _rows(case: Case, config: RunConfig, status: str, step: str, info: dict, rep
         rows = []
         for i, rep in enumerate(repeats):
             row = dict(common)
-            # Structure sizes and counters are measured once (they do not depend on the repeat).
-            row.update({k: v for k, v in counters.items() if k not in ("time_s", "peak_rss_mb", "mem_mb")})
-            row.update(repeat=i, time_s=rep["time_s"], peak_rss_mb=rep["peak_rss_mb"], mem_mb=rep["mem_mb"])
+            # Structure sizes and counters are measured once (they do not depend on the repeat);
+            # timings and memory are each repeat's own.
+            row.update({k: v for k, v in counters.items() if _once_per_case(k)})
+            row.update({k: v for k, v in rep.items() if not _once_per_case(k)})
+            row["repeat"] = i
             rows.append(row)
         return rows
     row = dict(common)

@@ -180,7 +180,7 @@ def _first_line(obj: object) -> str:
     return text[0][:300] if text else ""
 
 
-def _timed_build(impl, sites, stats) -> tuple[object, int, float, float]:
+def _timed_build(impl, sites, stats, timings) -> tuple[object, int, float, float]:
     """One build: (diagram, wall ns, peak resident MiB during it, own peak above the start)."""
     gc.collect()
     peakmem.reset_peak()
@@ -188,7 +188,8 @@ def _timed_build(impl, sites, stats) -> tuple[object, int, float, float]:
     gc.disable()
     try:
         t0 = time.perf_counter_ns()
-        diagram = impl.run(sites, stats, check_supports=False)   # a read-only copy; a change is an error
+        # A read-only copy; a change of it, or a counter that is not an integer, is an error.
+        diagram = impl.run(sites, stats, timings=timings, check_supports=False)
         elapsed = time.perf_counter_ns() - t0
     finally:
         gc.enable()
@@ -196,15 +197,13 @@ def _timed_build(impl, sites, stats) -> tuple[object, int, float, float]:
     return diagram, elapsed, peak, max(0.0, peak - before)
 
 
-def _numeric_stats(stats: dict) -> dict[str, float]:
-    """The implementation's counters as ``stat_<name>`` columns (numbers only)."""
-    out = {}
-    for key, value in stats.items():
-        try:
-            out[f"stat_{key}"] = float(value) if not isinstance(value, (int, bool)) else int(value)
-        except (TypeError, ValueError):
-            continue
-    return out
+def _measured_columns(stats: dict, timings: dict) -> dict[str, float]:
+    """The build's counters as ``stat_<name>`` columns (integers, checked by ``Implementation.run``)
+    and the parts of its time as ``time_<phase>_s`` columns."""
+    from vorobench.schema import COUNTER_PREFIX, timing_column
+
+    return ({f"{COUNTER_PREFIX}{key}": int(value) for key, value in stats.items()}
+            | {timing_column(phase): float(seconds) for phase, seconds in timings.items()})
 
 
 def _run_steps(case: dict, config: dict, send: Send) -> None:
@@ -252,13 +251,14 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
     while i < repeat or (timed_ns < min_time * 1e9 and i < MAX_REPEAT):
         send("step", f"repeat {i + 1}/{repeat}" if i < repeat else f"repeat {i + 1} (filling min-time)")
         stats: dict = {}
+        timings: dict = {}
         diagram = None                      # free the previous result before the next build
-        diagram, ns, peak, own = _timed_build(impl, sites, stats)
+        diagram, ns, peak, own = _timed_build(impl, sites, stats, timings)
         timed_ns += ns
-        row = {"time_s": ns / 1e9, "peak_rss_mb": peak, "mem_mb": own}
+        row = {"time_s": ns / 1e9, "peak_rss_mb": peak, "mem_mb": own} | _measured_columns({}, timings)
         if i == 0:
             counts = diagram.counts()
-            row.update(V=counts["V"], E=counts["E"], **_numeric_stats(stats))
+            row.update(V=counts["V"], E=counts["E"], **_measured_columns(stats, {}))
         send("repeat", row)
         i += 1
 

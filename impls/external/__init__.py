@@ -6,9 +6,11 @@ the registry), :mod:`.boost` (Boost.Polygon's sweep through ``pyvoronoi``) and :
 (GEOS through ``shapely.voronoi_polygons``). Each is importable only when its library is
 installed (``pip install vorobench[peers]``); the registry lists it only then.
 
-Every adapter fills ``stats`` with ``library_s`` (wall time inside the library's own call)
-and ``convert_s`` (everything else: input preparation and conversion of the output into
-the DCEL), so a run can tell the library's speed from the cost of our adapter.
+Every adapter times two parts of its build, ``library`` (wall time inside the library's own
+call) and ``convert`` (everything else: input preparation and conversion of the output into
+the DCEL), so a run can tell the library's speed from the cost of our adapter. They are
+timings (results columns ``time_library_s``, ``time_convert_s``), never counters: ``stats``
+holds only machine-independent integers.
 """
 
 __all__: list[str] = []

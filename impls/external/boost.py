@@ -176,7 +176,7 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
         vertices = np.array([(v.X, v.Y) for v in builder.GetVertices()], dtype=np.float64).reshape(-1, 2)
         vertices = vertices / scale + centre
     diagram = assemble(sites, vertices, edge_sites, edges[half, :2])
-    clock.report(stats)
+    clock.report()
     if stats is not None:
         stats.update(rounded_sites=int(moved.sum()), grid_scale_log2=int(math.frexp(scale)[1] - 1),
                      boost_vertices=int(n_vertices), boost_edges=int(half.size),

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import time
 from contextlib import contextmanager
-from typing import Iterator, Optional
+from typing import Iterator
+
+from impls.base import record_timing
 
 __all__ = ["BuildClock"]
 
@@ -12,7 +14,8 @@ __all__ = ["BuildClock"]
 class BuildClock:
     """Started when created; ``with clock.library():`` marks the time spent inside the library.
 
-    :meth:`report` writes ``library_s`` and ``convert_s`` (the rest of the build) into stats.
+    :meth:`report` records the seconds of ``library`` and ``convert`` (the rest of the build) as
+    timings of the build (:func:`impls.base.record_timing`), never as counters.
     An adapter that calls the library more than once and throws results away marks each
     thrown-away attempt with :meth:`discard`; that time counts in neither (``discarded_ns``).
     """
@@ -40,10 +43,11 @@ class BuildClock:
         self.discarded_ns += time.perf_counter_ns() - t0
         self.library_ns = library_before
 
-    def report(self, stats: Optional[dict]) -> None:
-        """Record ``library_s`` and ``convert_s`` (seconds) in ``stats`` if it is a dict."""
-        if stats is None:
-            return
+    def report(self) -> None:
+        """Record the seconds of ``library``, ``convert`` and (if any) ``discarded`` as timings of
+        the running build."""
         total = time.perf_counter_ns() - self._start
-        stats["library_s"] = self.library_ns / 1e9
-        stats["convert_s"] = max(0, total - self.library_ns - self.discarded_ns) / 1e9
+        record_timing("library", self.library_ns / 1e9)
+        record_timing("convert", max(0, total - self.library_ns - self.discarded_ns) / 1e9)
+        if self.discarded_ns:
+            record_timing("discarded", self.discarded_ns / 1e9)

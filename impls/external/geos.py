@@ -16,7 +16,7 @@ sizes for 1e5 uniform sites), while large envelopes make GEOS's clipping fail on
 degenerate inputs (grids, at e >= 14). So e is searched (``ENVELOPE_EXPONENTS``): a
 result whose unbounded cells are not exactly the hull sites (exact test), or with an edge
 cut at both ends although the sites are not collinear, lost vertices (larger e); a GEOS
-failure asks for a smaller e. Discarded attempts are reported as ``discarded_s``.
+failure asks for a smaller e. Discarded attempts are timed as ``discarded``.
 Recovering the combinatorics (``convert_s``), one rule per kind of polygon vertex:
 * A ring vertex strictly inside the envelope is a Voronoi vertex. GEOS computes each
   circumcentre once and shares it between the cells around it, so vertices are identified
@@ -261,8 +261,8 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     the unbounded ones are exactly the sites on the convex-hull boundary (exact test) and
     no edge lost both its ends. If no envelope does, returns the diagram of the first
     envelope that converted (certification says what is wrong with it), or raises the first
-    error. Only the attempt returned counts in ``library_s``/``convert_s``; the others are
-    ``discarded_s``.
+    error. Only the attempt returned counts in the ``library``/``convert`` timings; the others are
+    ``discarded``.
     """
     sites = np.ascontiguousarray(sites, dtype=np.float64).reshape(-1, 2)
     n = sites.shape[0]
@@ -302,11 +302,10 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     if diagram is None:
         assert first_error is not None
         raise first_error
-    clock.report(stats)
+    clock.report()
     if stats is not None:
         stats.update(geos_vertices=diagram.n_vertices, envelope_attempts=len(tried),
-                     envelope_log2_growth=tried[-1] if diagram is not first else -1,
-                     discarded_s=clock.discarded_ns / 1e9)
+                     envelope_log2_growth=tried[-1] if diagram is not first else -1)
     return diagram
 
 

@@ -147,7 +147,7 @@ def build_with(sites: NDArray[np.float64], stats: Optional[dict], switch: str) -
     triangles = out.get("triangles")
     if triangles is None or len(triangles) == 0:
         diagram = collinear_diagram(sites)
-        clock.report(stats)
+        clock.report()
         if stats is not None:
             stats.update(collinear=1, triangles=0)
         return diagram
@@ -156,7 +156,7 @@ def build_with(sites: NDArray[np.float64], stats: Optional[dict], switch: str) -
     ids = np.arange(n, dtype=np.int64)           # Triangle keeps the input order: point v is site v
     vertices, edge_sites, edge_vertices, merged = voronoi_edges(sites, ids, tri, opp, ntri, counters)
     diagram = assemble(sites, vertices, edge_sites, edge_vertices)
-    clock.report(stats)
+    clock.report()
     if stats is not None:
         stats.update(triangles=int(len(triangles)), merged_triangles=int(merged),
                      dual_incircle_calls=int(counters[INCIRCLE_CALLS]),

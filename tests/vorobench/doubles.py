@@ -2,8 +2,9 @@
 
 Each wraps Qhull's build (a correct diagram) with one fault: a hard exit (status 3 or 0),
 ``SystemExit(0)``, a segfault, a hang, a hang in a grandchild process, an impossible allocation,
-a Python exception, a change to its input, a refusal, a sleep, a large allocation, or a wrong
-diagram. ``steady`` sleeps for
+a Python exception, a change to its input, a refusal, a sleep, a large allocation, a wrong
+diagram, or seconds passed off as a counter (``timing_in_counters``; ``timed_parts`` reports
+them the right way). ``steady`` sleeps for
 ``VOROBENCH_TEST_SLEEP`` seconds (default 0.02) before building and reports counters scaled by
 ``VOROBENCH_TEST_COUNTER_SCALE`` (default 1): the environment variables let a test slow it
 down or change its counters between two runs without renaming it.
@@ -137,6 +138,26 @@ def _wrong(sites, stats=None):
     return dataclasses.replace(qhull_build(moved, stats), sites=sites)
 
 
+def _timing_in_counters(sites, stats=None):
+    t0 = time.perf_counter()
+    diagram = qhull_build(sites, None)
+    if stats is not None:
+        stats["build_seconds"] = time.perf_counter() - t0      # a time is not a counter
+    return diagram
+
+
+def _timed_parts(sites, stats=None):
+    from impls.base import record_timing
+
+    t0 = time.perf_counter()
+    diagram = qhull_build(sites, stats)
+    record_timing("library", time.perf_counter() - t0)
+    record_timing("convert", 1e-6)
+    if stats is not None:
+        stats["calls"] = 1
+    return diagram
+
+
 def _refuse(sites):
     return "refuses every input (test double)"
 
@@ -165,4 +186,6 @@ IMPLEMENTATIONS = [
     _double("hungry", _hungry),
     _double("wrong", _wrong),
     _double("refuse", qhull_build, supports=_refuse),
+    _double("timing_in_counters", _timing_in_counters),
+    _double("timed_parts", _timed_parts),
 ]

@@ -1,0 +1,197 @@
+"""The results schema: what each column of a results table is, and the one ranking of outcomes.
+
+Four kinds of column, told apart by name:
+
+* **counters** ``stat_<name>``: machine-independent integers an implementation counts (events,
+  predicate calls). Equal code on equal input gives equal counters, so they gate exactly.
+* **timings** ``time_s`` (the build) and ``time_<phase>_s`` (a part of it, e.g. the outside
+  library's own call): seconds, which differ from run to run, so they gate statistically.
+* **measurements**: other machine-dependent numbers (memory, set-up and check seconds).
+* **identity and outcome**: the case key, status, verdict, messages.
+
+An implementation fills ``stats`` with counters only; :func:`check_counters` refuses anything
+else, and timings go through :func:`impls.base.record_timing` instead. ``Status`` and
+``Verdict`` rank outcomes once for the runner, the report and the regression compare.
+"""
+
+from __future__ import annotations
+
+import numbers
+import re
+from enum import Enum
+from typing import Any, Mapping, Optional
+
+__all__ = [
+    "Status",
+    "Verdict",
+    "VERDICT_RANK",
+    "STATUS_RANK",
+    "COUNTER_PREFIX",
+    "CounterError",
+    "check_counters",
+    "counter_columns",
+    "timing_columns",
+    "timing_column",
+    "verdict_rank",
+    "status_rank",
+    "upgrade_legacy",
+    "check_table",
+]
+
+COUNTER_PREFIX = "stat_"
+
+
+class Status(str, Enum):
+    """How a benchmark case ended."""
+
+    OK = "ok"
+    UNSUPPORTED = "unsupported"    # the implementation declared the input out of its scope
+    SKIPPED = "skipped"            # not run: a smaller n failed, or it would exceed the budget
+    ERROR = "error"                # an exception in the build (or a broken contract)
+    LOST = "lost"                  # its executor worker died on every try
+    OOM = "oom"
+    TIMEOUT = "timeout"
+    CRASHED = "crashed"            # the process died (signal, exit)
+
+    def __str__(self) -> str:
+        return self.value
+
+
+class Verdict(str, Enum):
+    """What the judge said of a diagram, from best to worst (declaration order)."""
+
+    EXACT = "exact"
+    WITHIN_TOLERANCE = "within_tolerance"
+    CERTIFIED = "certified"            # no comparison possible, but the diagram certifies
+    NO_REFERENCE = "no_reference"
+    UNSUPPORTED = "unsupported"
+    SKIPPED = "skipped"                # not checked
+    DIFFERS = "differs"
+    NOT_CERTIFIED = "not_certified"
+    CHECK_ERROR = "check_error"
+    WRONG_SITES = "wrong_sites"
+    MUTATED_INPUT = "mutated_input"
+    OOM = "oom"
+    TIMEOUT = "timeout"
+    CRASHED = "crashed"
+
+    def __str__(self) -> str:
+        return self.value
+
+
+#: Correctness rank of a verdict, 0 = exact; None = says nothing about correctness.
+VERDICT_RANK: dict[str, Optional[int]] = {
+    "exact": 0,
+    "within_tolerance": 1,
+    "certified": 1,
+    "no_reference": 1,
+    "unsupported": None,
+    "skipped": None,
+    "differs": 2,
+    "not_certified": 3,
+    "check_error": 3,
+    "wrong_sites": 3,
+    "mutated_input": 4,
+    "oom": 4,
+    "timeout": 4,
+    "crashed": 5,
+}
+
+#: Rank of a status, 0 = ran; None = did not run by choice (declared or planned).
+STATUS_RANK: dict[str, Optional[int]] = {
+    "ok": 0, "unsupported": None, "skipped": None, "error": 1, "lost": 2, "oom": 2, "timeout": 2, "crashed": 3,
+}
+
+assert set(VERDICT_RANK) == {v.value for v in Verdict} and set(STATUS_RANK) == {s.value for s in Status}
+
+
+def _missing(value: object) -> bool:
+    return value is None or value == "" or (isinstance(value, float) and value != value)
+
+
+def verdict_rank(verdict: object) -> Optional[int]:
+    """Rank of a verdict (0 = exact, higher = worse); an unknown verdict ranks as a failed check."""
+    if _missing(verdict):
+        return None
+    return VERDICT_RANK.get(str(verdict), VERDICT_RANK["check_error"])
+
+
+def status_rank(status: object) -> Optional[int]:
+    """Rank of a status (0 = ran); an unknown status ranks as an error."""
+    if _missing(status):
+        return None
+    return STATUS_RANK.get(str(status), STATUS_RANK["error"])
+
+
+class CounterError(TypeError):
+    """An implementation put something other than a machine-independent integer into ``stats``."""
+
+
+#: Names that say "a duration": such a value is a timing whatever its type.
+_TIME_NAME = re.compile(r"(^|_)(s|ms|us|ns|sec|secs|seconds|time|elapsed|duration)$", re.IGNORECASE)
+
+
+def check_counters(stats: Mapping[str, Any], who: str = "the implementation") -> dict[str, int]:
+    """``stats`` as {name: int}, or :class:`CounterError` naming the first value that is not a
+    counter: a non-integer, or a name that says it is a duration (``library_s``)."""
+    out: dict[str, int] = {}
+    for key, value in stats.items():
+        name = str(key)
+        if _TIME_NAME.search(name):
+            raise CounterError(f"{who} put {name}={value!r} into its counters, but its name says it is a "
+                               "duration: counters are machine-independent integers; report times with "
+                               "impls.base.record_timing")
+        if isinstance(value, bool) or isinstance(value, numbers.Integral):
+            out[name] = int(value)
+        elif isinstance(value, numbers.Real) and float(value).is_integer():
+            out[name] = int(value)
+        else:
+            raise CounterError(f"{who} put {name}={value!r} into its counters: counters are machine-independent "
+                               "integers; report times with impls.base.record_timing")
+    return out
+
+
+def timing_column(phase: str) -> str:
+    """The column of a part of the build time: ``library`` -> ``time_library_s``."""
+    return f"time_{phase}_s"
+
+
+def counter_columns(columns) -> list[str]:
+    """The counter columns among ``columns``, sorted."""
+    return sorted(c for c in columns if str(c).startswith(COUNTER_PREFIX))
+
+
+def timing_columns(columns) -> list[str]:
+    """The timing columns among ``columns``: ``time_s`` first, then its parts, sorted."""
+    parts = sorted(c for c in columns if re.fullmatch(r"time_.+_s", str(c)))
+    return (["time_s"] if "time_s" in columns else []) + parts
+
+
+def upgrade_legacy(df):
+    """Results written before counters and timings were told apart kept the outside libraries'
+    ``library_s``/``convert_s`` seconds among the counters (``stat_library_s``): move every
+    counter column whose name says it is a duration to its timing column. Returns ``df``."""
+    renames = {}
+    for column in counter_columns(df.columns):
+        name = column[len(COUNTER_PREFIX):]
+        if _TIME_NAME.search(name):
+            phase = re.sub(r"_(s|ms|us|ns|sec|secs|seconds)$", "", name)
+            target = timing_column(phase)
+            if target not in df.columns:
+                renames[column] = target
+    return df.rename(columns=renames) if renames else df
+
+
+def check_table(df, source: str = "results") -> None:
+    """Refuse a table whose counters are not integers (ValueError naming the first bad cell):
+    such a column would make the regression compare flag noise, or miss a change."""
+    import numpy as np
+    import pandas as pd
+
+    for column in counter_columns(df.columns):
+        values = pd.to_numeric(df[column], errors="coerce")
+        bad = (values.notna() & (values != np.round(values))) | (values.isna() & df[column].notna())
+        if bad.any():
+            row = int(np.flatnonzero(bad.to_numpy())[0])
+            raise ValueError(f"{source}: counter column {column} holds {str(df[column].iloc[row])!r} on data row "
+                             f"{row + 1}; counters are machine-independent integers")
