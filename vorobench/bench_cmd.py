@@ -116,7 +116,7 @@ def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool
         cases = runner.plan_cases(impl_names, datasets, sizes, seeds,
                                   reference=config.reference if config.check else None)
         todo = [c for c in cases if c.key not in done]
-        meta = sysinfo.run_metadata()
+        meta = sysinfo.run_metadata(impl_names)
         meta.update(run_id=config.run_id, argv=sys.argv[1:], impls=impl_names, datasets=list(datasets),
                     sizes=list(sizes), seeds=list(seeds), repeat=config.repeat, min_time=config.min_time,
                     timeout=config.timeout,

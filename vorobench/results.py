@@ -34,6 +34,7 @@ __all__ = [
     "writer_lock",
     "load",
     "load_checked",
+    "normalise",
     "metadata_path",
     "read_metadata",
     "append_run_metadata",
@@ -293,6 +294,12 @@ def _with_all_columns(df):
         if column not in df.columns:
             df[column] = pd.Series(float("nan"), index=df.index, dtype=object if column in _TEXT else float)
     return df
+
+
+def normalise(df):
+    """A results frame from anywhere (a file, the run store) in today's schema: old columns
+    upgraded, standard columns that are missing added, empty."""
+    return _with_all_columns(df)
 
 
 def load(path: str | os.PathLike):

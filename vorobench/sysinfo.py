@@ -3,18 +3,22 @@
 from __future__ import annotations
 
 import datetime as _dt
+import hashlib
 import os
 import platform
 import socket
 import subprocess
+import sys
 from importlib import metadata
 from pathlib import Path
-from typing import Optional
+from typing import Optional, Sequence
 
-__all__ = ["cpu_model", "git_commit", "load_average", "package_versions", "run_metadata"]
+__all__ = ["cpu_model", "git_commit", "load_average", "package_versions", "library_versions", "machine_id",
+           "code_provenance", "run_metadata"]
 
 #: Distributions whose versions change timings (or results) and so are recorded.
-_PACKAGES = ("vorobench", "numpy", "scipy", "numba", "llvmlite", "pandas", "matplotlib")
+_PACKAGES = ("vorobench", "numpy", "scipy", "numba", "llvmlite", "pandas", "matplotlib", "triangle", "pyvoronoi",
+             "shapely", "cgal")
 
 
 def cpu_model() -> str:
@@ -56,6 +60,74 @@ def package_versions() -> dict[str, Optional[str]]:
     return out
 
 
+def library_versions() -> dict[str, Optional[str]]:
+    """The geometry libraries behind the outside references, as far as each one tells (None if
+    absent): Qhull comes inside scipy, Boost.Polygon inside pyvoronoi, GEOS inside shapely."""
+    versions = package_versions()
+    out: dict[str, Optional[str]] = {
+        "qhull": f"bundled with scipy {versions['scipy']}" if versions.get("scipy") else None,
+        "triangle": versions.get("triangle"),
+        "boost_polygon": f"bundled with pyvoronoi {versions['pyvoronoi']}" if versions.get("pyvoronoi") else None,
+        "geos": None,
+        "cgal": versions.get("cgal"),
+    }
+    if versions.get("shapely"):
+        try:
+            import shapely
+
+            out["geos"] = str(shapely.geos_version_string)
+        except Exception:  # a broken shapely install is recorded as "unknown", not fatal
+            out["geos"] = "unknown"
+    return out
+
+
+def _total_memory_gb() -> Optional[float]:
+    try:
+        return round(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30, 1)
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+def machine_id() -> str:
+    """A short fingerprint of the hardware and OS that timings depend on (CPU model, core
+    count, memory, architecture, OS), not of the host name: two runners of one kind share it,
+    and timings are only compared within one fingerprint."""
+    parts = [cpu_model(), str(os.cpu_count()), str(_total_memory_gb()), platform.machine(), platform.system()]
+    return hashlib.sha256("|".join(parts).encode()).hexdigest()[:12]
+
+
+def code_provenance(names: Sequence[str]) -> dict[str, dict[str, object]]:
+    """Where each implementation's code comes from: its module, file, distribution and version,
+    and the commit and dirty flag of the git tree holding its file (plugins under development
+    are usually in one); None where a piece cannot be found."""
+    import impls
+
+    try:
+        owners = metadata.packages_distributions()
+    except Exception:  # a broken installed distribution must not cost us the run
+        owners = {}
+    out: dict[str, dict[str, object]] = {}
+    for name in names:
+        info: dict[str, object] = {"module": None, "file": None, "distribution": None, "version": None,
+                                   "commit": None, "dirty": None}
+        try:
+            build = impls.get(name).build
+            module = sys.modules.get(build.__module__)
+            info["module"] = build.__module__
+            path = Path(getattr(module, "__file__", "") or "")
+            if path.is_file():
+                info["file"] = str(path.resolve())
+                info.update(git_commit(path.resolve().parent))
+            dists = owners.get(build.__module__.split(".")[0], [])
+            if dists:
+                info["distribution"] = dists[0]
+                info["version"] = metadata.version(dists[0])
+        except Exception:  # an implementation that cannot load is reported by the run itself
+            pass
+        out[name] = info
+    return out
+
+
 def load_average() -> Optional[list[float]]:
     """The 1, 5 and 15 minute load averages (None where the OS has none): above the core count,
     other processes compete for the CPU and timings are noisy."""
@@ -65,8 +137,9 @@ def load_average() -> Optional[list[float]]:
         return None
 
 
-def run_metadata() -> dict[str, object]:
-    """Everything needed to interpret a run later: date, commit, versions, machine."""
+def run_metadata(impl_names: Sequence[str] = ()) -> dict[str, object]:
+    """Everything needed to interpret a run later: date, commit, versions, machine, and where
+    the code of each implementation in ``impl_names`` comes from."""
     git = git_commit()
     return {
         "date": _dt.datetime.now(_dt.timezone.utc).astimezone().isoformat(timespec="seconds"),
@@ -75,6 +148,10 @@ def run_metadata() -> dict[str, object]:
         "python": platform.python_version(),
         "python_implementation": platform.python_implementation(),
         "versions": package_versions(),
+        "libraries": library_versions(),
+        "implementations": code_provenance(impl_names),
+        "machine_id": machine_id(),
+        "memory_gb": _total_memory_gb(),
         "cpu": cpu_model(),
         "cores": os.cpu_count(),
         "machine": platform.machine(),
