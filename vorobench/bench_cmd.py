@@ -28,9 +28,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--sizes", type=cli_args.sizes, default=cli_args.sizes(DEFAULT_SIZES),
                    help=f"comma-separated sizes, 1e4/10k accepted (default {DEFAULT_SIZES})")
     p.add_argument("--seeds", type=cli_args.seeds, default=[0], help="comma-separated dataset seeds (default 0)")
-    p.add_argument("--repeat", type=cli_args.positive_int, default=3, help="timed builds per case (default 3)")
-    p.add_argument("--min-time", type=cli_args.non_negative_float, default=0.0, metavar="S",
-                   help="repeat builds shorter than this until S seconds are timed (at most 25 builds; default 0)")
+    p.add_argument("--repeat", type=cli_args.positive_int, default=5,
+                   help="timed builds per case, at least (default 5: the fewest with which `compare`'s rank test "
+                        "can show a change at alpha 0.05 on one case)")
+    p.add_argument("--min-time", type=cli_args.non_negative_float, default=0.25, metavar="S",
+                   help="repeat builds shorter than this until S seconds are timed (at most 25 builds; default "
+                        "0.25: short cases get the repeats that tell their noise from a change)")
     p.add_argument("--timeout", type=cli_args.positive_float, default=60.0,
                    help="seconds allowed for each timed build and for the check (default 60)")
     p.add_argument("--warmup-timeout", type=cli_args.positive_float, default=300.0,
@@ -56,6 +59,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--workers", type=cli_args.positive_int, default=1,
                    help="local cases run at once (default 1: concurrent cases disturb each other's timings)")
     p.add_argument("--parquet", action="store_true", help="also write <stem>.parquet at the end")
+    p.add_argument("--store", default=None, metavar="DIR",
+                   help="also file the run in this run store when it ends (see `vorobench history`)")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no line per case")
 
 
@@ -180,10 +185,21 @@ def run(args: argparse.Namespace) -> int:
         shutil.rmtree(config.reference_cache, ignore_errors=True)   # references of the run replaced
     if args.workers < 1:
         raise ValueError("--workers must be at least 1")
+    store = None
+    if args.store:
+        from vorobench.store import Store
+
+        store = Store(args.store)            # a file in its place is refused before the run
     code, _ = execute(args.impls, args.datasets, args.sizes, args.seeds, out, config,
                       resume=args.resume, overwrite=args.overwrite,
                       progress=not args.quiet, verbose=not args.quiet,
                       executor=args.executor, workers=args.workers)
     if args.parquet and out.exists():
         print(f"wrote {results.to_parquet(out)}")
+    if store is not None:
+        if code != 0:
+            print(f"run not filed in {args.store}: it did not finish", file=sys.stderr)
+        elif out.exists():
+            filed = store.add_results(out)
+            print(f"filed run {', '.join(filed) or '(already there)'} in {args.store}", file=sys.stderr)
     return code

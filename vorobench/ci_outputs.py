@@ -1,9 +1,11 @@
-"""A validation summary as the files CI systems read: JUnit XML and a Markdown digest.
+"""Verdicts as the files CI systems read: JUnit XML and a Markdown digest, for validate and compare.
 
-One JUnit test case per (dataset, n, seed, implementation[, exact peer]) row of
+validate: one JUnit test case per (dataset, n, seed, implementation[, exact peer]) row of
 ``summary.json``: a failing verdict is a ``<failure>`` with the verdict's message, an
 ``unsupported`` row is ``<skipped>``. The Markdown digest (for ``$GITHUB_STEP_SUMMARY`` or a
-pull-request comment) says whether the gate passed and lists every failure. Text from the
+pull-request comment) says whether the gate passed and lists every failure. compare: one test
+case per case of BASE or NEW (a flag is a ``<failure>``, an inconclusive timing ``<skipped>``)
+plus one for the combined timing verdict. Text from the
 results is escaped: XML by the serializer, Markdown by :mod:`vorobench.markdown_text`.
 """
 
@@ -15,7 +17,7 @@ from typing import Any
 
 from vorobench.markdown_text import cell as _cell
 
-__all__ = ["write_junit", "write_markdown"]
+__all__ = ["write_junit", "write_markdown", "write_compare_junit", "write_compare_markdown"]
 
 
 def _case_name(row: dict[str, Any]) -> str:
@@ -45,6 +47,10 @@ def write_junit(summary: dict[str, Any], path: str | Path) -> Path:
         ET.SubElement(case, "failure", type="never_judged", message=f"{name} declared every case unsupported")
         suite.set("tests", str(int(suite.get("tests")) + 1))
         suite.set("failures", str(int(suite.get("failures")) + 1))
+    return _write_suite(suite, path)
+
+
+def _write_suite(suite: ET.Element, path: str | Path) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     root = ET.Element("testsuites", name="vorobench")
@@ -69,7 +75,66 @@ def write_markdown(summary: dict[str, Any], path: str | Path) -> Path:
         lines += [f"| {_cell(r['impl'])} | {_cell(_case_name(r))} | {_cell(r['verdict'])} | {_cell(r['message'])[:300]} |"
                   for r in failed]
         lines.append("")
+    return _write_text(lines, path)
+
+
+def _write_text(lines: list[str], path: str | Path) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text("\n".join(lines))
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path
+
+
+def write_compare_junit(comparison, path: str | Path, base: str, new: str) -> Path:
+    """A :class:`vorobench.regress.RunComparison` as JUnit XML; returns its path."""
+    changes = comparison.changes
+    failures = sum(1 for c in changes if c.flagged) + bool(comparison.overall.flags)
+    skipped = sum(1 for c in changes if c.change == "inconclusive" and not c.flagged)
+    suite = ET.Element("testsuite", name=f"vorobench compare {new} vs {base}", tests=str(len(changes) + 1),
+                       failures=str(failures), skipped=str(skipped), errors="0")
+    for c in changes:
+        case = ET.SubElement(suite, "testcase", classname=f"vorobench.{c.impl}", name=c.name,
+                             time=f"{c.new_median_s or 0.0:.6f}")
+        if c.flagged:
+            message = "; ".join(c.flags)
+            ET.SubElement(case, "failure", type="regression", message=message[:500]).text = message
+        elif c.change == "inconclusive":
+            ET.SubElement(case, "skipped", message=f"timing inconclusive: {c.why_inconclusive}"[:500])
+    overall = ET.SubElement(suite, "testcase", classname="vorobench.all", name="all cases together (geometric mean)")
+    if comparison.overall.flags:
+        message = "; ".join(comparison.overall.flags)
+        ET.SubElement(overall, "failure", type="regression", message=message[:500]).text = message
+    return _write_suite(suite, path)
+
+
+def _ratio(c) -> str:
+    if c.ratio is None:
+        return "-"
+    ci = f" ({c.ci_low:.2f}-{c.ci_high:.2f})" if c.ci_low is not None else ""
+    return f"{c.ratio:.3f}{ci}"
+
+
+def write_compare_markdown(comparison, path: str | Path, base: str, new: str) -> Path:
+    """A :class:`vorobench.regress.RunComparison` as a short Markdown digest; returns its path."""
+    o = comparison.overall
+    verdict = "no regression" if comparison.passed else "REGRESSION"
+    lines = [f"## vorobench compare: {verdict}", "",
+             f"`{_cell(new)}` against `{_cell(base)}`, threshold {comparison.threshold:.0%}, alpha "
+             f"{comparison.alpha:g}: {len(comparison.compared)} case(s) compared, {len(comparison.flagged)} "
+             f"flagged, {len(comparison.missing)} missing in NEW, {len(comparison.inconclusive)} inconclusive.", ""]
+    if o.geomean is not None:
+        ci = f" (95% CI {o.ci_low:.3f}-{o.ci_high:.3f})" if o.ci_low is not None else ""
+        lines += [f"All {o.cases} timed cases together: NEW / BASE = **{o.geomean:.3f}**{ci}, {o.change}.", ""]
+    lines += ["| case | base | new | ratio (95% CI) | timing | verdict | flags |", "|---|---|---|---|---|---|---|"]
+    for c in comparison.changes:
+        verdict_cell = c.new_verdict if c.base_verdict == c.new_verdict else f"{c.base_verdict} -> {c.new_verdict}"
+        lines.append(f"| {_cell(c.name)} | {_seconds(c.base_median_s)} | {_seconds(c.new_median_s)} | {_ratio(c)} | "
+                     f"{_cell(c.change or '-')} | {_cell(verdict_cell or '-')} | "
+                     f"{_cell('; '.join(c.flags))[:300] or ''} |")
+    return _write_text(lines, path)
+
+
+def _seconds(x) -> str:
+    if x is None:
+        return "-"
+    return f"{x * 1e3:.3g} ms" if x < 1 else f"{x:.3g} s"

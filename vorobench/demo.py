@@ -70,7 +70,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"datasets (default {','.join(DEMO_DATASETS)})")
     p.add_argument("--sizes", type=cli_args.sizes, default=None,
                    help="sizes (default 1k,3k,10k,30k; up to 300k when only qhull is available)")
-    p.add_argument("--repeat", type=cli_args.positive_int, default=3, help="timed builds per case, at least (default 3)")
+    p.add_argument("--repeat", type=cli_args.positive_int, default=5, help="timed builds per case, at least (default 5)")
     p.add_argument("--min-time", type=cli_args.non_negative_float, default=0.3,
                    help="repeat short builds until this many seconds are timed (default 0.3)")
     p.add_argument("--budget", type=cli_args.positive_float, default=2.0,

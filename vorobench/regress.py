@@ -1,15 +1,27 @@
-"""Compare two benchmark results case by case; flag slowdowns, counter changes and lost correctness.
+"""Compare two benchmark runs case by case and as a whole; flag slowdowns, counter changes and lost correctness.
 
-    vorobench compare BASE NEW [--threshold 0.10]
+    vorobench compare BASE NEW [--threshold 0.10] [--junit FILE] [--markdown FILE]
 
-Per case (implementation, dataset, n, seed): the ratio of median times NEW / BASE with a
-bootstrap confidence interval, and a one-sided Mann-Whitney U test. A slowdown is flagged when
-the ratio exceeds 1 + threshold *and* is statistically clear (the interval lies above 1 and,
-when the repeats allow it, p < alpha). Any change of a ``stat_*`` counter is flagged (counters do
-not depend on the machine, so they gate regressions without noise), as is any case that got a
-worse verdict or stopped running, and any case of BASE that NEW lacks (a run that lost cases
-must not pass for having fewer to compare). Exit status 1 when anything is flagged, else 0;
-2 when a file is not a results table with at least one case, or an option makes no sense.
+BASE and NEW are results files (.csv or .parquet) or runs of a run store (``DIR@latest``,
+``DIR@latest~1``, ``DIR@<run id>``, ``DIR@<commit>``; see :mod:`vorobench.store`).
+
+Timings gate statistically, per case (implementation, dataset, n, seed) and over all cases:
+
+* **per case**: the ratio of median times NEW / BASE, a percentile bootstrap interval of it
+  (``scipy.stats.bootstrap``) and a one-sided Mann-Whitney U test (``scipy.stats.mannwhitneyu``).
+  A case is *slower* when the ratio exceeds 1 + threshold, its interval lies above 1 and the
+  rank test gives p < alpha; *faster* likewise; *same* when its interval lies within
+  1 ± threshold, which rules out a change of the threshold. Anything else is *inconclusive*:
+  its repeats can tell neither (too few of them for the rank test to reach alpha, or too much
+  noise), and the output says so instead of passing it silently.
+* **over all cases**: the geometric mean of the per-case ratios with a t interval of the mean
+  log ratio (``scipy.stats.ttest_1samp``). A uniform slowdown too small for any one case's
+  repeats is flagged here when the mean exceeds 1 + threshold and its interval lies above 1.
+
+Counters (``stat_*``, machine-independent integers) gate exactly: any change is flagged.
+So is a case that got a worse verdict or status, or that NEW lacks (a run that lost cases must
+not pass for having fewer to compare). Exit status 1 when anything is flagged, else 0; 2 when
+an input is not a results table with at least one case, or an option makes no sense.
 """
 
 from __future__ import annotations
@@ -23,8 +35,10 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-__all__ = ["add_arguments", "run", "CaseChange", "compare_frames", "compare_files", "bootstrap_ratio_ci",
-           "slowdown_p_value"]
+from vorobench.schema import counter_columns, status_rank, verdict_rank
+
+__all__ = ["add_arguments", "run", "CaseChange", "Overall", "RunComparison", "compare_frames", "compare_runs",
+           "compare_files", "load_side", "bootstrap_ratio_ci", "slowdown_p_value", "overall_change"]
 
 KEY = ["impl", "dataset", "n", "seed"]
 
@@ -43,11 +57,15 @@ class CaseChange:
     new_verdict: Optional[str] = None
     base_median_s: Optional[float] = None
     new_median_s: Optional[float] = None
+    base_repeats: int = 0
+    new_repeats: int = 0
     ratio: Optional[float] = None
     ci_low: Optional[float] = None
     ci_high: Optional[float] = None
     p_value: Optional[float] = None
-    change: str = ""                     # "slower", "faster", "same", "" (no timing on one side)
+    #: "slower", "faster", "same", "inconclusive", or "" (no timing on one side)
+    change: str = ""
+    why_inconclusive: str = ""
     counters: dict[str, tuple] = field(default_factory=dict)
     flags: list[str] = field(default_factory=list)
 
@@ -55,17 +73,64 @@ class CaseChange:
     def flagged(self) -> bool:
         return bool(self.flags)
 
+    @property
+    def name(self) -> str:
+        return f"{self.impl} {self.dataset} n={self.n} seed={self.seed}"
+
+
+@dataclass
+class Overall:
+    """The combined timing verdict: geometric mean of the per-case ratios, with its interval."""
+
+    cases: int = 0
+    geomean: Optional[float] = None
+    ci_low: Optional[float] = None
+    ci_high: Optional[float] = None
+    change: str = ""                     # "slower", "faster", "same", "inconclusive", "" (no case)
+    flags: list[str] = field(default_factory=list)
+
+
+@dataclass
+class RunComparison:
+    """Every case of BASE and NEW, the combined verdict, and what sets the exit status."""
+
+    changes: list[CaseChange]
+    overall: Overall
+    threshold: float
+    alpha: float
+
+    @property
+    def missing(self) -> list[CaseChange]:
+        return [c for c in self.changes if c.new_status is None]
+
+    @property
+    def compared(self) -> list[CaseChange]:
+        return [c for c in self.changes if c.base_status is not None and c.new_status is not None]
+
+    @property
+    def flagged(self) -> list[CaseChange]:
+        return [c for c in self.changes if c.flagged and c.new_status is not None]
+
+    @property
+    def inconclusive(self) -> list[CaseChange]:
+        return [c for c in self.changes if c.change == "inconclusive"]
+
+    @property
+    def passed(self) -> bool:
+        return bool(self.compared) and not (self.flagged or self.missing or self.overall.flags)
+
 
 def bootstrap_ratio_ci(base: Sequence[float], new: Sequence[float], rng: np.random.Generator,
                        resamples: int = 2000, level: float = 0.95) -> tuple[float, float]:
     """Percentile bootstrap interval of median(new) / median(base), resampling each side."""
-    b, m = np.asarray(base, float), np.asarray(new, float)
-    rb = np.median(b[rng.integers(0, b.size, size=(resamples, b.size))], axis=1)
-    rn = np.median(m[rng.integers(0, m.size, size=(resamples, m.size))], axis=1)
-    ratios = rn / rb
-    tail = 50.0 * (1.0 - level)
-    lo, hi = np.percentile(ratios, [tail, 100.0 - tail])
-    return float(lo), float(hi)
+    from scipy.stats import bootstrap
+
+    def ratio(b, m, axis=-1):
+        return np.median(m, axis=axis) / np.median(b, axis=axis)
+
+    result = bootstrap((np.asarray(base, float), np.asarray(new, float)), ratio, vectorized=True,
+                       method="percentile", n_resamples=resamples, confidence_level=level, rng=rng)
+    return float(result.confidence_interval.low), float(result.confidence_interval.high)
 
 
 def slowdown_p_value(base: Sequence[float], new: Sequence[float]) -> Optional[float]:
@@ -77,10 +142,6 @@ def slowdown_p_value(base: Sequence[float], new: Sequence[float]) -> Optional[fl
     return float(mannwhitneyu(new, base, alternative="greater").pvalue)
 
 
-def _speedup_p_value(base: Sequence[float], new: Sequence[float]) -> Optional[float]:
-    return slowdown_p_value(new, base)
-
-
 def _smallest_p(n1: int, n2: int) -> float:
     """The smallest p-value a one-sided rank test can give with these sample sizes."""
     return 1.0 / math.comb(n1 + n2, n1)
@@ -89,25 +150,64 @@ def _smallest_p(n1: int, n2: int) -> float:
 def _timing(change: CaseChange, base: np.ndarray, new: np.ndarray, threshold: float, alpha: float,
             rng: np.random.Generator) -> None:
     change.base_median_s, change.new_median_s = float(np.median(base)), float(np.median(new))
+    change.base_repeats, change.new_repeats = int(base.size), int(new.size)
     change.ratio = change.new_median_s / change.base_median_s
-    if base.size >= 2 and new.size >= 2:
-        change.ci_low, change.ci_high = bootstrap_ratio_ci(base, new, rng)
-        testable = _smallest_p(base.size, new.size) < alpha
-        p_slow = slowdown_p_value(base, new)
-        p_fast = _speedup_p_value(base, new)
-        clear_slow = change.ci_low > 1.0 and (not testable or p_slow < alpha)
-        clear_fast = change.ci_high < 1.0 and (not testable or p_fast < alpha)
-        change.p_value = p_slow if change.ratio >= 1 else p_fast
-    else:                                # one repeat: nothing to test, the ratio has to do
-        clear_slow = clear_fast = True
-    if change.ratio > 1.0 + threshold and clear_slow:
+    if base.size < 2 or new.size < 2:
+        change.change = "inconclusive"
+        change.why_inconclusive = "one repeat: noise cannot be told from change"
+        return
+    change.ci_low, change.ci_high = bootstrap_ratio_ci(base, new, rng)
+    slower = change.ratio >= 1
+    change.p_value = slowdown_p_value(base, new) if slower else slowdown_p_value(new, base)
+    testable = _smallest_p(base.size, new.size) < alpha
+    significant = testable and change.p_value < alpha
+    if slower and change.ratio > 1 + threshold and change.ci_low > 1 and significant:
         change.change = "slower"
-        ci = f", 95% CI {change.ci_low:.2f}-{change.ci_high:.2f}" if change.ci_low is not None else " (1 repeat)"
-        change.flags.append(f"{change.ratio:.2f}x slower{ci}")
-    elif change.ratio < 1.0 / (1.0 + threshold) and clear_fast:
+        change.flags.append(f"{change.ratio:.2f}x slower (95% CI {change.ci_low:.2f}-{change.ci_high:.2f}, "
+                            f"p={change.p_value:.2g})")
+    elif not slower and change.ratio < 1 / (1 + threshold) and change.ci_high < 1 and significant:
         change.change = "faster"
-    else:
+    elif 1 / (1 + threshold) < change.ci_low and change.ci_high < 1 + threshold:
         change.change = "same"
+    else:
+        change.change = "inconclusive"
+        if not testable:
+            change.why_inconclusive = (f"{base.size} vs {new.size} repeats: the rank test cannot reach "
+                                       f"p < {alpha:g}")
+        else:
+            change.why_inconclusive = (f"95% CI {change.ci_low:.2f}-{change.ci_high:.2f} neither rules out nor "
+                                       f"shows a {threshold:.0%} change")
+
+
+def overall_change(changes: Sequence[CaseChange], threshold: float, level: float = 0.95) -> Overall:
+    """Geometric mean of the per-case ratios and a t interval of the mean log ratio; flagged
+    "slower" when the mean exceeds 1 + threshold and the interval lies above 1."""
+    from scipy.stats import ttest_1samp
+
+    logs = np.log([c.ratio for c in changes if c.ratio is not None and c.ratio > 0])
+    out = Overall(cases=int(logs.size))
+    if not logs.size:
+        return out
+    out.geomean = float(np.exp(logs.mean()))
+    if logs.size < 2:
+        out.change = "inconclusive"
+        return out
+    if np.ptp(logs) == 0:
+        out.ci_low = out.ci_high = out.geomean
+    else:
+        interval = ttest_1samp(logs, 0.0).confidence_interval(confidence_level=level)
+        out.ci_low, out.ci_high = float(np.exp(interval.low)), float(np.exp(interval.high))
+    if out.geomean > 1 + threshold and out.ci_low > 1:
+        out.change = "slower"
+        out.flags.append(f"all {out.cases} timed cases together: {out.geomean:.2f}x slower "
+                         f"(geometric mean, 95% CI {out.ci_low:.2f}-{out.ci_high:.2f})")
+    elif out.geomean < 1 / (1 + threshold) and out.ci_high < 1:
+        out.change = "faster"
+    elif 1 / (1 + threshold) < out.ci_low and out.ci_high < 1 + threshold:
+        out.change = "same"
+    else:
+        out.change = "inconclusive"
+    return out
 
 
 def _counters(base_row, new_row, columns: list[str]) -> dict[str, tuple]:
@@ -126,10 +226,8 @@ def _counters(base_row, new_row, columns: list[str]) -> dict[str, tuple]:
 def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05,
                    seed: int = 0) -> list[CaseChange]:
     """Every case present in either table, with its flags."""
-    from vorobench.analysis import verdict_rank
-
     rng = np.random.default_rng(seed)
-    stat_cols = sorted({c for c in list(base_df.columns) + list(new_df.columns) if c.startswith("stat_")})
+    stat_cols = counter_columns(set(base_df.columns) | set(new_df.columns))
     base_groups = {k: g for k, g in base_df.groupby(KEY, sort=True)}
     new_groups = {k: g for k, g in new_df.groupby(KEY, sort=True)}
     changes = []
@@ -146,8 +244,11 @@ def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05
         if b is None or m is None:
             changes.append(change)
             continue
-        if change.base_status == "ok" and change.new_status != "ok":
+        sb, sn = status_rank(change.base_status), status_rank(change.new_status)
+        if sb == 0 and sn != 0:
             change.flags.append(f"status ok -> {change.new_status}")
+        elif sb is not None and sn is not None and sn > sb:
+            change.flags.append(f"status {change.base_status} -> {change.new_status}")
         rb, rn = verdict_rank(change.base_verdict), verdict_rank(change.new_verdict)
         if rb is not None and rn is not None and rn > rb:
             change.flags.append(f"verdict {change.base_verdict} -> {change.new_verdict}")
@@ -166,6 +267,13 @@ def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05
     return changes
 
 
+def compare_runs(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05, seed: int = 0) -> RunComparison:
+    """Per-case changes and the combined verdict over every case timed on both sides."""
+    changes = compare_frames(base_df, new_df, threshold=threshold, alpha=alpha, seed=seed)
+    timed = [c for c in changes if c.ratio is not None]
+    return RunComparison(changes, overall_change(timed, threshold), threshold, alpha)
+
+
 def _first(group, column: str) -> Optional[str]:
     if column not in group.columns:
         return None
@@ -181,27 +289,38 @@ def _num(value) -> str:
     return f"{value:g}" if isinstance(value, float) else str(value)
 
 
+def load_side(text: str | Path):
+    """One side of a comparison: (results frame, metadata of its run or None) from a results
+    file or a run store reference ``DIR@REF``. ValueError in one line for anything else."""
+    from vorobench import results, store
+
+    if store.is_reference(str(text)):
+        return store.load_reference(str(text))
+    frame = results.load_checked(text)
+    runs = results.read_metadata(text).get("runs", [])
+    return frame, (runs[-1] if runs else None)
+
+
 def compare_files(base: str | Path, new: str | Path, threshold: float = 0.10, alpha: float = 0.05,
                   seed: int = 0) -> list[CaseChange]:
-    """:func:`compare_frames` on two results files (CSV or Parquet).
+    """:func:`compare_frames` on two results files or store references.
 
     Raises ValueError naming the file when one is empty, has no rows or is not a results table.
     """
-    from vorobench.results import load_checked
-
-    return compare_frames(load_checked(base), load_checked(new), threshold=threshold, alpha=alpha, seed=seed)
+    return compare_frames(load_side(base)[0], load_side(new)[0], threshold=threshold, alpha=alpha, seed=seed)
 
 
-def _machine_warning(base: Path, new: Path) -> Optional[str]:
-    from vorobench.results import read_metadata
+def _machine_warning(base_meta: Optional[dict], new_meta: Optional[dict]) -> Optional[str]:
+    def machine(meta):
+        if not meta:
+            return None
+        return meta.get("machine_id") or (meta.get("hostname"), meta.get("cpu"))
 
-    def machine(path):
-        runs = read_metadata(path).get("runs", [])
-        return (runs[-1].get("hostname"), runs[-1].get("cpu")) if runs else None
-
-    a, b = machine(base), machine(new)
+    a, b = machine(base_meta), machine(new_meta)
     if a and b and a != b:
-        return (f"BASE ran on {a[0]} ({a[1]}), NEW on {b[0]} ({b[1]}): times are not comparable across "
+        def name(meta):
+            return f"{meta.get('hostname')} ({meta.get('cpu')})"
+        return (f"BASE ran on {name(base_meta)}, NEW on {name(new_meta)}: times are not comparable across "
                 "machines; counters and verdicts are.")
     return None
 
@@ -211,15 +330,21 @@ def _machine_warning(base: Path, new: Path) -> Optional[str]:
 def add_arguments(p: argparse.ArgumentParser) -> None:
     from vorobench.cli_args import fraction, non_negative_int, positive_float
 
-    p.add_argument("base", help="baseline results file (.csv or .parquet)")
-    p.add_argument("new", help="new results file")
+    p.add_argument("base", help="baseline: a results file (.csv/.parquet) or a run store reference DIR@REF "
+                                "(REF: latest, latest~K, a run id or a commit)")
+    p.add_argument("new", help="new results: a file or DIR@REF")
     p.add_argument("--threshold", type=positive_float, default=0.10,
                    help="flag slowdowns above this fraction, > 0 (default 0.10 = 10%%)")
     p.add_argument("--alpha", type=fraction, default=0.05,
                    help="significance level, between 0 and 1 (default 0.05)")
     p.add_argument("--seed", type=non_negative_int, default=0, help="bootstrap seed (default 0)")
-    p.add_argument("--only-changes", action="store_true", help="show only flagged or changed cases")
+    p.add_argument("--only-changes", action="store_true",
+                   help="show only flagged, changed or inconclusive cases")
     p.add_argument("--json", default=None, help="also write every comparison to this JSON file")
+    p.add_argument("--junit", default=None, metavar="FILE",
+                   help="also write a JUnit XML file: one test case per compared case, plus the combined verdict")
+    p.add_argument("--markdown", default=None, metavar="FILE",
+                   help="also write a Markdown summary (for $GITHUB_STEP_SUMMARY or a pull-request comment)")
 
 
 def _fmt_s(x: Optional[float]) -> str:
@@ -235,72 +360,108 @@ _MISSING_LISTED = 5
 def _print_missing(console, missing: list[CaseChange]) -> None:
     console.print(f"[bold red]NEW lacks {len(missing)} case(s) that BASE has[/bold red]:")
     for c in missing[:_MISSING_LISTED]:
-        console.print(f"  {c.impl} {c.dataset} n={c.n} seed={c.seed}", markup=False, highlight=False)
+        console.print(f"  {c.name}", markup=False, highlight=False)
     if len(missing) > _MISSING_LISTED:
         console.print(f"  and {len(missing) - _MISSING_LISTED} more")
+
+
+def _verdict_text(c: CaseChange) -> str:
+    if c.base_status is None:
+        return f"only in NEW ({c.new_status})"
+    if c.new_status is None:
+        return f"only in BASE ({c.base_status})"
+    if c.base_verdict == c.new_verdict:
+        return "not checked" if c.new_verdict == "skipped" and c.new_status == "ok" else str(
+            c.new_verdict or c.new_status)
+    return f"{c.base_verdict} -> {c.new_verdict}"
+
+
+def _overall_text(o: Overall) -> str:
+    if o.geomean is None:
+        return "no case timed on both sides"
+    ci = f", 95% CI {o.ci_low:.3f}-{o.ci_high:.3f}" if o.ci_low is not None else ""
+    return f"geometric mean ratio {o.geomean:.3f} over {o.cases} case(s){ci}: {o.change or 'n/a'}"
+
+
+def _print_table(console, comparison: RunComparison, title: str, only_changes: bool) -> None:
+    from rich.markup import escape
+    from rich.table import Table
+
+    table = Table(title=escape(title))
+    table.add_column("case", no_wrap=True)
+    for col in ("base", "new", "ratio", "95% CI", "p"):
+        table.add_column(col, justify="right", no_wrap=True)
+    table.add_column("timing")
+    table.add_column("verdict")
+    table.add_column("flags", overflow="fold")
+    shown = 0
+    for c in comparison.changes:
+        notable = c.flagged or c.change in ("slower", "faster", "inconclusive") or c.base_status is None \
+            or c.new_status is None
+        if only_changes and not notable:
+            continue
+        shown += 1
+        colour = {"slower": "red", "faster": "green", "inconclusive": "yellow"}.get(c.change, "")
+        ratio = f"{c.ratio:.3f}" if c.ratio is not None else "-"
+        timing = f"[{colour}]{c.change}[/{colour}]" if colour else c.change
+        ci = f"{c.ci_low:.2f}-{c.ci_high:.2f}" if c.ci_low is not None else "-"
+        p = f"{c.p_value:.3g}" if c.p_value is not None else "-"
+        flags = escape("; ".join(c.flags))
+        table.add_row(escape(f"{c.impl} {c.dataset} n={c.n} s={c.seed}"), _fmt_s(c.base_median_s),
+                      _fmt_s(c.new_median_s), ratio, ci, p, timing, escape(_verdict_text(c)),
+                      f"[bold red]{flags}[/bold red]" if flags else "")
+    if shown:
+        console.print(table)
 
 
 def run(args: argparse.Namespace) -> int:
     from rich.console import Console
     from rich.markup import escape
-    from rich.table import Table
 
-    changes = compare_files(args.base, args.new, threshold=args.threshold, alpha=args.alpha, seed=args.seed)
+    base_df, base_meta = load_side(args.base)
+    new_df, new_meta = load_side(args.new)
+    comparison = compare_runs(base_df, new_df, threshold=args.threshold, alpha=args.alpha, seed=args.seed)
     console = Console()
     if not console.is_terminal:
         console = Console(width=max(console.width, 140))     # logs (CI) are wide, keep rows on one line
-    warning = _machine_warning(Path(args.base), Path(args.new))
+    warning = _machine_warning(base_meta, new_meta)
     if warning:
-        console.print(f"[yellow]warning[/yellow]: {warning}")
-    table = Table(title=f"{args.new} vs {args.base} (threshold {args.threshold:.0%})")
-    table.add_column("case", no_wrap=True)
-    for col in ("base", "new", "ratio", "95% CI", "p"):
-        table.add_column(col, justify="right", no_wrap=True)
-    table.add_column("verdict")
-    table.add_column("flags", overflow="fold")
-    shown = 0
-    for c in changes:
-        notable = c.flagged or c.change in ("slower", "faster") or c.base_status is None or c.new_status is None
-        if args.only_changes and not notable:
-            continue
-        shown += 1
-        colour = {"slower": "red", "faster": "green"}.get(c.change, "")
-        ratio = f"{c.ratio:.3f}" if c.ratio is not None else "-"
-        if colour:
-            ratio = f"[{colour}]{ratio}[/{colour}]"
-        ci = f"{c.ci_low:.2f}-{c.ci_high:.2f}" if c.ci_low is not None else "-"
-        p = f"{c.p_value:.3g}" if c.p_value is not None else "-"
-        if c.base_status is None:
-            verdict = f"only in NEW ({c.new_status})"
-        elif c.new_status is None:
-            verdict = f"only in BASE ({c.base_status})"
-        elif c.base_verdict == c.new_verdict:
-            verdict = "not checked" if c.new_verdict == "skipped" and c.new_status == "ok" else str(
-                c.new_verdict or c.new_status)
-        else:
-            verdict = f"{c.base_verdict} -> {c.new_verdict}"
-        flags = "; ".join(c.flags)
-        table.add_row(f"{c.impl} {c.dataset} n={c.n} s={c.seed}", _fmt_s(c.base_median_s),
-                      _fmt_s(c.new_median_s), ratio, ci, p, verdict,
-                      f"[bold red]{flags}[/bold red]" if flags else "")
-    if shown:
-        console.print(table)
-    missing = [c for c in changes if c.new_status is None]
-    flagged = [c for c in changes if c.flagged and c.new_status is not None]
-    compared = sum(1 for c in changes if c.base_status is not None and c.new_status is not None)
+        console.print(f"[yellow]warning[/yellow]: {escape(warning)}")
+    _print_table(console, comparison, f"{args.new} vs {args.base} (threshold {args.threshold:.0%})",
+                 args.only_changes)
     if args.json:
-        Path(args.json).write_text(json.dumps([asdict(c) | {"flagged": c.flagged} for c in changes],
-                                              indent=2, default=str) + "\n")
+        Path(args.json).write_text(json.dumps({
+            "passed": comparison.passed, "threshold": args.threshold, "alpha": args.alpha,
+            "overall": asdict(comparison.overall),
+            "cases": [asdict(c) | {"flagged": c.flagged} for c in comparison.changes]},
+            indent=2, default=str) + "\n")
+    if args.junit or args.markdown:
+        from vorobench import ci_outputs
+
+        if args.junit:
+            ci_outputs.write_compare_junit(comparison, args.junit, str(args.base), str(args.new))
+        if args.markdown:
+            ci_outputs.write_compare_markdown(comparison, args.markdown, str(args.base), str(args.new))
+    compared, flagged, missing = comparison.compared, comparison.flagged, comparison.missing
+    console.print(escape(_overall_text(comparison.overall)))
+    inconclusive = comparison.inconclusive
+    if inconclusive:
+        console.print(f"[yellow]{len(inconclusive)} case(s) inconclusive[/yellow]: their repeats cannot tell a "
+                      f"{args.threshold:.0%} change from noise (e.g. {escape(inconclusive[0].name)}: "
+                      f"{escape(inconclusive[0].why_inconclusive)}); more --repeat or --min-time in bench "
+                      "would decide them")
     if not compared:
-        console.print(f"[bold red]no case in common[/bold red]: {escape(args.new)} has none of the cases of "
-                      f"{escape(args.base)}")
+        console.print(f"[bold red]no case in common[/bold red]: {escape(str(args.new))} has none of the cases of "
+                      f"{escape(str(args.base))}")
+    for flag in comparison.overall.flags:
+        console.print(f"[bold red]flagged[/bold red]: {escape(flag)}")
     if flagged:
-        console.print(f"[bold red]{len(flagged)} of {compared} compared case(s) flagged[/bold red]")
+        console.print(f"[bold red]{len(flagged)} of {len(compared)} compared case(s) flagged[/bold red]")
     if missing:
         _print_missing(console, missing)
-    if flagged or missing:
+    if not comparison.passed:
         return 1
-    faster = sum(1 for c in changes if c.change == "faster")
-    console.print(f"[green]no regression[/green] in {compared} compared case(s)"
+    faster = sum(1 for c in comparison.changes if c.change == "faster")
+    console.print(f"[green]no regression[/green] in {len(compared)} compared case(s)"
                   + (f"; {faster} clearly faster" if faster else ""))
     return 0

@@ -310,6 +310,22 @@ def load(path: str | os.PathLike):
     return _with_all_columns(_read(Path(path)))
 
 
+def _refuse_foreign(path: Path) -> None:
+    """A JSON file (pytest-benchmark's output, say) is named for what it is, not parsed as CSV."""
+    with path.open("rb") as f:
+        head = f.read(4096).lstrip()
+    if not head.startswith(b"{") and path.suffix.lower() != ".json":
+        return
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError):
+        raise ValueError(f"{path}: not a results table (a .json file that is not valid JSON)") from None
+    if isinstance(doc, dict) and "benchmarks" in doc and ("machine_info" in doc or "commit_info" in doc):
+        raise ValueError(f"{path}: a pytest-benchmark file, not a vorobench results table; compare two of those "
+                         "with `pytest-benchmark compare`, or time implementations with `vorobench bench`")
+    raise ValueError(f"{path}: a JSON file, not a vorobench results table (.csv or .parquet from `vorobench bench`)")
+
+
 def load_checked(path: str | os.PathLike):
     """:func:`load` for commands that judge a file: anything that is not a results table with at
     least one case is a ValueError that names the file and the problem in one line.
@@ -324,6 +340,7 @@ def load_checked(path: str | os.PathLike):
         raise ValueError(f"{path}: no such file")
     if path.is_dir():
         raise ValueError(f"{path}: is a directory, not a results file")
+    _refuse_foreign(path)
     try:
         df = _read(path)
     except pd.errors.EmptyDataError:

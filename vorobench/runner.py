@@ -74,7 +74,7 @@ class RunConfig:
     memory_limit_mb: Optional[float] = None
     budget: Optional[float] = None      # skip a case whose extrapolated build time exceeds this
     start_method: str = field(default_factory=default_start_method)
-    run_id: str = field(default_factory=lambda: _dt.datetime.now().strftime("%Y%m%dT%H%M%S"))
+    run_id: str = field(default_factory=lambda: _dt.datetime.now().strftime("%Y%m%dT%H%M%S-") + os.urandom(2).hex())
 
     def for_worker(self) -> dict:
         return {k: v for k, v in asdict(self).items() if k not in ("budget", "run_id", "start_method")}

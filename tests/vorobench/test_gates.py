@@ -169,7 +169,7 @@ def test_build_refuses_a_mutated_input_and_keeps_the_callers_array():
 
 def test_bench_records_a_mutating_implementation_as_a_failure(tmp_path):
     out = tmp_path / "r.csv"
-    code = main(["bench", "--plugin", DOUBLES, "--impls", "mutate,fortune", "--sizes", "50", "--repeat", "2",
+    code = main(["bench", "--min-time", "0", "--plugin", DOUBLES, "--impls", "mutate,fortune", "--sizes", "50", "--repeat", "2",
                  "--out", str(out), "--quiet"])
     assert code == 0
     import pandas as pd
@@ -338,7 +338,7 @@ def test_an_out_that_is_a_file_is_one_line(tmp_path, capsys):
 
 def test_repeated_names_run_once(tmp_path):
     out = tmp_path / "r.csv"
-    assert main(["bench", "--impls", "qhull,qhull", "--datasets", "uniform,uniform", "--sizes", "20,20",
+    assert main(["bench", "--min-time", "0", "--impls", "qhull,qhull", "--datasets", "uniform,uniform", "--sizes", "20,20",
                  "--seeds", "0,0", "--repeat", "1", "--out", str(out), "--quiet"]) == 0
     import pandas as pd
 

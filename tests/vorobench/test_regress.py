@@ -19,7 +19,7 @@ def _bench(out: Path, monkeypatch, sleep: float, counter_scale: int = 1) -> Path
     # The `steady` double sleeps this long per build and scales its counter: same name, other behaviour.
     monkeypatch.setenv("VOROBENCH_TEST_SLEEP", str(sleep))
     monkeypatch.setenv("VOROBENCH_TEST_COUNTER_SCALE", str(counter_scale))
-    code = main(["bench", "--plugin", DOUBLES, "--impls", "steady", "--datasets", "uniform", "--sizes", "20",
+    code = main(["bench", "--min-time", "0", "--plugin", DOUBLES, "--impls", "steady", "--datasets", "uniform", "--sizes", "20",
                  "--repeat", "5", "--no-check", "--quiet", "--out", str(out)])
     assert code == 0
     return out

@@ -32,7 +32,7 @@ def _records(path) -> list[list[str]]:
 
 
 def _bench(out, sizes: str, *extra: str) -> int:
-    return main(["bench", "--impls", "qhull", "--datasets", "uniform", "--sizes", sizes, "--repeat", "2",
+    return main(["bench", "--min-time", "0", "--impls", "qhull", "--datasets", "uniform", "--sizes", sizes, "--repeat", "2",
                  "--no-check", "--quiet", "--out", str(out), *extra])
 
 

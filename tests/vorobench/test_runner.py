@@ -21,7 +21,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def _bench(out: Path, impls: str, *extra: str) -> int:
-    return main(["bench", "--plugin", DOUBLES, "--impls", impls, "--datasets", "uniform", "--quiet",
+    return main(["bench", "--min-time", "0", "--plugin", DOUBLES, "--impls", impls, "--datasets", "uniform", "--quiet",
                  "--out", str(out), *extra])
 
 
@@ -151,7 +151,7 @@ def test_interrupt_keeps_finished_cases(tmp_path, monkeypatch):
 
 def test_ctrl_c_in_a_real_run_loses_nothing_finished(tmp_path):
     out = tmp_path / "r.csv"
-    cmd = [sys.executable, "-m", "vorobench", "bench", "--plugin", DOUBLES, "--impls", "qhull,hang",
+    cmd = [sys.executable, "-m", "vorobench", "bench", "--min-time", "0", "--plugin", DOUBLES, "--impls", "qhull,hang",
            "--sizes", "50", "--repeat", "1", "--no-check", "--quiet", "--timeout", "120",
            "--warmup-timeout", "120", "--out", str(out)]
     proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
