@@ -28,6 +28,7 @@ from dataclasses import asdict, dataclass, field
 from typing import Callable, Iterable, Optional, Sequence
 
 from vorobench.results import case_key
+from vorobench.schema import Status, Verdict, status_rank, verdict_rank
 
 __all__ = ["Case", "RunConfig", "CaseOutcome", "plan_cases", "run_case", "run_case_in_process", "run_cases",
            "exit_status"]
@@ -244,13 +245,13 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
                         on_step(step)
                 status = _absorb(kind, payload, info, repeats) or status
             elif proc.is_alive():
-                status = "timeout"
+                status = Status.TIMEOUT
                 info["error"] = f"no result within {config.allowance(step):g} s during {step}"
             else:
                 proc.join(10)
                 status, info["error"] = isolation.describe_death(proc.exitcode)
     finally:
-        if status == "ok":
+        if status == Status.OK:
             proc.join(5)                    # a finished worker is only exiting: let it
         isolation.kill_worker(proc)         # its process group too: nothing it started lives on
         receiver.close()
@@ -266,7 +267,7 @@ def _absorb(kind: str, payload, info: dict, repeats: list[dict]) -> Optional[str
     elif kind == "repeat":
         repeats.append(payload)
     elif kind == "done":
-        return "ok"
+        return Status.OK
     elif kind == "failed":
         info.update(payload)
         return payload["status"]
@@ -293,7 +294,7 @@ def run_case_in_process(case: Case, config: RunConfig) -> CaseOutcome:
     worker_config.update(environ=None, memory_limit_mb=None,   # this process is shared: leave it as it is
                          reference_cache=prepare_reference(case, config))
     run_and_report(asdict(case), worker_config, send)
-    status = state["status"] or "crashed"
+    status = state["status"] or Status.CRASHED
     seconds = time.perf_counter() - started
     info["case_s"] = seconds
     return CaseOutcome(case, status, _rows(case, config, status, state["step"], info, repeats), seconds)
@@ -304,7 +305,8 @@ def lost_outcome(case: Case, config: RunConfig, why: str, status: str = "lost") 
     outside the case (``error``) or overstayed (``timeout``): nothing came back, but the case is
     never dropped."""
     row = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "n": case.n,
-           "seed": case.seed, "status": status, "verdict": "timeout" if status == "timeout" else "crashed",
+           "seed": case.seed, "status": status,
+           "verdict": Verdict.TIMEOUT if status == Status.TIMEOUT else Verdict.CRASHED,
            "error": why, "host": "",
            "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
     return CaseOutcome(case, status, [row], 0.0)
@@ -321,7 +323,7 @@ def _rows(case: Case, config: RunConfig, status: str, step: str, info: dict, rep
               "seed": case.seed, "status": status, "host": socket.gethostname(),
               "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
     common.update({k: v for k, v in info.items() if k not in ("status",)})
-    if status == "ok":
+    if status == Status.OK:
         counters = repeats[0] if repeats else {}
         rows = []
         for i, rep in enumerate(repeats):
@@ -335,9 +337,9 @@ def _rows(case: Case, config: RunConfig, status: str, step: str, info: dict, rep
         return rows
     row = dict(common)
     row["phase"] = step
-    if status in ("crashed", "timeout", "oom", "error"):
-        row["verdict"] = info.get("verdict") or ("crashed" if status != "timeout" else "timeout")
-    elif status in ("unsupported", "skipped"):
+    if status in (Status.CRASHED, Status.TIMEOUT, Status.OOM, Status.ERROR):
+        row["verdict"] = info.get("verdict") or (Verdict.TIMEOUT if status == Status.TIMEOUT else Verdict.CRASHED)
+    elif status in (Status.UNSUPPORTED, Status.SKIPPED):
         row["verdict"] = status
     return [row]
 
@@ -386,9 +388,9 @@ def _skip_reason(case: Case, history: dict, config: RunConfig) -> Optional[str]:
 
 def _skipped(case: Case, config: RunConfig, reason: str) -> CaseOutcome:
     row = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "n": case.n,
-           "seed": case.seed, "status": "skipped", "verdict": "skipped", "error": reason,
+           "seed": case.seed, "status": Status.SKIPPED, "verdict": Verdict.SKIPPED, "error": reason,
            "host": socket.gethostname(), "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
-    return CaseOutcome(case, "skipped", [row], 0.0)
+    return CaseOutcome(case, Status.SKIPPED, [row], 0.0)
 
 
 def history_from_rows(rows: Iterable[dict]) -> dict:
@@ -521,13 +523,14 @@ def _run_on_executor(todo: Sequence[Case], config: RunConfig, history: dict,
 
 def _one_line(outcome: CaseOutcome) -> str:
     c = outcome.case
-    if outcome.status == "ok":
+    if outcome.status == Status.OK:
         t = outcome.median_time
         verdict = outcome.verdict or ""
-        verdict = "not checked" if verdict == "skipped" else verdict
-        colour = "green" if verdict in ("exact", "within_tolerance", "certified", "not checked") else "yellow"
+        passed = verdict == Verdict.SKIPPED or verdict_rank(verdict) in (0, 1)
+        verdict = "not checked" if verdict == Verdict.SKIPPED else verdict
+        colour = "green" if passed else "yellow"
         return f"[green]ok[/green] {c}: median {t:.4g} s  [{colour}]{verdict}[/{colour}]"
-    colour = "yellow" if outcome.status in ("unsupported", "skipped") else "red"
+    colour = "yellow" if status_rank(outcome.status) is None else "red"
     return f"[{colour}]{outcome.status}[/{colour}] {c}: {outcome.error or ''}"
 
 
