@@ -11,6 +11,7 @@ results is escaped: XML by the serializer, Markdown by :mod:`vorobench.markdown_
 
 from __future__ import annotations
 
+import math
 import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Any
@@ -125,6 +126,9 @@ def write_compare_markdown(comparison, path: str | Path, base: str, new: str) ->
     if o.geomean is not None:
         ci = f" (95% CI {o.ci_low:.3f}-{o.ci_high:.3f})" if o.ci_low is not None else ""
         lines += [f"All {o.cases} timed cases together: NEW / BASE = **{o.geomean:.3f}**{ci}, {o.change}.", ""]
+    if comparison.noise is not None:
+        lines += [f"Run-to-run noise band: x{math.exp(comparison.noise):.2f} either way (a single case's change "
+                  "inside it is inconclusive).", ""]
     lines += ["| case | base | new | ratio (95% CI) | timing | verdict | flags |", "|---|---|---|---|---|---|---|"]
     for c in comparison.changes:
         verdict_cell = c.new_verdict if c.base_verdict == c.new_verdict else f"{c.base_verdict} -> {c.new_verdict}"

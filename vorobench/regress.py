@@ -98,6 +98,8 @@ class RunComparison:
     overall: Overall
     threshold: float
     alpha: float
+    #: Run-to-run noise band (log ratio half-width, see :func:`noise_band`); None: too few cases.
+    noise: Optional[float] = None
 
     @property
     def missing(self) -> list[CaseChange]:
@@ -163,8 +165,6 @@ def _timing(change: CaseChange, base: np.ndarray, new: np.ndarray, threshold: fl
     significant = testable and change.p_value < alpha
     if slower and change.ratio > 1 + threshold and change.ci_low > 1 and significant:
         change.change = "slower"
-        change.flags.append(f"{change.ratio:.2f}x slower (95% CI {change.ci_low:.2f}-{change.ci_high:.2f}, "
-                            f"p={change.p_value:.2g})")
     elif not slower and change.ratio < 1 / (1 + threshold) and change.ci_high < 1 and significant:
         change.change = "faster"
     elif 1 / (1 + threshold) < change.ci_low and change.ci_high < 1 + threshold:
@@ -264,14 +264,49 @@ def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05
                     change.flags.append("counters changed: " + ", ".join(
                         f"{k} {_num(a)} -> {_num(c)}" for k, (a, c) in change.counters.items()))
         changes.append(change)
+    band = noise_band(changes)
+    for change in changes:
+        if change.change in ("slower", "faster") and band is not None and abs(math.log(change.ratio)) <= band:
+            change.change = "inconclusive"
+            change.why_inconclusive = (f"{change.ratio:.2f}x lies within the run-to-run noise band "
+                                       f"(x{math.exp(band):.2f} either way, from the spread of all cases' ratios)")
+        if change.change == "slower":
+            change.flags.insert(0, f"{change.ratio:.2f}x slower (95% CI {change.ci_low:.2f}-{change.ci_high:.2f}, "
+                                   f"p={change.p_value:.2g})")
     return changes
+
+
+#: Fewest cases timed on both sides from which the run-to-run noise is estimated.
+NOISE_MIN_CASES = 6
+
+#: A single case's change must exceed this many robust standard deviations of the run-to-run noise.
+NOISE_Z = 3.0
+
+
+def noise_band(changes: Sequence[CaseChange]) -> Optional[float]:
+    """Half-width, in log ratio, of the run-to-run noise band; None with too few timed cases.
+
+    Repeats within one run share that run's background (other processes, frequency, cache
+    state), so the rank test on one case's repeats sees only part of the noise: on a shared
+    machine, a case of one run can be 1.5x slower than the same case of another run while each
+    run's repeats agree closely. The spread of the per-case ratios over all cases measures the
+    rest: its robust standard deviation (scaled median absolute deviation of the log ratios
+    around their median, which a uniform change leaves alone) times :data:`NOISE_Z`. A case's
+    change inside this band is inconclusive, however clear its own repeats are.
+    """
+    from scipy.stats import median_abs_deviation
+
+    logs = np.log([c.ratio for c in changes if c.ratio is not None and c.ratio > 0])
+    if logs.size < NOISE_MIN_CASES:
+        return None
+    return float(NOISE_Z * median_abs_deviation(logs, scale="normal"))
 
 
 def compare_runs(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05, seed: int = 0) -> RunComparison:
     """Per-case changes and the combined verdict over every case timed on both sides."""
     changes = compare_frames(base_df, new_df, threshold=threshold, alpha=alpha, seed=seed)
     timed = [c for c in changes if c.ratio is not None]
-    return RunComparison(changes, overall_change(timed, threshold), threshold, alpha)
+    return RunComparison(changes, overall_change(timed, threshold), threshold, alpha, noise_band(timed))
 
 
 def _first(group, column: str) -> Optional[str]:
@@ -376,11 +411,14 @@ def _verdict_text(c: CaseChange) -> str:
     return f"{c.base_verdict} -> {c.new_verdict}"
 
 
-def _overall_text(o: Overall) -> str:
+def _overall_text(comparison: RunComparison) -> str:
+    o = comparison.overall
     if o.geomean is None:
         return "no case timed on both sides"
     ci = f", 95% CI {o.ci_low:.3f}-{o.ci_high:.3f}" if o.ci_low is not None else ""
-    return f"geometric mean ratio {o.geomean:.3f} over {o.cases} case(s){ci}: {o.change or 'n/a'}"
+    band = (f"; run-to-run noise band x{math.exp(comparison.noise):.2f} either way" if comparison.noise is not None
+            else f"; too few cases (< {NOISE_MIN_CASES}) to measure the run-to-run noise")
+    return f"geometric mean ratio {o.geomean:.3f} over {o.cases} case(s){ci}: {o.change or 'n/a'}{band}"
 
 
 def _print_table(console, comparison: RunComparison, title: str, only_changes: bool) -> None:
@@ -433,6 +471,7 @@ def run(args: argparse.Namespace) -> int:
         Path(args.json).write_text(json.dumps({
             "passed": comparison.passed, "threshold": args.threshold, "alpha": args.alpha,
             "overall": asdict(comparison.overall),
+            "noise_band": None if comparison.noise is None else math.exp(comparison.noise),
             "cases": [asdict(c) | {"flagged": c.flagged} for c in comparison.changes]},
             indent=2, default=str) + "\n")
     if args.junit or args.markdown:
@@ -443,13 +482,13 @@ def run(args: argparse.Namespace) -> int:
         if args.markdown:
             ci_outputs.write_compare_markdown(comparison, args.markdown, str(args.base), str(args.new))
     compared, flagged, missing = comparison.compared, comparison.flagged, comparison.missing
-    console.print(escape(_overall_text(comparison.overall)))
+    console.print(escape(_overall_text(comparison)))
     inconclusive = comparison.inconclusive
     if inconclusive:
-        console.print(f"[yellow]{len(inconclusive)} case(s) inconclusive[/yellow]: their repeats cannot tell a "
+        console.print(f"[yellow]{len(inconclusive)} case(s) inconclusive[/yellow]: their timings cannot tell a "
                       f"{args.threshold:.0%} change from noise (e.g. {escape(inconclusive[0].name)}: "
-                      f"{escape(inconclusive[0].why_inconclusive)}); more --repeat or --min-time in bench "
-                      "would decide them")
+                      f"{escape(inconclusive[0].why_inconclusive)}); more repeats (bench --repeat, --min-time) "
+                      "or a quieter machine would decide them")
     if not compared:
         console.print(f"[bold red]no case in common[/bold red]: {escape(str(args.new))} has none of the cases of "
                       f"{escape(str(args.base))}")

@@ -18,12 +18,13 @@ SIZES = (1000, 2000, 5000, 10000, 20000, 50000)
 IMPLS = ("a", "b")
 
 
-def _run(rng, factor=1.0, repeats=3, noise=0.15, extra=None) -> pd.DataFrame:
-    """12 cases whose repeats scatter by `noise` (log-normal) around a per-case time x factor."""
+def _run(rng, factor=1.0, repeats=3, noise=0.15, extra=None, run_noise=0.0) -> pd.DataFrame:
+    """12 cases whose repeats scatter by `noise` (log-normal) around a per-case time x factor;
+    `run_noise` moves all repeats of a case together (the background of one run on a shared machine)."""
     rows = []
     for impl in IMPLS:
         for n in SIZES:
-            base_time = 1e-6 * n * (2 if impl == "b" else 1)
+            base_time = 1e-6 * n * (2 if impl == "b" else 1) * np.exp(run_noise * rng.standard_normal())
             for i, t in enumerate(base_time * factor * np.exp(noise * rng.standard_normal(repeats))):
                 row = {"run_id": "r", "impl": impl, "dataset": "uniform", "n": n, "seed": 0, "repeat": i,
                        "status": "ok", "verdict": "exact", "time_s": t, "stat_events": n // 10}
@@ -56,6 +57,23 @@ def test_two_runs_of_the_same_code_raise_no_flag(tmp_path, capsys, seed):
     base, same = _run(rng, repeats=5), _run(rng, repeats=5)
     code = main(["compare", _write(base, tmp_path / "a.csv"), _write(same, tmp_path / "b.csv")])
     assert code == 0, capsys.readouterr().out
+
+
+def test_run_to_run_noise_that_the_repeats_do_not_show_raises_no_flag(tmp_path, capsys):
+    # each case's repeats agree within 1 %, but a case moves by ~20 % from one run to the next
+    rng = np.random.default_rng(11)
+    base, same = _run(rng, repeats=9, noise=0.01, run_noise=0.2), _run(rng, repeats=9, noise=0.01, run_noise=0.2)
+    comparison = regress.compare_runs(base, same)
+    assert 0.3 < comparison.noise < 1.2 and comparison.passed
+    assert any("noise band" in c.why_inconclusive for c in comparison.changes)
+    # without the band, the repeats alone would have flagged cases
+    raw = [c for c in comparison.changes if c.ratio > 1.1 and c.p_value is not None and c.p_value < 0.05]
+    assert raw
+    # a real slowdown far outside the band is still caught on its own
+    slow = same.copy()
+    slow.loc[(slow["impl"] == "a") & (slow["n"] == 2000), "time_s"] *= 4.0
+    flagged = regress.compare_runs(base, slow).flagged
+    assert [c.name for c in flagged] == ["a uniform n=2000 seed=0"]
 
 
 def test_cases_whose_repeats_cannot_decide_are_inconclusive_not_passed(tmp_path, capsys):
