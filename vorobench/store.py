@@ -39,11 +39,12 @@ _RUN_COLUMNS = ("run_id", "date", "commit", "dirty", "machine_id", "hostname", "
 
 
 def split_reference(text: str) -> Optional[tuple[Path, str]]:
-    """``DIR@REF`` -> (DIR, REF) when DIR is a run store; None for anything else (a file)."""
-    if "@" not in text:
+    """``DIR@REF`` -> (DIR, REF) when DIR is a folder (reading it says if it is no store); None
+    for anything else, such as a file whose name holds an ``@``."""
+    if "@" not in text or Path(text).exists():
         return None
     folder, ref = text.rsplit("@", 1)
-    if folder and (Path(folder) / FILE_NAME).is_file():
+    if folder and Path(folder).is_dir():
         return Path(folder), ref or "latest"
     return None
 
