@@ -224,8 +224,10 @@ def _counters(base_row, new_row, columns: list[str]) -> dict[str, tuple]:
 
 
 def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05,
-                   seed: int = 0) -> list[CaseChange]:
-    """Every case present in either table, with its flags."""
+                   seed: int = 0, history=None) -> list[CaseChange]:
+    """Every case present in either table, with its flags. ``history``: earlier runs' rows
+    (several ``run_id``) of the same machine, from which each case's own run-to-run noise is
+    measured (:func:`case_noise`)."""
     rng = np.random.default_rng(seed)
     stat_cols = counter_columns(set(base_df.columns) | set(new_df.columns))
     base_groups = {k: g for k, g in base_df.groupby(KEY, sort=True)}
@@ -265,11 +267,16 @@ def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05
                         f"{k} {_num(a)} -> {_num(c)}" for k, (a, c) in change.counters.items()))
         changes.append(change)
     band = noise_band(changes)
+    own = case_noise(history) if history is not None else {}
     for change in changes:
-        if change.change in ("slower", "faster") and band is not None and abs(math.log(change.ratio)) <= band:
+        key = (change.impl, change.dataset, change.n, change.seed)
+        width, source = band, "the spread of all cases' ratios"
+        if key in own and (width is None or NOISE_Z * own[key][0] > width):
+            width, source = NOISE_Z * own[key][0], f"this case's spread over {own[key][1]} earlier runs"
+        if change.change in ("slower", "faster") and width is not None and abs(math.log(change.ratio)) <= width:
             change.change = "inconclusive"
             change.why_inconclusive = (f"{change.ratio:.2f}x lies within the run-to-run noise band "
-                                       f"(x{math.exp(band):.2f} either way, from the spread of all cases' ratios)")
+                                       f"(x{math.exp(width):.2f} either way, from {source})")
         if change.change == "slower":
             change.flags.insert(0, f"{change.ratio:.2f}x slower (95% CI {change.ci_low:.2f}-{change.ci_high:.2f}, "
                                    f"p={change.p_value:.2g})")
@@ -281,6 +288,27 @@ NOISE_MIN_CASES = 6
 
 #: A single case's change must exceed this many robust standard deviations of the run-to-run noise.
 NOISE_Z = 3.0
+
+
+#: Fewest earlier runs of a case from which its own run-to-run noise is measured.
+HISTORY_MIN_RUNS = 3
+
+
+def case_noise(history) -> dict[tuple, tuple[float, int]]:
+    """Each case's own run-to-run noise from earlier runs: {(impl, dataset, n, seed): (standard
+    deviation of the log of its per-run median times, runs)}, for cases with at least
+    :data:`HISTORY_MIN_RUNS` runs. Some cases vary far more than others between runs (large
+    memory-bound builds on a shared machine), which no single pair of runs can show."""
+    if history is None or history.empty or "run_id" not in history.columns:
+        return {}
+    ok = history[(history["status"] == "ok") & history["time_s"].notna()]
+    medians = ok.groupby(KEY + ["run_id"])["time_s"].median()
+    out = {}
+    for key, per_run in medians.groupby(level=[0, 1, 2, 3]):
+        if per_run.size >= HISTORY_MIN_RUNS and (per_run > 0).all():
+            out[(str(key[0]), str(key[1]), int(key[2]), int(key[3]))] = (float(np.log(per_run).std(ddof=1)),
+                                                                         int(per_run.size))
+    return out
 
 
 def noise_band(changes: Sequence[CaseChange]) -> Optional[float]:
@@ -302,9 +330,10 @@ def noise_band(changes: Sequence[CaseChange]) -> Optional[float]:
     return float(NOISE_Z * median_abs_deviation(logs, scale="normal"))
 
 
-def compare_runs(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05, seed: int = 0) -> RunComparison:
+def compare_runs(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05, seed: int = 0,
+                 history=None) -> RunComparison:
     """Per-case changes and the combined verdict over every case timed on both sides."""
-    changes = compare_frames(base_df, new_df, threshold=threshold, alpha=alpha, seed=seed)
+    changes = compare_frames(base_df, new_df, threshold=threshold, alpha=alpha, seed=seed, history=history)
     timed = [c for c in changes if c.ratio is not None]
     return RunComparison(changes, overall_change(timed, threshold), threshold, alpha, noise_band(timed))
 
@@ -343,6 +372,20 @@ def compare_files(base: str | Path, new: str | Path, threshold: float = 0.10, al
     Raises ValueError naming the file when one is empty, has no rows or is not a results table.
     """
     return compare_frames(load_side(base)[0], load_side(new)[0], threshold=threshold, alpha=alpha, seed=seed)
+
+
+def _history(base: str, base_meta: Optional[dict], new_df):
+    """When BASE is a run of a store, the store's runs on BASE's machine, NEW's own run aside:
+    they measure each case's run-to-run noise."""
+    from vorobench import store
+
+    parsed = store.split_reference(str(base))
+    if parsed is None or not base_meta or not base_meta.get("machine_id"):
+        return None
+    runs = store.Store(parsed[0]).runs(machine_id=base_meta["machine_id"])
+    new_ids = set(new_df["run_id"].astype(str)) if "run_id" in new_df.columns else set()
+    ids = [r for r in runs["run_id"] if r not in new_ids]
+    return store.Store(parsed[0]).results(ids) if len(ids) >= HISTORY_MIN_RUNS else None
 
 
 def _machine_warning(base_meta: Optional[dict], new_meta: Optional[dict]) -> Optional[str]:
@@ -458,7 +501,9 @@ def run(args: argparse.Namespace) -> int:
 
     base_df, base_meta = load_side(args.base)
     new_df, new_meta = load_side(args.new)
-    comparison = compare_runs(base_df, new_df, threshold=args.threshold, alpha=args.alpha, seed=args.seed)
+    history = _history(args.base, base_meta, new_df)
+    comparison = compare_runs(base_df, new_df, threshold=args.threshold, alpha=args.alpha, seed=args.seed,
+                              history=history)
     console = Console()
     if not console.is_terminal:
         console = Console(width=max(console.width, 140))     # logs (CI) are wide, keep rows on one line

@@ -147,3 +147,25 @@ def test_a_pytest_benchmark_file_is_refused_in_one_line(tmp_path, capsys):
     other.write_text("[1, 2]")
     assert main(["compare", base, str(other)]) == 2
     assert "JSON file, not a vorobench results table" in capsys.readouterr().err
+
+
+def test_a_case_that_varies_between_runs_is_judged_by_its_own_history():
+    # case (a, n=50000) swings by ~40 % from run to run, the others by ~2 %: its 1.5x in NEW is
+    # noise that the earlier runs show, while the same 1.5x on a steady case is a regression
+    rng = np.random.default_rng(12)
+
+    def run(run_id, swing, steady_factor=1.0):
+        df = _run(rng, repeats=7, noise=0.01, run_noise=0.02).assign(run_id=run_id)
+        swinging = (df["impl"] == "a") & (df["n"] == 50000)
+        df.loc[swinging, "time_s"] *= swing
+        df.loc[(df["impl"] == "b") & (df["n"] == 1000), "time_s"] *= steady_factor
+        return df
+
+    history = pd.concat([run(f"h{i}", s) for i, s in enumerate([1.0, 1.45, 0.7, 1.2])])
+    base, new = run("base", 1.0), run("new", 1.5, steady_factor=1.5)
+    without = {c.name for c in regress.compare_runs(base, new).flagged}
+    assert without == {"a uniform n=50000 seed=0", "b uniform n=1000 seed=0"}
+    comparison = regress.compare_runs(base, new, history=history)
+    assert {c.name for c in comparison.flagged} == {"b uniform n=1000 seed=0"}
+    swinging = next(c for c in comparison.changes if c.name == "a uniform n=50000 seed=0")
+    assert swinging.change == "inconclusive" and "over 4 earlier runs" in swinging.why_inconclusive
