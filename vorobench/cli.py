@@ -153,6 +153,7 @@ _EXTRA_COMMANDS: dict[str, tuple[str, str]] = {
     "report": ("vorobench.report", "figures + Markdown/HTML report from a results file"),
     "compare": ("vorobench.regress", "compare two result files and flag regressions"),
     "history": ("vorobench.history_cmd", "list the runs of a run store"),
+    "trend": ("vorobench.trend", "HTML page of build times and counters across a run store's runs, change points marked"),
     "demo": ("vorobench.demo", "the main job: default benchmark + cross-validation + report"),
     "fuzz": ("vorobench.fuzz", "seeded campaign of small random/degenerate cases, cross-validated on an executor"),
 }
