@@ -219,6 +219,13 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # The reader of our output went away (`vorobench history S | head`): not an error of ours.
+        # Point stdout at nothing, so that flushing it at exit does not fail again.
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
     except Terminated as exc:
         print(f"{exc}: workers stopped, finished results kept", file=sys.stderr)
         return 143
