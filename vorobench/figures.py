@@ -1,7 +1,9 @@
 """The report's matplotlib figures (Agg): one panel per dataset, one line per implementation.
 
 Every figure takes the summary tables of :mod:`vorobench.analysis` and a path, writes a PNG
-and returns its path. Colours and markers are fixed per implementation across figures.
+and returns its path, or writes nothing and returns None when there is nothing to draw (no
+figure is ever a placeholder). Colours and markers are fixed per implementation across figures,
+and the verdict colours (:data:`VERDICT_COLOURS`) are shared with the interactive page.
 """
 
 from __future__ import annotations
@@ -21,25 +23,55 @@ from matplotlib.colors import to_rgba  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 from matplotlib.ticker import FixedLocator, FuncFormatter, LogLocator, NullFormatter, NullLocator  # noqa: E402
 
+from vorobench.schema import Verdict  # noqa: E402
+
 __all__ = ["impl_styles", "plot_metric_panels", "plot_time", "plot_time_per_nlogn", "plot_ratio",
-           "plot_memory", "plot_correctness", "VERDICT_COLOURS"]
+           "plot_memory", "plot_correctness", "VERDICT_COLOURS", "verdict_colour", "verdict_label",
+           "text_colour", "has_data"]
 
 _MARKERS = "osD^vP*Xh<>"
 
-#: Colour of each verdict in the correctness matrix (good = greens, bad = oranges/reds).
-VERDICT_COLOURS = {
-    "exact": "#1a9850",
-    "within_tolerance": "#91cf60",
-    "certified": "#66bd63",
-    "no_reference": "#d9ef8b",
-    "differs": "#fdae61",
-    "not_certified": "#f46d43",
-    "check_error": "#9e7bb5",
-    "timeout": "#d73027",
-    "crashed": "#a50026",
-    "unsupported": "#d9d9d9",
-    "skipped": "#f0f0f0",
+#: Colour of each verdict, one per :class:`vorobench.schema.Verdict` in its order (best first).
+#: Okabe-Ito's colour-blind-safe palette for the first eleven, three of Paul Tol's for the rest,
+#: chosen so that every pair stays apart (CIELAB distance above 10) also under simulated
+#: protanopia, deuteranopia and tritanopia. Passes are blues and green, "said nothing" greys,
+#: failures warm or dark; every cell also names its verdict, so colour is never the only cue.
+VERDICT_COLOURS: dict[str, str] = {
+    "exact": "#009E73",             # bluish green
+    "within_tolerance": "#56B4E9",  # sky blue
+    "certified": "#0072B2",         # blue
+    "no_reference": "#BFD8EE",      # pale blue
+    "unsupported": "#BBBBBB",       # grey
+    "skipped": "#E8E8E8",           # light grey
+    "differs": "#E69F00",           # orange
+    "not_certified": "#D55E00",     # vermillion
+    "check_error": "#F0E442",       # yellow
+    "wrong_sites": "#CC79A7",       # reddish purple
+    "mutated_input": "#882255",     # wine (Tol)
+    "oom": "#332288",               # indigo (Tol)
+    "timeout": "#6F4E37",           # brown
+    "crashed": "#000000",           # black
 }
+assert list(VERDICT_COLOURS) == [v.value for v in Verdict], "one colour per verdict, in the schema's order"
+
+#: Colour of a verdict this version does not know.
+UNKNOWN_VERDICT_COLOUR = "#FFFFFF"
+
+
+def verdict_colour(verdict: object) -> str:
+    return VERDICT_COLOURS.get(str(verdict), UNKNOWN_VERDICT_COLOUR)
+
+
+def verdict_label(verdict: object) -> str:
+    """How a verdict reads in a legend: "within tolerance"; "skipped" reads "not checked"."""
+    return "not checked" if str(verdict) == "skipped" else str(verdict).replace("_", " ")
+
+
+def text_colour(background: str) -> str:
+    """Black or white, whichever reads better on ``background`` (relative luminance)."""
+    r, g, b, _ = to_rgba(background)
+    lin = [c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4 for c in (r, g, b)]
+    return "black" if 0.2126 * lin[0] + 0.7152 * lin[1] + 0.0722 * lin[2] > 0.18 else "white"
 
 
 def impl_styles(impls: Sequence[str]) -> dict[str, dict]:
@@ -106,14 +138,31 @@ def _finish(fig, axes, path: Path, handles, labels) -> Path:
     return path
 
 
+def _drawable(values: pd.Series, positive: bool) -> pd.Series:
+    v = pd.to_numeric(values, errors="coerce")
+    ok = v.notna() & np.isfinite(v.astype(float))
+    return ok & (v > 0) if positive else ok
+
+
+def has_data(table: pd.DataFrame, column: str, positive: bool = True) -> bool:
+    """Does ``table`` hold a value of ``column`` a figure can draw (finite; positive on a log axis)?"""
+    return column in table.columns and bool(_drawable(table[column], positive).any())
+
+
 def plot_metric_panels(table: pd.DataFrame, column: str, path: Path, title: str, ylabel: str,
                        styles: dict, logy: bool = True, hline: Optional[float] = None,
                        band: Optional[tuple[str, str]] = None, positive_only: bool = False,
-                       order: Optional[Sequence[str]] = None) -> Path:
-    """One panel per dataset (in ``order``): ``column`` against n (log x) for every implementation."""
-    present = set(table["dataset"]) if not table.empty else set()
+                       order: Optional[Sequence[str]] = None) -> Optional[Path]:
+    """One panel per dataset (in ``order``): ``column`` against n (log x) for every implementation.
+    None, and no file, when no dataset has a value to draw."""
+    drawable = table if table.empty else table[_drawable(table[column], positive_only or logy)]
+    present = set(drawable["dataset"]) if not drawable.empty else set()
     datasets = [d for d in (order or sorted(present)) if d in present]
-    fig, axes = _grid(max(1, len(datasets)), title)
+    datasets += sorted(present - set(datasets))
+    if not datasets:
+        return None
+    table = drawable
+    fig, axes = _grid(len(datasets), title)
     handles: dict[str, object] = {}
     for ax, dataset in zip(axes, datasets):
         part = table[table["dataset"] == dataset]
@@ -142,28 +191,27 @@ def plot_metric_panels(table: pd.DataFrame, column: str, path: Path, title: str,
         ax.set_ylabel(ylabel)
         ax.grid(True, which="major", alpha=0.35)
         ax.grid(True, which="minor", alpha=0.12)
-    if not datasets:
-        axes[0].text(0.5, 0.5, "no successful cases", ha="center", va="center", transform=axes[0].transAxes)
     names = sorted(handles)
     return _finish(fig, axes, path, [handles[k] for k in names], names)
 
 
 def plot_time(sizes: pd.DataFrame, path: Path, styles: dict,
-              order: Optional[Sequence[str]] = None) -> Path:
-    """Median build time against n, log-log, interquartile band over repeats and seeds."""
-    return plot_metric_panels(sizes, "time_s", path, "Build time vs n (median; band = interquartile range)",
-                              "time (s)", styles, band=("time_q1_s", "time_q3_s"), order=order)
+              order: Optional[Sequence[str]] = None) -> Optional[Path]:
+    """Median build time against n, log-log, with a band from the fastest to the slowest repeat."""
+    band = ("time_min_s", "time_max_s") if {"time_min_s", "time_max_s"} <= set(sizes.columns) else None
+    return plot_metric_panels(sizes, "time_s", path, "Build time vs n (median; band = fastest to slowest repeat)",
+                              "time (s)", styles, band=band, order=order)
 
 
 def plot_time_per_nlogn(sizes: pd.DataFrame, path: Path, styles: dict,
-                        order: Optional[Sequence[str]] = None) -> Path:
+                        order: Optional[Sequence[str]] = None) -> Optional[Path]:
     """Time divided by n log2 n: flat for an O(n log n) method, rising for anything worse."""
     return plot_metric_panels(sizes, "ns_per_nlogn", path, "Time / (n log2 n): flat = O(n log n)",
                               "ns per n·log2(n)", styles, order=order)
 
 
 def plot_ratio(ratios: pd.DataFrame, reference: str, path: Path, styles: dict,
-               order: Optional[Sequence[str]] = None) -> Path:
+               order: Optional[Sequence[str]] = None) -> Optional[Path]:
     """Time relative to the reference: 1 = as fast, below = faster."""
     return plot_metric_panels(ratios, "ratio", path,
                               f"Speed relative to {reference}: time / time({reference}), below 1 = faster",
@@ -171,21 +219,25 @@ def plot_ratio(ratios: pd.DataFrame, reference: str, path: Path, styles: dict,
 
 
 def plot_memory(sizes: pd.DataFrame, path: Path, styles: dict,
-                order: Optional[Sequence[str]] = None) -> Path:
+                order: Optional[Sequence[str]] = None) -> Optional[Path]:
     """Peak memory of the build itself (rise of the worker's resident peak during the build)."""
     return plot_metric_panels(sizes, "mem_mb", path,
                               "Peak memory of the build (rise above the worker's resident size)",
                               "peak memory (MiB)", styles, positive_only=True, order=order)
 
 
-def plot_correctness(matrix: pd.DataFrame, path: Path, order: Optional[Sequence[str]] = None) -> Path:
-    """Implementation x dataset grid coloured by the worst verdict, with good/checked counts."""
-    impls = sorted(matrix["impl"].unique()) if not matrix.empty else []
-    present = set(matrix["dataset"]) if not matrix.empty else set()
+def plot_correctness(matrix: pd.DataFrame, path: Path, order: Optional[Sequence[str]] = None) -> Optional[Path]:
+    """Implementation x dataset grid coloured by the worst verdict, with good/checked counts;
+    None, and no file, when the matrix is empty."""
+    if matrix.empty:
+        return None
+    impls = sorted(matrix["impl"].unique())
+    present = set(matrix["dataset"])
     datasets = [d for d in (order or sorted(present)) if d in present]
+    datasets += sorted(present - set(datasets))
     fig, ax = plt.subplots(figsize=(1.25 * max(3, len(datasets)) + 2.4, 0.62 * max(2, len(impls)) + 2.2),
                            layout="constrained")
-    rgba = np.ones((max(1, len(impls)), max(1, len(datasets)), 4))
+    rgba = np.ones((len(impls), len(datasets), 4))
     seen = {(r["impl"], r["dataset"]) for _, r in matrix.iterrows()}
     for i, impl in enumerate(impls):
         for j, dataset in enumerate(datasets):
@@ -193,12 +245,11 @@ def plot_correctness(matrix: pd.DataFrame, path: Path, order: Optional[Sequence[
                 ax.text(j, i, "not run", ha="center", va="center", fontsize=8, color="0.5")
     for _, r in matrix.iterrows():
         i, j = impls.index(r["impl"]), datasets.index(r["dataset"])
-        rgba[i, j] = to_rgba(VERDICT_COLOURS.get(str(r["worst"]), "#9e7bb5"))
-        label = "not checked" if r["worst"] == "skipped" else str(r["worst"]).replace("_", " ")
+        colour = verdict_colour(r["worst"])
+        rgba[i, j] = to_rgba(colour)
         counts = f"{r['good']}/{r['checked']} good" if r["checked"] else f"{r['cases']} case(s)"
-        dark = str(r["worst"]) in ("exact", "crashed", "timeout")
-        ax.text(j, i, f"{label}\n{counts}", ha="center", va="center", fontsize=8,
-                color="white" if dark else "black")
+        ax.text(j, i, f"{verdict_label(r['worst'])}\n{counts}", ha="center", va="center", fontsize=8,
+                color=text_colour(colour))
     ax.imshow(rgba, aspect="auto")
     ax.set_xticks(range(len(datasets)), datasets, rotation=30, ha="right")
     ax.set_yticks(range(len(impls)), impls)
@@ -210,11 +261,10 @@ def plot_correctness(matrix: pd.DataFrame, path: Path, order: Optional[Sequence[
     ax.set_ylabel("implementation")
     ax.set_title("Correctness: worst verdict over sizes and seeds\n(k/m good = passed the cross-validation, of checked)",
                  fontsize=11)
-    present = [v for v in VERDICT_COLOURS if v in set(matrix["worst"].astype(str))]
-    ax.legend(handles=[Patch(facecolor=VERDICT_COLOURS[v], edgecolor="0.5",
-                             label="not checked" if v == "skipped" else v.replace("_", " "))
-                       for v in present], loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8,
-              frameon=False)
+    worst = set(matrix["worst"].astype(str))
+    shown = [v for v in VERDICT_COLOURS if v in worst] + sorted(worst - set(VERDICT_COLOURS))
+    ax.legend(handles=[Patch(facecolor=verdict_colour(v), edgecolor="0.5", label=verdict_label(v)) for v in shown],
+              loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=100)

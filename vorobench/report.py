@@ -2,19 +2,19 @@
 
     vorobench report results/bench.csv -o reports/NAME
 
-writes ``README.md`` (Markdown; GitHub shows it for the folder), ``report.html`` (one file,
-images embedded), the PNG figures and a copy of the results with their metadata.
+writes ``README.md`` (Markdown; GitHub shows it for the folder), ``report.html`` (an
+interactive page in one file that works offline: :mod:`vorobench.report_html`), the PNG figures
+(only those with data) and a copy of the results with their metadata. Both pages open with the
+fits whose growth exceeds the declared complexity (:func:`vorobench.analysis.complexity_check`).
 
 Everything taken from the results or their metadata (names, errors, host, argv) is data, not
-markup: it goes into the Markdown through :func:`_text` or :func:`_code`, and the HTML renderer
-passes no raw HTML through, so a ``<script>`` in an error message stays text.
+markup: it goes into the Markdown through :func:`_text` or :func:`_code`, and into the HTML
+escaped (:mod:`vorobench.report_html`), so a ``<script>`` in an error message stays text.
 """
 
 from __future__ import annotations
 
 import argparse
-import base64
-import html
 import math
 import re
 import shlex
@@ -25,7 +25,7 @@ from typing import Optional
 
 from vorobench.markdown_text import one_line, text
 
-__all__ = ["add_arguments", "run", "write_report", "Report", "reading"]
+__all__ = ["add_arguments", "run", "write_report", "Report", "reading", "busy_machine_note"]
 
 FIGURES = {
     "time": "time_vs_n.png",
@@ -79,6 +79,11 @@ def _fmt_factor(x: float) -> str:
     return f"{x:.2g}" if x < 100 else f"{x:.0f}"
 
 
+def _pct(x: float) -> str:
+    """0.034 -> 3.4%, 0.25 -> 25%."""
+    return f"{x * 100:.2g}%" if abs(x) < 0.1 else f"{x * 100:.0f}%"
+
+
 def _fmt_n(n: float) -> str:
     n = int(n)
     if n >= 1_000_000:
@@ -120,11 +125,17 @@ def _complexity(name: str) -> str:
 
 # ------------------------------------------------------------------------------ reading
 
-def reading(cases, sizes, exponents, ratios, reference: str) -> list[str]:
-    """Bullet points that say what the numbers mean: who is fastest, how things grow, what failed."""
+def reading(cases, sizes, exponents, ratios, reference: str, check=None, repeats=None) -> list[str]:
+    """Bullet points that say what the numbers mean: who is fastest, how noisy the timings are,
+    how things grow against their declared complexity, what failed. ``check`` is
+    :func:`vorobench.analysis.complexity_check` of ``exponents`` (computed when not given),
+    ``repeats`` :func:`vorobench.analysis.case_repeats` (no noise bullet without it)."""
     import numpy as np
 
-    from vorobench.analysis import failures
+    from vorobench.analysis import MISMATCH_TOLERANCE, complexity_check, failures
+
+    if check is None:
+        check = complexity_check(exponents, _complexity)
 
     points: list[str] = []
     # Fastest implementation per dataset at the largest n that several implementations reached.
@@ -156,16 +167,42 @@ def reading(cases, sizes, exponents, ratios, reference: str) -> list[str]:
             points.append(f"{_code(impl)} is {_fmt_factor(factor)}x {word} than {_code(reference)} (geometric mean of "
                           f"time ratios over {len(g)} dataset/size pairs, range "
                           f"{g['ratio'].min():.2g}-{g['ratio'].max():.2g}).")
-    # Growth.
-    for impl, g in exponents.groupby("impl", sort=True):
+    # Noise: how far the repeats of one case lie apart.
+    spreads = [(c["max_s"] - c["min_s"]) / c["median_s"] for c in (repeats or [])
+               if len(c["times"]) >= 2 and c["median_s"]]
+    if spreads:
+        points.append(f"**Noise**: the repeats of one case lie a median {_pct(float(np.median(spreads)))} apart "
+                      f"((slowest - fastest) / median; 90th percentile {_pct(float(np.quantile(spreads, 0.9)))}, "
+                      f"over {len(spreads)} cases with two or more repeats). A smaller difference between two "
+                      "implementations or two runs is within the noise.")
+    # Growth, against the declared complexity.
+    for impl, g in check.groupby("impl", sort=True):
         lo, hi, med = g["exponent"].min(), g["exponent"].max(), g["exponent"].median()
-        spread = f"range {lo:.2f}-{hi:.2f} over {len(g)} datasets, " if len(g) > 1 else ""
-        declared = _complexity(impl)
-        points.append(f"{_code(impl)} grows like n^{med:.2f} (fitted exponent, {spread}worst R² {g['r2'].min():.3f})"
-                      + (f"; declared {_text(declared)}." if declared != "?" else "."))
-    if not exponents.empty:
-        points.append("For comparison: n log n fits as about n^1.1 over n = 10^3..10^5, "
-                      "n^1.5 and n^2 would show as such.")
+        spread = f"median of {len(g)} datasets, range {lo:.2f}-{hi:.2f}, " if len(g) > 1 else ""
+        text = f"{_code(impl)} grows like n^{med:.2f} (fitted exponent, {spread}worst R² {g['r2'].min():.3f})"
+        declared = g["declared"].dropna()
+        if declared.empty:
+            points.append(text + "; no declared complexity to compare with.")
+            continue
+        expected = float(g["declared_exponent"].median())
+        text += f"; declared {_text(declared.iloc[0])}, about n^{expected:.2f} over these sizes"
+        above, below = g[g["finding"] == "above"], g[g["finding"] == "below"]
+        if not above.empty:
+            text += (": **above it on " + ", ".join(
+                f"{_text(r.dataset)} (n^{r.exponent:.2f} over {_fmt_n(r.n_min)}-{_fmt_n(r.n_max)}, "
+                f"{int(r.points)} sizes)" for r in above.sort_values("excess", ascending=False).itertuples())
+                + "**")
+            rest = len(g) - len(above)
+            text += f"; as declared or below on the other {rest}." if rest else "."
+        elif len(below) == len(g):
+            text += ": below it everywhere (O is an upper bound)."
+        else:
+            text += ": as declared" + (f" (below it on {len(below)})" if len(below) else "") + "."
+        points.append(text)
+    if not check.empty:
+        points.append(f"Growth rule: a fit is a mismatch when its exponent exceeds the declared complexity's own "
+                      f"exponent over the same sizes by more than {MISMATCH_TOLERANCE:g} (n log n counts as about "
+                      "n^1.12 over 1k-30k, n^2 as 2).")
     # Correctness.
     ran = cases[cases["status"] == "ok"]
     if not ran.empty:
@@ -224,33 +261,58 @@ def busy_machine_note(meta: dict) -> Optional[str]:
     return None
 
 
-def _meta_rows(meta: dict) -> list[list[object]]:
+def _meta_pairs(meta: dict) -> list[tuple[str, str]]:
+    """The run's metadata as (label, plain text) pairs; every value comes from the metadata file."""
     runs = meta.get("runs", [])
     if not runs:
-        return [["metadata", "none (no .meta.json next to the results)"]]
+        return [("metadata", "none (no .meta.json next to the results)")]
     r = runs[-1]
     v = r.get("versions") if isinstance(r.get("versions"), dict) else {}
     commit = str(r.get("commit") or "?")[:12] + (" (uncommitted changes)" if r.get("dirty") else "")
     load = _load_text(r)
     rows = [
-        ["date", str(r.get("date", "?")) + (f" to {r['finished']}" if r.get("finished") else "")],
-        ["commit", commit],
-        ["machine", f"{r.get('cpu', '?')}, {r.get('cores', '?')} cores, {r.get('hostname', '?')}"
-                    + (f"; load average {load}" if load else "")],
-        ["software", f"Python {r.get('python', '?')}, numpy {v.get('numpy')}, scipy {v.get('scipy')}, "
-                     f"numba {v.get('numba')}"],
-        ["cases", f"repeat {r.get('repeat')}, timeout {r.get('timeout')} s per build, reference "
-                  f"{r.get('reference')}, check {'on' if r.get('check') else 'off'}"],
+        ("date", str(r.get("date", "?")) + (f" to {r['finished']}" if r.get("finished") else "")),
+        ("commit", commit),
+        ("machine", f"{r.get('cpu', '?')}, {r.get('cores', '?')} cores, {r.get('hostname', '?')}"
+                    + (f"; load average {load}" if load else "")),
+        ("software", f"Python {r.get('python', '?')}, numpy {v.get('numpy')}, scipy {v.get('scipy')}, "
+                     f"numba {v.get('numba')}"),
+        ("cases", f"repeat {r.get('repeat')}, timeout {r.get('timeout')} s per build, reference "
+                  f"{r.get('reference')}, check {'on' if r.get('check') else 'off'}"),
     ]
     if len(runs) > 1:
-        rows.append(["runs", f"{len(runs)} (resumed); ids {', '.join(str(x.get('run_id')) for x in runs)}"])
-    # Every value here comes from the metadata file.
-    return [[label, _text(value)] for label, value in rows]
+        rows.append(("runs", f"{len(runs)} (resumed); ids {', '.join(str(x.get('run_id')) for x in runs)}"))
+    return [(label, str(value)) for label, value in rows]
+
+
+def _meta_rows(meta: dict) -> list[list[object]]:
+    """:func:`_meta_pairs` as Markdown cells."""
+    return [[label, _text(value)] for label, value in _meta_pairs(meta)]
+
+
+@dataclass
+class _Data:
+    """Every summary the two pages are written from."""
+
+    df: object
+    cases: object
+    sizes: object
+    exps: object
+    check: object
+    ratios: object
+    matrix: object
+    repeats: list
+    reference: str
+    order: list
 
 
 def write_report(results_path: str | Path, out: str | Path, title: Optional[str] = None,
                  reference: Optional[str] = None, copy_results: bool = True) -> Report:
-    """Write figures, README.md and report.html for a results file into folder ``out``."""
+    """Write figures, README.md and report.html for a results file into folder ``out``.
+
+    A figure with nothing to draw (no reference timed: no speed ratios; no memory measured) is
+    not written, and a stale file of that name from an earlier report in ``out`` is removed.
+    """
     from vorobench import analysis, figures
     from vorobench.results import load_checked, metadata_path, read_metadata
 
@@ -265,84 +327,152 @@ def write_report(results_path: str | Path, out: str | Path, title: Optional[str]
     cases = analysis.case_table(df)
     sizes = analysis.size_table(df)
     exps = analysis.fit_exponents(sizes)
+    declared = {str(name): _complexity(str(name)) for name in df["impl"].unique()}
+    check = analysis.complexity_check(exps, declared)
     ratios = analysis.speed_ratios(sizes, reference)
     matrix = analysis.correctness_matrix(cases)
     styles = figures.impl_styles(sorted(df["impl"].unique()))
     order = list(dict.fromkeys(df["dataset"]))
+    data = _Data(df, cases, sizes, exps, check, ratios, matrix, analysis.case_repeats(df), reference, order)
 
-    figs = {
+    drawn = {
         "time": figures.plot_time(sizes, out / FIGURES["time"], styles, order),
         "nlogn": figures.plot_time_per_nlogn(sizes, out / FIGURES["nlogn"], styles, order),
         "ratio": figures.plot_ratio(ratios, reference, out / FIGURES["ratio"], styles, order),
         "memory": figures.plot_memory(sizes, out / FIGURES["memory"], styles, order),
         "correctness": figures.plot_correctness(matrix, out / FIGURES["correctness"], order),
     }
+    figs = {key: path for key, path in drawn.items() if path is not None}
+    for key in set(drawn) - set(figs):
+        (out / FIGURES[key]).unlink(missing_ok=True)       # an earlier report's figure would be stale
+    copied = []
     if copy_results:
         for src in (results_path, metadata_path(results_path)):
             dst = out / ("results" + src.name[len(results_path.stem):])
-            if src.exists() and src.resolve() != dst.resolve():
-                shutil.copyfile(src, dst)
+            if src.exists():
+                if src.resolve() != dst.resolve():
+                    shutil.copyfile(src, dst)
+                copied.append(dst.name)
 
-    md = _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, results_path)
+    md = _markdown(title, data, figs, meta, results_path)
     md_path = out / "README.md"
     md_path.write_text(md)
     html_path = out / "report.html"
-    html_path.write_text(_html(title, md, out))
+    html_path.write_text(_html(title, data, figs, meta, copied))
     return Report(out, md_path, html_path, figs)
 
 
-def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, results_path) -> str:
-    from vorobench.analysis import failures, mixed_hosts_note
+def _skipped_md(cases) -> Optional[str]:
+    skipped = cases[cases["status"] == "skipped"]
+    if skipped.empty:
+        return None
+    first = skipped.sort_values("n").groupby(["impl", "dataset"], sort=True).first().reset_index()
+    return ("Skipped (a smaller size timed out or ran out of memory, or the build time extrapolated "
+            "from the smaller sizes exceeded the run's budget): "
+            + "; ".join(f"{_code(r.impl)} {_text(r.dataset)} from n={_fmt_n(r.n)}" for r in first.itertuples()) + ".")
 
-    impl_names = sorted(df["impl"].unique())
-    datasets = list(dict.fromkeys(df["dataset"]))
-    ns = sorted(df["n"].unique())
-    parts = [f"# vorobench report: {_text(title)}", ""]
-    parts.append(f"{len(cases)} cases: {len(impl_names)} implementation(s) ({', '.join(map(_text, impl_names))}) x "
-                 f"{len(datasets)} dataset(s) ({', '.join(map(_text, datasets))}) x sizes "
-                 f"{', '.join(_fmt_n(n) for n in ns)}; {len(df)} result rows.")
-    parts += ["", "## Reading", ""]
-    parts += [f"* {p}" for p in reading(cases, sizes, exps, ratios, reference)]
+
+def _warmup_md(cases) -> Optional[str]:
+    warm = cases[cases["status"] == "ok"].groupby("impl")["warmup_s"].median().dropna()
+    if warm.empty:
+        return None
+    return ("Warm-up per worker (JIT compilation or cache load, plus one small build), median: "
+            + ", ".join(f"{_code(k)} {_fmt_time(v)}" for k, v in warm.items()) + ".")
+
+
+def _command(meta: dict) -> Optional[str]:
+    argv = (meta.get("runs") or [{}])[-1].get("argv")
+    return "vorobench " + shlex.join(str(a) for a in argv) if isinstance(argv, list) else None
+
+
+def _summary(d: _Data) -> tuple[str, str]:
+    """The opening line, as Markdown and as plain text."""
+    impl_names = sorted(d.df["impl"].unique())
+    ns = sorted(d.df["n"].unique())
+    head = f"{len(d.cases)} cases: {len(impl_names)} implementation(s) ("
+    tail = (f") x {len(d.order)} dataset(s) ({{datasets}}) x sizes {', '.join(_fmt_n(n) for n in ns)}; "
+            f"{len(d.df)} result rows.")
+    md = head + ", ".join(map(_text, impl_names)) + tail.replace("{datasets}", ", ".join(map(_text, d.order)))
+    plain = head + ", ".join(map(str, impl_names)) + tail.replace("{datasets}", ", ".join(map(str, d.order)))
+    return md, plain
+
+
+def _mismatch_md(d: _Data) -> list[str]:
+    from vorobench.analysis import MISMATCH_TOLERANCE, complexity_mismatches
+
+    bad = complexity_mismatches(d.check)
+    if bad.empty:
+        return []
+    rows = [[_code(r.impl), _text(r.dataset), f"**n^{r.exponent:.2f}**", f"{_text(r.declared)} = n^{r.declared_exponent:.2f}",
+             f"**{r.excess:+.2f}**", f"{_fmt_n(r.n_min)}-{_fmt_n(r.n_max)} ({int(r.points)} sizes, R² {r.r2:.3f})"]
+            for r in bad.itertuples()]
+    return ["## Growth above the declared complexity", "",
+            f"The fitted exponent exceeds the declared complexity's own exponent over the same sizes by more "
+            f"than {MISMATCH_TOLERANCE:g}:", "",
+            _md_table(["impl", "dataset", "fitted", "declared, over these sizes", "excess", "fitted over"], rows,
+                      "llrlrl"), ""]
+
+
+def _markdown(title, d: _Data, figs: dict, meta: dict, results_path) -> str:
+    from vorobench.analysis import MISMATCH_TOLERANCE, failures, mixed_hosts_note
+
+    cases, sizes, check, reference = d.cases, d.sizes, d.check, d.reference
+    parts = [f"# vorobench report: {_text(title)}", "", _summary(d)[0], "",
+             "Interactive version (filters, hover details, per-case repeats): [`report.html`](report.html).", ""]
+    parts += _mismatch_md(d)
+    parts += ["## Reading", ""]
+    parts += [f"* {p}" for p in reading(cases, sizes, d.exps, d.ratios, reference, check, d.repeats)]
     note = busy_machine_note(meta)
     if note:
         parts.append(f"* {note}")
-    hosts_note = mixed_hosts_note(df)
+    hosts_note = mixed_hosts_note(d.df)
     if hosts_note:
         hosts_note = _text(hosts_note)             # it names the hosts found in the results
         parts.append(f"* {hosts_note}")
-    parts += ["", "## Run", "", _md_table(["", ""], _meta_rows(meta)), ""]
+    parts += ["", "## Run", ""]
+    parts += [f"* **{label}**: {_text(value)}" for label, value in _meta_pairs(meta)]
+    parts += [""]
 
-    parts += ["## Build time", "",
-              "Median wall time of one build (inputs generated and JIT warm-up done beforehand), "
-              "log-log; the band is the interquartile range over repeats and seeds.", "",
-              f"![build time vs n]({FIGURES['time']})", ""]
-    parts += ["## Time per n log2 n", "",
-              "A flat line is O(n log n); a line rising to the right grows faster than that.", "",
-              f"![time / (n log2 n)]({FIGURES['nlogn']})", ""]
-    parts += [f"## Speed relative to {_text(reference)}", "",
-              f"time / time({_text(reference)}) at the same dataset and size: below the dashed line is faster.", "",
-              *([hosts_note, ""] if hosts_note else []),
-              f"![speed ratio]({FIGURES['ratio']})", ""]
-    parts += ["## Peak memory", "",
-              "Rise of the worker's resident peak during one build (the input and the imported "
-              "libraries excluded); values below a page are not shown.", "",
-              f"![peak memory vs n]({FIGURES['memory']})", ""]
-    parts += ["## Correctness", "",
-              "Every built diagram is certified (empty circles, bisectors, Euler, hull, nearest-site "
-              f"probes) and compared with {_text(reference)}'s. Colour = worst verdict over sizes and seeds.", "",
-              f"![correctness matrix]({FIGURES['correctness']})", ""]
+    if "time" in figs:
+        parts += ["## Build time", "",
+                  "Median wall time of one build (inputs generated and JIT warm-up done beforehand), "
+                  "log-log; the band runs from the fastest to the slowest repeat (all seeds).", "",
+                  f"![build time vs n]({FIGURES['time']})", ""]
+    if "nlogn" in figs:
+        parts += ["## Time per n log2 n", "",
+                  "A flat line is O(n log n); a line rising to the right grows faster than that.", "",
+                  f"![time / (n log2 n)]({FIGURES['nlogn']})", ""]
+    if "ratio" in figs:
+        parts += [f"## Speed relative to {_text(reference)}", "",
+                  f"time / time({_text(reference)}) at the same dataset and size: below the dashed line is faster.",
+                  "", *([hosts_note, ""] if hosts_note else []),
+                  f"![speed ratio]({FIGURES['ratio']})", ""]
+    if "memory" in figs:
+        parts += ["## Peak memory", "",
+                  "Rise of the worker's resident peak during one build (the input and the imported "
+                  "libraries excluded); values below a page are not shown.", "",
+                  f"![peak memory vs n]({FIGURES['memory']})", ""]
+    if "correctness" in figs:
+        parts += ["## Correctness", "",
+                  "Every built diagram is certified (empty circles, bisectors, Euler, hull, nearest-site "
+                  f"probes) and compared with {_text(reference)}'s. Colour = worst verdict over sizes and seeds.", "",
+                  f"![correctness matrix]({FIGURES['correctness']})", ""]
 
     parts += ["## Fitted growth exponents", "",
               "Least-squares slope of log(time) against log(n); R² near 1 means a clean power law. "
-              "Sizes under 1,000 sites are left out when three larger ones exist.", ""]
-    if exps.empty:
+              "Sizes under 1,000 sites are left out when three larger ones exist. *Declared here* is the "
+              "declared complexity's own slope over the same sizes; a fit more than "
+              f"{MISMATCH_TOLERANCE:g} above it is a mismatch (**above**).", ""]
+    if check.empty:
         parts += ["(too few sizes to fit)", ""]
     else:
         rows = [[_code(r.impl), _text(r.dataset), f"{r.exponent:.2f}", f"{r.r2:.3f}",
-                 f"{_fmt_n(r.n_min)}-{_fmt_n(r.n_max)} ({r.points})", _text(_complexity(r.impl))]
-                for r in exps.itertuples()]
-        parts += [_md_table(["impl", "dataset", "exponent", "R²", "n range (sizes)", "declared"], rows,
-                            "llrrll"), ""]
+                 f"{_fmt_n(r.n_min)}-{_fmt_n(r.n_max)} ({r.points})", _text(r.declared or "?"),
+                 f"{r.declared_exponent:.2f}" if math.isfinite(r.declared_exponent) else "-",
+                 f"**{r.finding}**" if r.mismatch else r.finding]
+                for r in check.itertuples()]
+        parts += [_md_table(["impl", "dataset", "exponent", "R²", "n range (sizes)", "declared", "declared here",
+                             "finding"], rows, "llrrllrl"), ""]
 
     parts += ["## Median build time", ""]
     if sizes.empty:
@@ -351,14 +481,14 @@ def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, re
         cols = sorted(sizes["n"].unique())
         rows = []
         for (dataset, impl), g in sizes.groupby(["dataset", "impl"], sort=False):
-            by_n = dict(zip(g["n"], g["time_s"]))
-            rows.append([_text(dataset), _code(impl)] + [_fmt_time(by_n.get(n, float("nan"))) for n in cols])
-        parts += [_md_table(["dataset", "impl"] + [f"n={_fmt_n(n)}" for n in cols], rows,
-                            "ll" + "r" * len(cols)), ""]
-        warm = cases[cases["status"] == "ok"].groupby("impl")["warmup_s"].median()
-        if not warm.empty:
-            parts += ["Warm-up per worker (JIT compilation or cache load, plus one small build), median: "
-                      + ", ".join(f"{_code(k)} {_fmt_time(v)}" for k, v in warm.items()) + ".", ""]
+            by_n = {n: (t, lo, hi) for n, t, lo, hi in zip(g["n"], g["time_s"], g["time_min_s"], g["time_max_s"])}
+            rows.append([_text(dataset), _code(impl)] + [_fmt_time_spread(*by_n.get(n, (float("nan"),) * 3))
+                                                          for n in cols])
+        parts += ["The median, with the fastest and the slowest repeat as a percentage of it.", "",
+                  _md_table(["dataset", "impl"] + [f"n={_fmt_n(n)}" for n in cols], rows, "ll" + "r" * len(cols)), ""]
+        warm = _warmup_md(cases)
+        if warm:
+            parts += [warm, ""]
 
     bad = failures(cases)
     parts += ["## Failures", ""]
@@ -371,59 +501,48 @@ def _markdown(title, df, cases, sizes, exps, ratios, matrix, meta, reference, re
                  _text((r.error if isinstance(r.error, str) else "")[:120])]
                 for r in bad.itertuples()]
         parts += [_md_table(["impl", "dataset", "n", "seed", "status", "verdict", "step", "error"], rows), ""]
-    skipped = cases[cases["status"] == "skipped"]
-    if not skipped.empty:
-        first = skipped.sort_values("n").groupby(["impl", "dataset"], sort=True).first().reset_index()
-        parts += ["Skipped (a smaller size timed out or ran out of memory, or the build time extrapolated "
-                  "from the smaller sizes exceeded the run's budget): "
-                  + "; ".join(f"{_code(r.impl)} {_text(r.dataset)} from n={_fmt_n(r.n)}" for r in first.itertuples())
-                  + ".", ""]
+    skipped = _skipped_md(cases)
+    if skipped:
+        parts += [skipped, ""]
 
-    argv = (meta.get("runs") or [{}])[-1].get("argv")
-    argv = [str(a) for a in argv] if isinstance(argv, list) else None
+    command = _command(meta)
     parts += ["## Data", "",
               "Raw rows: [`results.csv`](results.csv) (one row per case and repeat; "
               "`pandas.read_csv`), metadata: [`results.meta.json`](results.meta.json)."]
-    if argv:
-        command = "vorobench " + shlex.join(argv)
+    if command:
         # A fence longer than any backtick run in the command: nothing in it can close the block.
         fence = "`" * max(3, max((len(run) + 1 for run in re.findall(r"`+", command)), default=0))
         parts += ["", "Produced by:", "", fence, command, fence]
     return "\n".join(parts) + "\n"
 
 
-_CSS = """
-body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; max-width: 1100px; margin: 2em auto;
-       padding: 0 1em; color: #222; line-height: 1.45; }
-img { max-width: 100%; height: auto; border: 1px solid #ddd; }
-table { border-collapse: collapse; margin: 0.6em 0; font-size: 0.92em; }
-th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; }
-th { background: #f3f3f3; }
-code { background: #f5f5f5; padding: 0 0.2em; }
-pre { background: #f5f5f5; padding: 0.6em; overflow-x: auto; }
-"""
+def _fmt_time_spread(median: float, lo: float, hi: float) -> str:
+    """"41.3 ms (-2%/+9%)": the median and how far the fastest and slowest repeat lie from it."""
+    text = _fmt_time(median)
+    if not (math.isfinite(median) and math.isfinite(lo) and math.isfinite(hi)) or median <= 0:
+        return text
+    if hi - lo <= 0:
+        return text
+    return f"{text} ({(lo / median - 1) * 100:+.0f}%/{(hi / median - 1) * 100:+.0f}%)"
 
 
-def _html(title: str, markdown: str, folder: Path) -> str:
-    """Render the Markdown (markdown-it) and inline the report's own figures as base64 data URIs.
+def _html(title: str, d: _Data, figs: dict, meta: dict, copied: list[str]) -> str:
+    """The interactive page (:mod:`vorobench.report_html`)."""
+    from vorobench import figures
+    from vorobench.analysis import MISMATCH_TOLERANCE, failures, mixed_hosts_note
+    from vorobench.report_html import PageInput, plotly_styles, render
 
-    Raw HTML in the Markdown is rendered as text (``html: False``): the page's markup is only
-    what the renderer and this function write, whatever the results contain.
-    """
-    from markdown_it import MarkdownIt
-
-    body = MarkdownIt("commonmark", {"html": False}).enable("table").render(markdown)
-
-    def inline(match: re.Match) -> str:
-        src = html.unescape(match.group(1))
-        path = folder / src
-        # Only the figures written here: an image link from the data must not embed other files.
-        if src not in FIGURES.values() or not path.exists():
-            return match.group(0)
-        data = base64.b64encode(path.read_bytes()).decode("ascii")
-        return f'src="data:image/png;base64,{data}"'
-
-    body = re.sub(r'src="([^"]+)"', inline, body)
-    return (f"<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-            f"<title>vorobench report: {html.escape(title)}</title>\n<style>{_CSS}</style>\n</head>\n"
-            f"<body>\n{body}</body>\n</html>\n")
+    busy, hosts = busy_machine_note(meta), mixed_hosts_note(d.df)
+    notes = ([busy] if busy else []) + ([_text(hosts)] if hosts else [])    # Markdown; the hosts come from the data
+    files = {f"{FIGURES[k]}": FIGURES[k] for k in figs}
+    files.update({"README.md (Markdown report)": "README.md"})
+    files.update({name: name for name in copied})
+    page = PageInput(
+        title=title, summary=_summary(d)[1],
+        reading_md=reading(d.cases, d.sizes, d.exps, d.ratios, d.reference, d.check, d.repeats),
+        notes_md=notes, run_rows=_meta_pairs(meta), df=d.df, cases=d.cases, sizes=d.sizes, ratios=d.ratios,
+        check=d.check, matrix=d.matrix, failures=failures(d.cases), repeats=d.repeats, reference=d.reference,
+        order=d.order, styles=plotly_styles(figures.impl_styles(sorted(d.df["impl"].unique()))),
+        tolerance=MISMATCH_TOLERANCE, skipped_md=_skipped_md(d.cases), warmup_md=_warmup_md(d.cases),
+        files=files, command=_command(meta))
+    return render(page)

@@ -8,6 +8,8 @@ results or metadata files that are empty, garbage or not results at all.
 
 from __future__ import annotations
 
+import json
+import re
 from html.parser import HTMLParser
 
 import pytest
@@ -18,12 +20,19 @@ from vorobench.cli import main
 from vorobench.report import FIGURES
 
 SCRIPT = "<script>alert(1)</script>"
+FAILURE_HEADER = ["impl", "dataset", "n", "seed", "status", "verdict", "step", "error"]
 BREAKOUT = '"><img src=x onerror=alert(1)>'
 FENCE = "```\n</code></pre><script>alert(2)</script>"
 
-#: Tags report.py itself writes (Markdown rendered by markdown-it, plus the page around it).
-OWN_TAGS = {"html", "head", "meta", "title", "style", "body", "h1", "h2", "p", "ul", "li", "strong", "em",
-            "code", "pre", "table", "thead", "tbody", "tr", "th", "td", "img", "a"}
+#: Tags of the Markdown rendered by markdown-it.
+MARKDOWN_TAGS = {"h1", "h2", "p", "ul", "li", "strong", "em", "code", "pre", "table", "thead", "tbody", "tr", "th",
+                 "td", "img", "a"}
+#: Tags the interactive page writes (vorobench.report_html), the Markdown parts included.
+OWN_TAGS = MARKDOWN_TAGS | {"html", "head", "meta", "title", "style", "script", "body", "h3", "div", "section", "nav",
+                            "fieldset", "legend", "label", "input", "button", "span", "b", "i", "small", "details",
+                            "summary", "br"}
+#: The page's own scripts: plotly.js, the figures' JSON, the wiring.
+OWN_SCRIPTS = [{}, {"type": "application/json", "id": "report-data"}, {}]
 
 
 class _Tags(HTMLParser):
@@ -61,16 +70,24 @@ def _parse(html: str) -> _Tags:
     return parser
 
 
-def _assert_inert(html: str, embedded: bool = True) -> _Tags:
-    """Only our own tags, no event handlers, and images only the report's figures."""
+def _assert_inert(html: str, markdown: bool = False) -> _Tags:
+    """Only our own tags, no event handlers, only our scripts, and images only the report's figures."""
     page = _parse(html)
-    assert {t for t, _ in page.tags} <= OWN_TAGS, {t for t, _ in page.tags} - OWN_TAGS
+    allowed = MARKDOWN_TAGS if markdown else OWN_TAGS
+    assert {t for t, _ in page.tags} <= allowed, {t for t, _ in page.tags} - allowed
     for tag, attrs in page.tags:
         assert not [a for a in attrs if a.startswith("on")], (tag, attrs)
         if tag == "img":
-            src = attrs["src"]
-            assert src.startswith("data:image/png;base64,") if embedded else src in FIGURES.values(), src
+            assert attrs["src"] in FIGURES.values(), attrs
+    assert [attrs for tag, attrs in page.tags if tag == "script"] == ([] if markdown else OWN_SCRIPTS)
     return page
+
+
+def _payload(html: str) -> dict:
+    """The page's figure data (JSON with <, > and & escaped, so it cannot end its script element)."""
+    m = re.search(r'<script type="application/json" id="report-data">(.*?)</script>', html, re.S)
+    assert m and not re.search(r"[<>&]", m.group(1))
+    return json.loads(m.group(1))
 
 
 def _hostile_results(path):
@@ -103,14 +120,20 @@ def test_hostile_strings_in_results_and_metadata_stay_text(tmp_path):
     # the strings are there, as text
     assert "&lt;script&gt;alert(1)&lt;/script&gt;" in html
     assert "&lt;img src=x onerror=alert(1)&gt;" in html
+    # what the figures show (names, hover text, labels) is escaped too: plotly reads it as HTML
+    payload = _payload(html)
+    shown = json.dumps({fid: {"data": f["data"], "layout": f["layout"]} for fid, f in payload["figures"].items()},
+                       ensure_ascii=False)
+    assert payload["figures"] and "<script>" not in shown and "<img" not in shown
+    assert "&lt;script&gt;alert(1)&lt;/script&gt;" in shown
     # the failure table keeps its eight columns; the error is one cell with its pipe and both lines
-    failures = [t for t in page.tables if t[0][:5] == ["impl", "dataset", "n", "seed", "status"]]
+    failures = [t for t in page.tables if t[0] == FAILURE_HEADER]
     assert len(failures) == 1 and all(len(row) == 8 for row in failures[0])
     assert failures[0][1][7] == f"{SCRIPT} | pipe second line"
     assert failures[0][1][:2] == [SCRIPT, BREAKOUT]
     # the Markdown is safe even for a renderer that lets raw HTML through
     md = (out / "README.md").read_text()
-    _assert_inert(MarkdownIt("commonmark", {"html": True}).enable("table").render(md), embedded=False)
+    _assert_inert(MarkdownIt("commonmark", {"html": True}).enable("table").render(md), markdown=True)
 
 
 def test_markdown_cells_and_code_survive_pipes_newlines_and_backticks(tmp_path):
@@ -121,7 +144,7 @@ def test_markdown_cells_and_code_survive_pipes_newlines_and_backticks(tmp_path):
     out = tmp_path / "rep"
     assert main(["report", str(path), "-o", str(out)]) == 0
     page = _parse((out / "report.html").read_text())
-    (failures,) = [t for t in page.tables if t[0][:2] == ["impl", "dataset"]]
+    (failures,) = [t for t in page.tables if t[0] == FAILURE_HEADER]
     assert failures[1][:2] == ["a|b`c", "x y"] and failures[1][7] == "one | two three ``` four"
 
 
