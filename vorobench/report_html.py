@@ -346,13 +346,12 @@ def _noise_view(inp: PageInput) -> View:
     traces, keys, rows = [], [], []
     impls = sorted({c["impl"] for _, c in cases})
     for impl in impls:
-        xs, ys, custom, dkey, nkey, spreads = [], [], [], [], [], []
+        ys, custom, dkey, nkey, spreads = [], [], [], [], []
         for i, c in cases:
             if c["impl"] != impl:
                 continue
             spreads.append((c["max_s"] - c["min_s"]) / c["median_s"])
             for rep, t in zip(c["repeat_ids"], c["times"]):
-                xs.append(_esc(impl))
                 ys.append(round(t / c["median_s"], 5))
                 custom.append([_esc(c["dataset"]), _fmt_n(c["n_sites"] or c["n"]), _esc(c["seed"]), rep,
                                _fmt_time(t), i])
@@ -360,7 +359,7 @@ def _noise_view(inp: PageInput) -> View:
                 nkey.append(c["n"])
         style = inp.styles.get(impl, {"color": "#444", "symbol": "circle"})
         traces.append(dict(
-            type="box", name=_esc(impl), x=xs, y=ys, customdata=custom, boxpoints="all", jitter=0.6, pointpos=0,
+            type="box", name=_esc(impl), y=ys, customdata=custom, boxpoints="all", jitter=0.6, pointpos=0,
             line=dict(color=style["color"], width=1.2), fillcolor="rgba(0,0,0,0)",
             marker=dict(color=style["color"], size=3.5, opacity=0.7), hoveron="points",
             hovertemplate=(f"<b>{_tmpl(impl)}</b> on %{{customdata[0]}}, n=%{{customdata[1]}}, seed %{{customdata[2]}}"
@@ -849,7 +848,11 @@ _JS = r"""
     document.querySelectorAll('.case-detail').forEach(function (d) { d.hidden = d.id !== 'case-' + i; });
     document.querySelectorAll('table.cases tr.selected').forEach(function (r) { r.classList.remove('selected'); });
     var row = document.querySelector('table.cases tr[data-case="' + i + '"]');
-    if (row) { row.classList.add('selected'); if (!row.hidden) row.scrollIntoView({block: 'nearest'}); }
+    if (row) {
+      row.classList.add('selected');
+      var box = row.closest('.scroll');          // scroll the table, never the page
+      if (box && !row.hidden) box.scrollTop = Math.max(0, row.offsetTop - box.clientHeight / 2);
+    }
     var hint = document.getElementById('case-hint');
     if (hint) hint.hidden = true;
     var el = document.getElementById('case-plot-' + i);

@@ -129,7 +129,7 @@ def test_one_figure_per_dataset_and_view_with_data(default):
     assert set(payload["figures"]) == expected
     for fid, fig in payload["figures"].items():
         assert fig["data"], fid
-        assert any(len(t.get("x") or []) for t in fig["data"]), f"{fid} draws nothing"
+        assert any(len(t.get("y") or []) for t in fig["data"]), f"{fid} draws nothing"
     assert sorted(p.name for p in out.glob("*.png")) == ["correctness.png", "memory_vs_n.png", "speed_ratio.png",
                                                           "time_per_nlogn.png", "time_vs_n.png"]
 
@@ -193,7 +193,7 @@ def test_figure_data_are_plain_arrays_the_filters_can_cut(default):
                 points = value if isinstance(value, list) else [value]
                 assert {str(v) for v in points} <= values[group], (fid, group)
                 if isinstance(value, list):
-                    assert len(value) == len(trace["x"]), fid
+                    assert len(value) == len(trace["y"]), fid
 
 
 # ------------------------------------------------------------------------------ spread
