@@ -481,8 +481,8 @@ def _attention(inp: PageInput) -> str:
             f"fit{'s' if len(bad) != 1 else ''}</h2>"
             f"<p>The fitted exponent exceeds the declared complexity&rsquo;s own exponent over the same sizes by "
             f"more than {inp.tolerance:g} (see <a href=\"#growth\">growth</a>).</p>"
-            '<table class="num"><thead><tr><th>impl</th><th>dataset</th><th>fitted</th><th>declared</th>'
-            f"<th>excess</th><th>fitted over</th></tr></thead><tbody>{rows}</tbody></table></div>")
+            '<div class="wide"><table class="num"><thead><tr><th>impl</th><th>dataset</th><th>fitted</th>'
+            f"<th>declared</th><th>excess</th><th>fitted over</th></tr></thead><tbody>{rows}</tbody></table></div></div>")
     if not inp.failures.empty:
         parts.append(f'<div class="alert"><b>{len(inp.failures)} case(s) failed or were not verified</b>: '
                      'see <a href="#failures">failures</a>.</div>')
@@ -573,8 +573,8 @@ def _correctness(inp: PageInput) -> str:
             f"compared with {_esc(inp.reference)}&rsquo;s. A cell is the worst verdict over sizes and seeds; "
             "k/m good = passed the cross-validation, of checked.</p>"
             + _verdict_legend(m["worst"].astype(str).tolist())
-            + '<table class="matrix"><thead><tr><th scope="col">impl \\ dataset</th>' + head + "</tr></thead><tbody>"
-            + "".join(body) + "</tbody></table>")
+            + '<div class="wide"><table class="matrix"><thead><tr><th scope="col">impl \\ dataset</th>' + head
+            + "</tr></thead><tbody>" + "".join(body) + "</tbody></table></div>")
 
 
 def _case_rows(inp: PageInput) -> str:
@@ -761,6 +761,7 @@ table.cases thead th { position: sticky; top: 0; }
 .tables { display: flex; flex-wrap: wrap; gap: 1em; align-items: flex-start; }
 #case-view { position: sticky; top: 7em; }
 pre { background: #f5f5f5; padding: 0.6em; overflow-x: auto; }
+.wide { overflow-x: auto; max-width: 100%; }
 @media (max-width: 1000px) { .drill { grid-template-columns: 1fr; } #case-view { position: static; } }
 """
 
