@@ -3,13 +3,14 @@
     vorobench report results/bench.csv -o reports/NAME
 
 writes ``README.md`` (Markdown; GitHub shows it for the folder), ``report.html`` (an
-interactive page in one file that works offline: :mod:`vorobench.report_html`), the PNG figures
-(only those with data) and a copy of the results with their metadata. Both pages open with the
-fits whose growth exceeds the declared complexity (:func:`vorobench.analysis.complexity_check`).
+interactive page in one file that works offline, with filters, hover details and every case's
+repeats), the PNG figures (only those with data) and a copy of the results with their metadata.
+Both pages open with the fits whose growth exceeds the declared complexity by more than 0.3 in
+the exponent (the rule: vorobench.analysis).
 
 Everything taken from the results or their metadata (names, errors, host, argv) is data, not
 markup: it goes into the Markdown through :func:`_text` or :func:`_code`, and into the HTML
-escaped (:mod:`vorobench.report_html`), so a ``<script>`` in an error message stays text.
+escaped (vorobench.report_html), so a ``<script>`` in an error message stays text.
 """
 
 from __future__ import annotations
