@@ -286,11 +286,6 @@ def _meta_pairs(meta: dict) -> list[tuple[str, str]]:
     return [(label, str(value)) for label, value in rows]
 
 
-def _meta_rows(meta: dict) -> list[list[object]]:
-    """:func:`_meta_pairs` as Markdown cells."""
-    return [[label, _text(value)] for label, value in _meta_pairs(meta)]
-
-
 @dataclass
 class _Data:
     """Every summary the two pages are written from."""
