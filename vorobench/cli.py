@@ -1,4 +1,4 @@
-"""The ``vorobench`` command line: impls, datasets, build, validate, bench, report, compare, demo."""
+"""The vorobench command line: build, check, time and compare Voronoi diagram constructions."""
 
 from __future__ import annotations
 
@@ -154,6 +154,7 @@ _EXTRA_COMMANDS: dict[str, tuple[str, str]] = {
     "compare": ("vorobench.regress", "compare two result files and flag regressions"),
     "history": ("vorobench.history_cmd", "list the runs of a run store"),
     "trend": ("vorobench.trend", "HTML page of build times and counters across a run store's runs, change points marked"),
+    "continuous": ("vorobench.continuous", "benchmark two git revisions in their own worktrees and compare them"),
     "demo": ("vorobench.demo", "the main job: default benchmark + cross-validation + report"),
     "fuzz": ("vorobench.fuzz", "seeded campaign of small random/degenerate cases, cross-validated on an executor"),
 }
@@ -172,7 +173,7 @@ def build_parser() -> argparse.ArgumentParser:
     import importlib
     import importlib.util
 
-    from vorobench.cli_args import OneLineParser, non_negative_float, positive_float
+    from vorobench.cli_args import OneLineParser, non_negative_float, plain_help, positive_float
 
     parser = OneLineParser(prog="vorobench", description=__doc__)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
@@ -194,7 +195,8 @@ def build_parser() -> argparse.ArgumentParser:
         if importlib.util.find_spec(module) is None:
             continue
         mod = importlib.import_module(module)
-        p = sub.add_parser(name, help=help_text, description=mod.__doc__)
+        p = sub.add_parser(name, help=help_text, description=plain_help(mod.__doc__),
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
         mod.add_arguments(p)
         p.set_defaults(func=mod.run)
     return parser

@@ -8,10 +8,11 @@ from __future__ import annotations
 
 import argparse
 import math
-from typing import Callable, NoReturn
+import re
+from typing import Callable, NoReturn, Optional
 
 __all__ = ["OneLineParser", "names", "sizes", "seeds", "positive_float", "non_negative_float", "positive_int",
-           "non_negative_int", "fraction", "size", "MAX_SIZE"]
+           "non_negative_int", "fraction", "size", "MAX_SIZE", "plain_help"]
 
 #: Largest point count a command accepts: 10^8 points are 1.6 GB of coordinates before any
 #: construction; beyond that a run cannot finish on any machine this tool targets.
@@ -23,6 +24,16 @@ class OneLineParser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
+
+
+def plain_help(docstring: Optional[str]) -> Optional[str]:
+    """A module docstring as ``--help`` text: reST roles, literals and bold become plain words
+    (``:mod:`a.b``` -> a.b, ````x```` -> x, ``**x**`` -> x); line breaks are kept."""
+    if not docstring:
+        return docstring
+    text = re.sub(r":[a-z]+:`~?([^`]+)`", r"\1", docstring)
+    text = re.sub(r"``([^`]+)``", r"\1", text)
+    return re.sub(r"\*\*([^*]+)\*\*", r"\1", text)
 
 
 def names(text: str) -> list[str]:

@@ -405,12 +405,19 @@ def _machine_warning(base_meta: Optional[dict], new_meta: Optional[dict]) -> Opt
 
 # ------------------------------------------------------------------------------ CLI
 
-def add_arguments(p: argparse.ArgumentParser) -> None:
+#: The options of ``compare`` besides its two inputs (``continuous`` passes them on).
+OPTION_NAMES = ("threshold", "alpha", "seed", "only_changes", "json", "junit", "markdown")
+
+
+def add_arguments(p, positional: bool = True) -> None:
+    """``compare``'s arguments on ``p`` (a parser or an argument group); ``positional=False``
+    leaves out BASE and NEW, for a command that makes them itself."""
     from vorobench.cli_args import fraction, non_negative_int, positive_float
 
-    p.add_argument("base", help="baseline: a results file (.csv/.parquet) or a run store reference DIR@REF "
-                                "(REF: latest, latest~K, a run id or a commit)")
-    p.add_argument("new", help="new results: a file or DIR@REF")
+    if positional:
+        p.add_argument("base", help="baseline: a results file (.csv/.parquet) or a run store reference DIR@REF "
+                                    "(REF: latest, latest~K, a run id or a commit)")
+        p.add_argument("new", help="new results: a file or DIR@REF")
     p.add_argument("--threshold", type=positive_float, default=0.10,
                    help="flag slowdowns above this fraction, > 0 (default 0.10 = 10%%)")
     p.add_argument("--alpha", type=fraction, default=0.05,
@@ -510,7 +517,8 @@ def run(args: argparse.Namespace) -> int:
     warning = _machine_warning(base_meta, new_meta)
     if warning:
         console.print(f"[yellow]warning[/yellow]: {escape(warning)}")
-    _print_table(console, comparison, f"{args.new} vs {args.base} (threshold {args.threshold:.0%})",
+    title = getattr(args, "title", None) or f"{args.new} vs {args.base}"
+    _print_table(console, comparison, f"{title} (threshold {args.threshold:.0%})",
                  args.only_changes)
     if args.json:
         Path(args.json).write_text(json.dumps({

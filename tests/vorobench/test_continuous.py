@@ -1,0 +1,116 @@
+"""vorobench continuous: two revisions of a repository benchmarked in their own worktrees and
+compared; a slower revision exits 1, the same code exits 0, the checkout is left alone."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from vorobench import continuous
+from vorobench.cli import build_parser, main
+
+PLUGIN = '''
+import time
+
+from impls.base import Implementation
+from impls.qhull import build as qhull_build
+
+PAUSE = {pause}
+
+
+def _build(sites, stats=None):
+    time.sleep(PAUSE)
+    return qhull_build(sites, stats)
+
+
+IMPLEMENTATIONS = [Implementation(name="plug", description="qhull after a pause", complexity="n/a",
+                                  build=_build, exact=False, origin="tests")]
+'''
+
+
+def _git(repo: Path, *args: str) -> str:
+    done = subprocess.run(["git", "-C", str(repo), *args], capture_output=True, text=True, check=True)
+    return done.stdout.strip()
+
+
+def _commit(repo: Path, pause: float, message: str) -> str:
+    (repo / "plug.py").write_text(PLUGIN.format(pause=pause))
+    _git(repo, "add", "plug.py")
+    _git(repo, "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", message)
+    return _git(repo, "rev-parse", "HEAD")
+
+
+@pytest.fixture(scope="module")
+def plugin_repo(tmp_path_factory) -> tuple[Path, str, str]:
+    """A plugin's repository: its first commit pauses 20 ms per build, the second 40 ms."""
+    repo = tmp_path_factory.mktemp("plugin-repo")
+    _git(repo, "init", "-q")
+    fast = _commit(repo, 0.02, "fast")
+    slow = _commit(repo, 0.04, "slow")
+    return repo, fast, slow
+
+
+BENCH = ["--plugin", "plug", "--impls", "plug", "--sizes", "20,40", "--repeat", "5", "--min-time", "0",
+         "--no-check", "--quiet"]
+
+
+def test_a_slower_revision_is_flagged_and_both_runs_are_filed(plugin_repo, tmp_path, capsys):
+    repo, fast, slow = plugin_repo
+    store = tmp_path / "store"
+    junit = tmp_path / "junit.xml"
+    code = main(["continuous", fast, "HEAD", "--repo", str(repo), *BENCH, "--store", str(store),
+                 "--junit", str(junit)])
+    out = capsys.readouterr().out
+    assert code == 1, out
+    assert "slower" in out
+    assert junit.read_text().count("<failure") >= 2          # both cases failed the comparison
+    # each revision's run is filed with the plugin's own commit, not the checkout's
+    assert main(["history", str(store), "--json"]) == 0
+    runs = json.loads(capsys.readouterr().out)
+    assert [r["meta"]["implementations"]["plug"]["commit"] for r in runs] == [fast, slow]
+    # the repository's checkout and its list of worktrees are as they were
+    assert _git(repo, "rev-parse", "HEAD") == slow and not _git(repo, "status", "--porcelain")
+    assert len(_git(repo, "worktree", "list").splitlines()) == 1
+
+
+def test_the_same_code_twice_passes(plugin_repo, capsys):
+    repo, fast, _ = plugin_repo
+    assert main(["continuous", fast, fast, "--repo", str(repo), *BENCH]) == 0, capsys.readouterr().out
+
+
+def test_unknown_revisions_and_folders_are_one_line_errors(plugin_repo, tmp_path, capsys):
+    repo, fast, _ = plugin_repo
+    assert main(["continuous", fast, "no-such-branch", "--repo", str(repo), *BENCH]) == 2
+    assert "'no-such-branch' is not a commit" in capsys.readouterr().err
+    assert main(["continuous", "HEAD~1", "HEAD", "--repo", str(tmp_path), *BENCH]) == 2
+    assert "not inside a git repository" in capsys.readouterr().err
+
+
+def test_a_revision_that_cannot_be_benchmarked_exits_2(plugin_repo, capsys):
+    repo, fast, _ = plugin_repo
+    code = main(["continuous", fast, fast, "--repo", str(repo), "--plugin", "no_such_module", "--impls", "plug",
+                 "--sizes", "20", "--quiet"])
+    assert code == 2
+    assert "failed (exit status 2); nothing compared" in capsys.readouterr().err
+
+
+def test_bench_options_are_passed_on_with_the_callers_paths_made_absolute(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "mine.py").write_text("IMPLEMENTATIONS = []\n")
+    args = build_parser().parse_args(["continuous", "A", "B", "--impls", "fortune,qhull", "--sizes", "1k,10k",
+                                      "--repeat", "9", "--no-check", "--plugin", "mine.py", "--plugin", "pkg.mod",
+                                      "--store", "runs", "--threshold", "0.2"])
+    words = continuous.bench_arguments(args)
+    assert words == ["--impls", "fortune,qhull", "--sizes", "1000,10000", "--repeat", "9", "--no-check",
+                     "--plugin", str(tmp_path / "mine.py"), "--plugin", "pkg.mod", "--store", str(tmp_path / "runs")]
+    # every option bench knows parses back to what the caller asked for
+    bench = argparse.ArgumentParser()
+    from vorobench import bench_cmd
+
+    bench_cmd.add_arguments(bench)
+    again = bench.parse_args(words)
+    assert again.impls == ["fortune", "qhull"] and again.sizes == [1000, 10000] and again.repeat == 9
