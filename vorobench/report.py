@@ -173,7 +173,7 @@ def reading(cases, sizes, exponents, ratios, reference: str, check=None, repeats
                if len(c["times"]) >= 2 and c["median_s"]]
     if spreads:
         points.append(f"**Noise**: the repeats of one case lie a median {_pct(float(np.median(spreads)))} apart "
-                      f"((slowest - fastest) / median; 90th percentile {_pct(float(np.quantile(spreads, 0.9)))}, "
+                      f"(spread = (slowest - fastest) / median; 90th percentile {_pct(float(np.quantile(spreads, 0.9)))}, "
                       f"over {len(spreads)} cases with two or more repeats). A smaller difference between two "
                       "implementations or two runs is within the noise.")
     # Growth, against the declared complexity.

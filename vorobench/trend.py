@@ -20,8 +20,8 @@ of per-run medians found by binary segmentation of log time, kept only if the me
 repeats on its two sides differ by more than ``--threshold`` (default 10 %) and a two-sided
 Mann-Whitney U test of those repeats gives p < ``--alpha`` (default 0.05). A counter
 (``stat_*``, exact) changes wherever its value differs from the previous run's. A change
-between two runs of the same clean commit (of vorobench and of the implementation's code) is
-marked ``same_code``: the machine changed, not the code.
+between two runs of the same clean commit (of vorobench and of the implementation's code, from
+the same module) is marked ``same_code``: the machine changed, not the code.
 The exit status is 0 whatever was found (``compare`` is the gate); 2 when DIR is not a run
 store, holds no run, or the filters leave nothing.
 """
@@ -52,7 +52,9 @@ class Run:
     date: str
     commit: Optional[str]
     dirty: bool
-    impl_code: dict[str, tuple[Optional[str], bool]] = field(default_factory=dict)
+    #: implementation -> (commit, dirty, module) of its code: a plugin that replaces an
+    #: implementation under the same commit is other code
+    impl_code: dict[str, tuple[Optional[str], bool, Optional[str]]] = field(default_factory=dict)
 
     @property
     def label(self) -> str:
@@ -172,7 +174,7 @@ def load(store, machine: Optional[str] = None, impls: Optional[list[str]] = None
         machine_runs = []
         for r in group.itertuples(index=False):
             meta = _meta(r.meta)
-            code = {str(name): (info.get("commit"), bool(info.get("dirty")))
+            code = {str(name): (info.get("commit"), bool(info.get("dirty")), info.get("module"))
                     for name, info in (meta.get("implementations") or {}).items() if isinstance(info, dict)}
             machine_runs.append(Run(str(r.run_id), _text(r.date) or "", _text(r.commit),
                                     bool(r.dirty) if r.dirty == r.dirty and r.dirty is not None else False, code))
@@ -274,7 +276,7 @@ def _point(m: Machine, s: Series, kind: str, counter: Optional[str], i: int, j: 
            ratio, p) -> ChangePoint:
     run, prev = m.runs[i], m.runs[j]
     same = bool(run.commit) and run.commit == prev.commit and not (run.dirty or prev.dirty) and \
-        run.impl_code.get(s.impl) == prev.impl_code.get(s.impl) and not run.impl_code.get(s.impl, (None, False))[1]
+        run.impl_code.get(s.impl) == prev.impl_code.get(s.impl) and not run.impl_code.get(s.impl, (None, False, None))[1]
     return ChangePoint(m.machine_id, s.impl, s.dataset, s.n, s.seed, kind, counter, run.run_id, prev.run_id,
                        run.commit, prev.commit, run.dirty, prev.dirty, run.date, before, after, ratio, p, i, same)
 
@@ -315,7 +317,7 @@ def _pct(ratio: Optional[float]) -> str:
 
 
 def _impl_note(run: Run, impl: str) -> str:
-    commit, dirty = run.impl_code.get(impl, (None, False))
+    commit, dirty, _ = run.impl_code.get(impl, (None, False, None))
     if not commit or commit == run.commit:
         return ""
     return f"<br>{_esc(impl)} code at {_esc(commit[:10])}{'+' if dirty else ''}"

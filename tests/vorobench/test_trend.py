@@ -29,7 +29,7 @@ def short(k: int) -> str:
 
 
 def _file_run(store: Store, k: int, machine: str, date: str, cases: dict, *, dirty: bool = False,
-              repeats: int = 5, seed: int = 0, code: int | None = None) -> str:
+              repeats: int = 5, seed: int = 0, code: int | None = None, module: str = "impls.fortune") -> str:
     """One run: ``cases`` maps (impl, dataset, n, seed) -> (median seconds, {counter: value});
     made of commit ``code`` (default: commit k)."""
     rng = np.random.default_rng(seed)
@@ -43,7 +43,8 @@ def _file_run(store: Store, k: int, machine: str, date: str, cases: dict, *, dir
                          **{f"stat_{c}": v for c, v in counters.items()}})
     meta = {"run_id": run_id, "date": date, "commit": commit(code), "dirty": dirty, "machine_id": machine,
             "hostname": f"host-{machine[:4]}", "cpu": "Test CPU",
-            "implementations": {impl: {"commit": commit(code), "dirty": dirty} for impl, *_ in cases}}
+            "implementations": {impl: {"commit": commit(code), "dirty": dirty, "module": module}
+                                for impl, *_ in cases}}
     assert store.add_run(pd.DataFrame(rows), meta)
     return run_id
 
@@ -109,6 +110,20 @@ def test_a_step_between_runs_of_the_same_code_says_so(tmp_path):
     assert step["run_id"] == "run03-aaaa" and step["commit"] == step["commit_before"] == commit(0)
     assert step["same_code"] is True
     assert "same code" in (tmp_path / "t.html").read_text(encoding="utf-8")
+
+
+def test_a_plugin_replacing_an_implementation_at_the_same_commit_is_other_code(tmp_path):
+    """Same commit, but the implementation's code came from another module (a plugin registered
+    under its name): the step is the code's, not the machine's."""
+    s = Store(tmp_path / "runs")
+    for k in range(6):
+        level = 0.010 if k < 3 else 0.014
+        _file_run(s, k, FAST, f"2026-01-0{k + 1}T00:00:00+00:00", {("fortune", "uniform", 1000, 0): (level, {})},
+                  seed=k, code=0, module="impls.fortune" if k < 3 else "slowdown")
+    js = tmp_path / "c.json"
+    assert main(["trend", str(tmp_path / "runs"), "-o", str(tmp_path / "t.html"), "--json", str(js)]) == 0
+    [step] = json.loads(js.read_text())["change_points"]
+    assert step["run_id"] == "run03-aaaa" and step["same_code"] is False
 
 
 def test_the_counter_change_is_found_exactly(outputs):
