@@ -887,6 +887,12 @@ __all__ += [
     "circle_top_to_y",
     "tops_order_filter",
     "circle_exact_key",
+    "circle_event_key",
+    "circle_event_top",
+    "KEY_FOUND",
+    "KEY_ABSENT",
+    "KEY_NOT_SOUGHT",
+    "tops_dd_order",
     "circumcentre_accurate",
     "tops_key_order",
     "circle_event_vs_site_exact",
@@ -1322,37 +1328,291 @@ def circle_events_order_exact(ax, ay, bx, by, cx, cy, dx, dy, ex, ey, fx, fy):
     return _sqrt_sum_sign(p, u, v, w)
 
 
-@njit(cache=True)
-def circle_exact_key(ax, ay, bx, by, cx, cy):
-    """``(ok, cy, r2, q, err_q)`` for non-collinear a, b, c, from exact arithmetic.
+# --- double-double values with a certified error bound ------------------------------
+# A value is (hi, lo) with hi = fl(hi + lo), plus an absolute error bound err >= |true - (hi + lo)|.
+# Each operation below adds its own rounding (relative bounds in units of u**2, u = 2**-53,
+# rounded up from the published bounds of the double-word algorithms: Joldes, Muller,
+# Popescu, "Tight and rigorous error bounds for basic building blocks of double-word
+# arithmetic", 2017) to the propagated error of its inputs; _DD_SAFETY covers the
+# rounding of the bounds themselves.
 
-    ``q`` approximates y_top - a_y to a few ulps of its terms, with the bound ``err_q``
-    (tighter than :func:`circle_top_relative` when the float circumcircle is ill-conditioned,
-    e.g. nearly collinear sites). If the centre's y and the squared radius are exactly
-    representable floats (integer and dyadic lattices, where ties abound) ``ok`` is True and
-    the top is exactly ``cy + sqrt(r2)``; see :func:`tops_key_order`.
-    """
-    w = _new_pool()
-    e, nys, s, _ = _circle_parts(ax, ay, bx, by, cx, cy, 1.0, w)
-    # each estimate is within ~2 ulps of its exact value (nonoverlapping components)
-    ee = estimate(e, e.shape[0])
-    nn = estimate(nys, nys.shape[0])
-    ss = estimate(s, s.shape[0])
-    r = np.sqrt(ss)
-    q = (nn + r) / ee
+_U2 = EPSILON * EPSILON
+_DD_SAFETY = 4.0
+
+
+@njit(cache=True, inline='always')
+def _dd_add(ah, al, bh, bl):
+    # (a + b) to ~3 u**2 relative to |a + b|
+    sh, sl = two_sum(ah, bh)
+    th, tl = two_sum(al, bl)
+    vh, vl = fast_two_sum(sh, sl + th)
+    return fast_two_sum(vh, tl + vl)
+
+
+@njit(cache=True, inline='always')
+def _dd_mul(ah, al, bh, bl):
+    # (a * b) to ~7 u**2 relative (no fma: the cross terms are plain products)
+    ph, pl = two_product(ah, bh)
+    return fast_two_sum(ph, pl + (ah * bl + al * bh))
+
+
+@njit(cache=True, inline='always')
+def _dd_div(ah, al, bh, bl):
+    # (a / b) by two corrections of the float quotient, to ~16 u**2 relative
+    q1 = ah / bh
+    ph, pl = _dd_mul(bh, bl, q1, 0.0)
+    rh, rl = _dd_add(ah, al, -ph, -pl)
+    q2 = rh / bh
+    ph, pl = _dd_mul(bh, bl, q2, 0.0)
+    rh, rl = _dd_add(rh, rl, -ph, -pl)
+    qh, ql = fast_two_sum(q1, q2)
+    return _dd_add(qh, ql, rh / bh, 0.0)
+
+
+@njit(cache=True, inline='always')
+def _dd_sqrt(ah, al):
+    # sqrt(a) for a > 0 by one Newton step from the float root, to ~4 u**2 relative
+    x = math.sqrt(ah)
+    ph, pl = two_product(x, x)
+    return fast_two_sum(x, (((ah - ph) - pl) + al) / (2.0 * x))
+
+
+@njit(cache=True)
+def _dd_of(e, w):
+    # an expansion as (hi, lo, err): hi + lo is its value to within err (measured: the exact
+    # remainder e - hi - lo is formed and bounded by twice its estimate)
+    n = e.shape[0]
+    hi = estimate(e, n)
+    r = _take(w, n + 2)
+    m = grow_expansion(e, n, -hi, r)
+    lo = estimate(r, m)
+    m = grow_expansion(r, m, -lo, r)
+    return hi, lo, 2.0 * abs(estimate(r, m))
+
+
+@njit(cache=True)
+def _circle_parts_in_floats(ax, ay, bx, by, cx, cy):
+    # (ok, e, nys, s) of _circle_parts when every step is exact in plain floats (each
+    # difference, product and sum checked error-free: small integer or dyadic lattices);
+    # ok False means some step rounded and the expansions are needed
+    bx_, t0 = two_diff(bx, ax)
+    by_, t1 = two_diff(by, ay)
+    cx_, t2 = two_diff(cx, ax)
+    cy_, t3 = two_diff(cy, ay)
+    p0, r0 = two_product(bx_, cy_)
+    p1, r1 = two_product(by_, cx_)
+    d, r2 = two_diff(p0, p1)
+    p2, r3 = two_product(bx_, bx_)
+    p3, r4 = two_product(by_, by_)
+    b2, r5 = two_sum(p2, p3)
+    p4, r6 = two_product(cx_, cx_)
+    p5, r7 = two_product(cy_, cy_)
+    c2, r8 = two_sum(p4, p5)
+    p6, r9 = two_product(cy_, b2)
+    p7, r10 = two_product(by_, c2)
+    nx, r11 = two_diff(p6, p7)
+    p8, r12 = two_product(bx_, c2)
+    p9, r13 = two_product(cx_, b2)
+    ny, r14 = two_diff(p8, p9)
+    p10, r15 = two_product(nx, nx)
+    p11, r16 = two_product(ny, ny)
+    s, r17 = two_sum(p10, p11)
+    rounded = (abs(t0) + abs(t1) + abs(t2) + abs(t3) + abs(r0) + abs(r1) + abs(r2) + abs(r3) + abs(r4)
+               + abs(r5) + abs(r6) + abs(r7) + abs(r8) + abs(r9) + abs(r10) + abs(r11) + abs(r12)
+               + abs(r13) + abs(r14) + abs(r15) + abs(r16) + abs(r17))
+    if rounded != 0.0 or not math.isfinite(s):
+        return False, 0.0, 0.0, 0.0
+    if d < 0.0:
+        d, ny = -d, -ny
+    return True, 2.0 * d, ny, s
+
+
+@njit(cache=True, inline='always')
+def _ddv_mul(ah, al, ea, bh, bl, eb):
+    # product of two double-double values with error bounds, its bound propagated
+    ph, pl = _dd_mul(ah, al, bh, bl)
+    return ph, pl, abs(ah) * eb + abs(bh) * ea + ea * eb + 8.0 * _U2 * abs(ph)
+
+
+@njit(cache=True, inline='always')
+def _ddv_add(ah, al, ea, bh, bl, eb):
+    sh, sl = _dd_add(ah, al, bh, bl)
+    return sh, sl, ea + eb + 4.0 * _U2 * (abs(ah) + abs(bh))
+
+
+@njit(cache=True)
+def _circle_parts_dd(ax, ay, bx, by, cx, cy):
+    # (ok, e, nys, s) of _circle_parts in double-double, each as (hi, lo, err) with a
+    # propagated absolute error bound; ok False when the sign of the orientation is not
+    # certain (nearly collinear: the expansions are needed)
+    bxh, bxl = two_diff(bx, ax)
+    byh, byl = two_diff(by, ay)
+    cxh, cxl = two_diff(cx, ax)
+    cyh, cyl = two_diff(cy, ay)
+    p0h, p0l, p0e = _ddv_mul(bxh, bxl, 0.0, cyh, cyl, 0.0)
+    p1h, p1l, p1e = _ddv_mul(byh, byl, 0.0, cxh, cxl, 0.0)
+    dh, dl, de = _ddv_add(p0h, p0l, p0e, -p1h, -p1l, p1e)
+    p2h, p2l, p2e = _ddv_mul(bxh, bxl, 0.0, bxh, bxl, 0.0)
+    p3h, p3l, p3e = _ddv_mul(byh, byl, 0.0, byh, byl, 0.0)
+    b2h, b2l, b2e = _ddv_add(p2h, p2l, p2e, p3h, p3l, p3e)
+    p4h, p4l, p4e = _ddv_mul(cxh, cxl, 0.0, cxh, cxl, 0.0)
+    p5h, p5l, p5e = _ddv_mul(cyh, cyl, 0.0, cyh, cyl, 0.0)
+    c2h, c2l, c2e = _ddv_add(p4h, p4l, p4e, p5h, p5l, p5e)
+    p6h, p6l, p6e = _ddv_mul(cyh, cyl, 0.0, b2h, b2l, b2e)
+    p7h, p7l, p7e = _ddv_mul(byh, byl, 0.0, c2h, c2l, c2e)
+    nxh, nxl, nxe = _ddv_add(p6h, p6l, p6e, -p7h, -p7l, p7e)
+    p8h, p8l, p8e = _ddv_mul(bxh, bxl, 0.0, c2h, c2l, c2e)
+    p9h, p9l, p9e = _ddv_mul(cxh, cxl, 0.0, b2h, b2l, b2e)
+    nyh, nyl, nye = _ddv_add(p8h, p8l, p8e, -p9h, -p9l, p9e)
+    q0h, q0l, q0e = _ddv_mul(nxh, nxl, nxe, nxh, nxl, nxe)
+    q1h, q1l, q1e = _ddv_mul(nyh, nyl, nye, nyh, nyl, nye)
+    sh, sl, se = _ddv_add(q0h, q0l, q0e, q1h, q1l, q1e)
+    # the bounds above are first order in u**2 with rounded-up constants; the safety factor
+    # covers their own rounding
+    de *= _DD_SAFETY
+    nye *= _DD_SAFETY
+    se *= _DD_SAFETY
+    if not (abs(dh) > de + 2.0 * EPSILON * abs(dl)) or not math.isfinite(sh + nyh + dh):
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    if dh < 0.0:
+        dh, dl, nyh, nyl = -dh, -dl, -nyh, -nyl
+    return True, 2.0 * dh, 2.0 * dl, 2.0 * de, nyh, nyl, nye, sh, sl, se
+
+
+@njit(cache=True)
+def _top_from_parts(ay, eh, el, ee, nh, nl, en, sh, sl, es):
+    # (q, err_q, th, tl, terr): the relative top in floats and the top in double-double, from
+    # e, nys, s given as double-double values with error bounds (see circle_event_key)
+    r = math.sqrt(sh)
+    q = (nh + r) / eh
     u = EPSILON
-    err_q = _CIRCLE_TOP_SAFETY * (8.0 * u * (abs(nn) + r) / ee + 4.0 * u * abs(q))
-    # centre y = ay + nys / e exactly iff c * e == nys and ay + c rounds to nothing
-    c = nn / ee
-    if _xsign(_xsub(_xscale(e, c, w), nys, w)) != 0:
-        return False, 0.0, 0.0, q, err_q
+    err_q = _CIRCLE_TOP_SAFETY * (8.0 * u * (abs(nh) + r) / eh + 4.0 * u * abs(q)
+                                  + (en + es / max(r, 1e-300) + abs(q) * ee) / max(eh - ee, 1e-300))
+    if not (es < 0.5 * sh and ee < 0.5 * eh):
+        return q, math.inf, q + ay, 0.0, math.inf
+    rh, rl = _dd_sqrt(sh, sl)
+    er = es / math.sqrt(sh - es) + 4.0 * _U2 * abs(rh)
+    mh, ml = _dd_add(nh, nl, rh, rl)
+    em = en + er + 4.0 * _U2 * (abs(nh) + abs(rh))
+    qh, ql = _dd_div(mh, ml, eh, el)
+    eq = (em + abs(qh) * ee) / (eh - ee) + 16.0 * _U2 * abs(qh)
+    th, tl = _dd_add(ay, 0.0, qh, ql)
+    return q, err_q, th, tl, _DD_SAFETY * (eq + 4.0 * _U2 * (abs(ay) + abs(qh)))
+
+
+#: States of :func:`circle_event_top`: the exact key (cy, r2) was found; there is none; not
+#: looked for (the double-double top came from double-double arithmetic, and only
+#: :func:`circle_event_key`'s expansions can tell).
+KEY_FOUND, KEY_ABSENT, KEY_NOT_SOUGHT = 1, 2, 3
+
+
+@njit(cache=True)
+def circle_event_top(ax, ay, bx, by, cx, cy):
+    """The cheap key of the circle event of non-collinear a, b, c, computed once per event:
+    ``(state, cy, r2, q, err_q, th, tl, terr)`` as in :func:`circle_event_key`.
+
+    On lattices with small differences every step is exact in plain floats, and the exact
+    key is settled (``KEY_FOUND``/``KEY_ABSENT``). Otherwise the parts are evaluated in
+    double-double with propagated error bounds (no expansion is formed) and the state is
+    ``KEY_NOT_SOUGHT``: when two such tops cannot be told apart, call
+    :func:`circle_event_key`. Nearly collinear triples go to :func:`circle_event_key` at
+    once.
+    """
+    in_floats, ef, nf, sf = _circle_parts_in_floats(ax, ay, bx, by, cx, cy)
+    if in_floats:
+        ok, cyy, r2, q, err_q, th, tl, terr = circle_event_key(ax, ay, bx, by, cx, cy)
+        return KEY_FOUND if ok else KEY_ABSENT, cyy, r2, q, err_q, th, tl, terr
+    fine, eh, el, ee, nh, nl, en, sh, sl, es = _circle_parts_dd(ax, ay, bx, by, cx, cy)
+    if not fine:
+        ok, cyy, r2, q, err_q, th, tl, terr = circle_event_key(ax, ay, bx, by, cx, cy)
+        return KEY_FOUND if ok else KEY_ABSENT, cyy, r2, q, err_q, th, tl, terr
+    q, err_q, th, tl, terr = _top_from_parts(ay, eh, el, ee, nh, nl, en, sh, sl, es)
+    return KEY_NOT_SOUGHT, 0.0, 0.0, q, err_q, th, tl, terr
+
+
+@njit(cache=True)
+def circle_event_key(ax, ay, bx, by, cx, cy):
+    """Everything the sweep needs to order the circle event of non-collinear a, b, c, from
+    exact arithmetic, computed once per event:
+    ``(ok, cy, r2, q, err_q, th, tl, terr)``.
+
+    * ``q`` approximates y_top - a_y to a few ulps, with the bound ``err_q`` (tighter than
+      :func:`circle_top_relative` when the float circumcircle is ill-conditioned, e.g.
+      nearly collinear sites).
+    * ``ok``: the centre's y and the squared radius are floats exactly (integer and dyadic
+      lattices, cocircular lattice points: where ties abound); then the top is exactly
+      ``cy + sqrt(r2)`` (see :func:`tops_key_order`).
+    * ``th + tl`` is the top y_top itself in double-double, within the certified bound
+      ``terr`` (about 1e-29 of its terms): two tops further apart than their bounds are
+      ordered by :func:`tops_dd_order` without the degree-20 exact comparison.
+
+    On lattices with small differences every step is exact in plain floats and no
+    expansion is formed.
+    """
+    in_floats, ef, nf, sf = _circle_parts_in_floats(ax, ay, bx, by, cx, cy)
+    w = _new_pool()
+    if in_floats:
+        eh, el, ee, nh, nl, en, sh, sl, es = ef, 0.0, 0.0, nf, 0.0, 0.0, sf, 0.0, 0.0
+        e = nys = s = w[:0]
+    else:
+        e, nys, s, _ = _circle_parts(ax, ay, bx, by, cx, cy, 1.0, w)
+        eh, el, ee = _dd_of(e, w)
+        nh, nl, en = _dd_of(nys, w)
+        sh, sl, es = _dd_of(s, w)
+    q, err_q, th, tl, terr = _top_from_parts(ay, eh, el, ee, nh, nl, en, sh, sl, es)
+    # exact key: centre y = ay + nys / e and r2 = s / e**2 must be floats; the double-double
+    # quotients round to them when they are, and exact tests confirm
+    ch, cl = _dd_div(nh, nl, eh, el)
+    c = ch + cl
     cyy, low = two_sum(ay, c)
     if low != 0.0:
-        return False, 0.0, 0.0, q, err_q
-    r2 = ss / (ee * ee)
+        return False, 0.0, 0.0, q, err_q, th, tl, terr
+    e2h, e2l = _dd_mul(eh, el, eh, el)
+    r2h, r2l = _dd_div(sh, sl, e2h, e2l)
+    r2 = r2h + r2l
+    if in_floats:
+        # c * e == nys and r2 * e**2 == s, each product checked error-free
+        pc, pce = two_product(c, ef)
+        e2, e2e = two_product(ef, ef)
+        pr, pre = two_product(r2, e2)
+        keyed = pc == nf and pce == 0.0 and e2e == 0.0 and pr == sf and pre == 0.0
+        if not keyed and pc == nf and pce == 0.0 and e2e != 0.0:
+            e = w[1:2].copy()                    # e**2 is no float: check with expansions
+            e[0] = ef
+            s = w[1:2].copy()
+            s[0] = sf
+            keyed = _xsign(_xsub(_xscale(_xmul(e, e, w), r2, w), s, w)) == 0
+        if not keyed:
+            return False, 0.0, 0.0, q, err_q, th, tl, terr
+        return True, cyy, r2, q, err_q, th, tl, terr
+    if _xsign(_xsub(_xscale(e, c, w), nys, w)) != 0:
+        return False, 0.0, 0.0, q, err_q, th, tl, terr
     if _xsign(_xsub(_xscale(_xmul(e, e, w), r2, w), s, w)) != 0:
-        return False, 0.0, 0.0, q, err_q
-    return True, cyy, r2, q, err_q
+        return False, 0.0, 0.0, q, err_q, th, tl, terr
+    return True, cyy, r2, q, err_q, th, tl, terr
+
+
+@njit(cache=True)
+def circle_exact_key(ax, ay, bx, by, cx, cy):
+    """``(ok, cy, r2, q, err_q)`` of :func:`circle_event_key`."""
+    ok, cyy, r2, q, err_q, _, _, _ = circle_event_key(ax, ay, bx, by, cx, cy)
+    return ok, cyy, r2, q, err_q
+
+
+@njit(cache=True)
+def tops_dd_order(h1, l1, e1, h2, l2, e2):
+    """Sign of (h1 + l1) - (h2 + l2) for two double-double tops with error bounds e1, e2 (from
+    :func:`circle_event_key`; a site at height y is ``(y, 0, 0)``), or ``UNDECIDED`` when the
+    bounds overlap."""
+    dh, dl = two_sum(h1, -h2)
+    rest = (dl + l1) - l2
+    d = dh + rest
+    bound = e1 + e2 + 2.0 * EPSILON * (abs(dl) + abs(l1) + abs(l2) + abs(d))
+    if d > bound:
+        return 1
+    if -d > bound:
+        return -1
+    return _UNDECIDED
 
 
 @njit(cache=True)

@@ -11,10 +11,14 @@ of a cancelled event O(log n).
 
 Order, in stages: (1) the float tops when their error intervals are disjoint; (2) the same
 with the base heights a_y subtracted separately (large offsets); (3) once per event, exact
-arithmetic refines its relative top (ill-conditioned, nearly collinear triples) and finds its
-exact key when the centre's y and squared radius are floats exactly (lattices, where ties
-abound), then (2) again; (4) exact keys compared as cy + sqrt(r2) in a few exact operations,
-else :func:`~vorobench.predicates.circle_events_order_exact`. Exact ties go to the older event
+arithmetic finds its key (:func:`~vorobench.predicates.circle_event_key`): a refined relative
+top, the top in double-double with a certified error of ~1e-29 of its terms, and, when the
+centre's y and squared radius are floats exactly (lattices and cocircular lattice points,
+where ties abound), the exact key (cy, r2). Then: equal exact keys are a tie at once (the
+common case on lattices, checked before anything else once both events have keys); (2)
+again; the double-double tops; exact keys compared as cy + sqrt(r2) in a few exact
+operations; and only for tops closer than ~1e-29 without exact keys,
+:func:`~vorobench.predicates.circle_events_order_exact`. Exact ties go to the older event
 (smaller SEQ), which keeps the order total.
 """
 
@@ -23,21 +27,24 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from vorobench.predicates import (UNDECIDED, circle_event_vs_site_exact, circle_events_order_exact,
-                                  circle_exact_key, tops_key_order, tops_order_filter)
+from vorobench.predicates import (KEY_FOUND, KEY_NOT_SOUGHT, UNDECIDED, circle_event_key, circle_event_top,
+                                  circle_event_vs_site_exact, circle_events_order_exact, tops_dd_order,
+                                  tops_key_order, tops_order_filter)
 
 __all__ = [
-    "A", "B", "C", "ARC", "POS", "SEQ", "KEY", "Y", "ERR", "VX", "VY", "Q", "ERRQ", "CY", "R2",
+    "A", "B", "C", "ARC", "POS", "SEQ", "KEY", "Y", "ERR", "VX", "VY", "Q", "ERRQ", "CY", "R2", "TH", "TL", "TERR",
     "ORDER_CALLS", "ORDER_EXACT", "KEYS_EXACT",
     "new_queue", "allocate", "release", "push", "pop", "discard", "before", "before_site",
 ]
 
 A, B, C, ARC, POS, SEQ, KEY = range(7)
-Y, ERR, VX, VY, Q, ERRQ, CY, R2 = range(8)
+Y, ERR, VX, VY, Q, ERRQ, CY, R2, TH, TL, TERR = range(11)
 I_FIELDS = 7
-F_FIELDS = 8
-# KEY states
-KEY_UNKNOWN, KEY_EXACT, KEY_NONE = 0, 1, 2
+F_FIELDS = 11
+# KEY states: nothing computed yet; exact key (CY, R2) found; no exact key exists (the
+# double-double top is from exact expansions or exact floats); double-double top from
+# double-double arithmetic, exact key not looked for yet
+KEY_UNKNOWN, KEY_EXACT, KEY_NONE, KEY_DD = 0, 1, 2, 3
 
 #: Indices into the sweep's counters array: event comparisons, those that still needed exact
 #: arithmetic after the refinement, and refinements (exact keys, at most one per event).
@@ -98,42 +105,83 @@ def _float_order(ye, erre, yg, errg):
     return 0
 
 
+@njit(cache=True, inline='always')
+def _store_key(ev_i, ev_f, e, state, cy, r2, q, errq, th, tl, terr):
+    ev_i[e, KEY] = state
+    ev_f[e, CY] = cy
+    ev_f[e, R2] = r2
+    ev_f[e, TH] = th
+    ev_f[e, TL] = tl
+    ev_f[e, TERR] = terr
+    if errq < ev_f[e, ERRQ]:
+        ev_f[e, Q] = q
+        ev_f[e, ERRQ] = errq
+
+
 @njit(cache=True)
 def _refine(sites, ev_i, ev_f, e, counters):
-    # on first use: the exact key of event e and a tighter relative top (Q, ERRQ) from exact
-    # arithmetic; returns True if (CY, R2) hold an exact key
+    # on first use: the cheap key of event e (see the module docstring); returns True if
+    # (CY, R2) hold an exact key
     if ev_i[e, KEY] == KEY_UNKNOWN:
         counters[KEYS_EXACT] += 1
         a, b, c = ev_i[e, A], ev_i[e, B], ev_i[e, C]
-        ok, cy, r2, q, errq = circle_exact_key(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1],
-                                               sites[c, 0], sites[c, 1])
-        ev_i[e, KEY] = KEY_EXACT if ok else KEY_NONE
-        ev_f[e, CY] = cy
-        ev_f[e, R2] = r2
-        if errq < ev_f[e, ERRQ]:
-            ev_f[e, Q] = q
-            ev_f[e, ERRQ] = errq
+        state, cy, r2, q, errq, th, tl, terr = circle_event_top(sites[a, 0], sites[a, 1], sites[b, 0],
+                                                                sites[b, 1], sites[c, 0], sites[c, 1])
+        kind = KEY_EXACT if state == KEY_FOUND else KEY_DD if state == KEY_NOT_SOUGHT else KEY_NONE
+        _store_key(ev_i, ev_f, e, kind, cy, r2, q, errq, th, tl, terr)
     return ev_i[e, KEY] == KEY_EXACT
+
+
+@njit(cache=True)
+def _refine_exact(sites, ev_i, ev_f, e):
+    # when the cheap key could not decide: the key from exact expansions (exact key found or
+    # ruled out, double-double top from exact values); returns True if it is an exact key
+    if ev_i[e, KEY] == KEY_DD:
+        a, b, c = ev_i[e, A], ev_i[e, B], ev_i[e, C]
+        ok, cy, r2, q, errq, th, tl, terr = circle_event_key(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1],
+                                                             sites[c, 0], sites[c, 1])
+        _store_key(ev_i, ev_f, e, KEY_EXACT if ok else KEY_NONE, cy, r2, q, errq, th, tl, terr)
+    return ev_i[e, KEY] == KEY_EXACT
+
+
+@njit(cache=True, inline='always')
+def _same_exact_key(ev_i, ev_f, e, g):
+    # both events have exact keys and they are equal: the tops tie exactly (a lattice tie,
+    # decided by comparing four floats; inlined into the heap's loops)
+    return (ev_i[e, KEY] == KEY_EXACT and ev_i[g, KEY] == KEY_EXACT and ev_f[e, CY] == ev_f[g, CY]
+            and ev_f[e, R2] == ev_f[g, R2])
 
 
 @njit(cache=True)
 def _exact_before(sites, ev_i, ev_f, e, g, counters):
     # stages 2-4 of the order (see the module docstring), after the heap keys could not decide
+    if _same_exact_key(ev_i, ev_f, e, g):
+        return ev_i[e, SEQ] < ev_i[g, SEQ]
     a, b, c = ev_i[e, A], ev_i[e, B], ev_i[e, C]
     p, q, r = ev_i[g, A], ev_i[g, B], ev_i[g, C]
     s = tops_order_filter(sites[a, 1], ev_f[e, Q], ev_f[e, ERRQ], sites[p, 1], ev_f[g, Q], ev_f[g, ERRQ])
     if s == UNDECIDED:
-        keyed = _refine(sites, ev_i, ev_f, e, counters)
-        keyed = _refine(sites, ev_i, ev_f, g, counters) and keyed
+        _refine(sites, ev_i, ev_f, e, counters)
+        _refine(sites, ev_i, ev_f, g, counters)
+        if _same_exact_key(ev_i, ev_f, e, g):
+            return ev_i[e, SEQ] < ev_i[g, SEQ]
         s = tops_order_filter(sites[a, 1], ev_f[e, Q], ev_f[e, ERRQ], sites[p, 1], ev_f[g, Q], ev_f[g, ERRQ])
-    if s == UNDECIDED:
-        counters[ORDER_EXACT] += 1
-        if keyed:
-            s = tops_key_order(ev_f[e, CY], ev_f[e, R2], ev_f[g, CY], ev_f[g, R2])
-        else:
-            s = circle_events_order_exact(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[c, 0],
-                                          sites[c, 1], sites[p, 0], sites[p, 1], sites[q, 0], sites[q, 1],
-                                          sites[r, 0], sites[r, 1])
+        if s == UNDECIDED:
+            s = tops_dd_order(ev_f[e, TH], ev_f[e, TL], ev_f[e, TERR], ev_f[g, TH], ev_f[g, TL], ev_f[g, TERR])
+        if s == UNDECIDED:
+            keyed = _refine_exact(sites, ev_i, ev_f, e)
+            keyed = _refine_exact(sites, ev_i, ev_f, g) and keyed
+            if _same_exact_key(ev_i, ev_f, e, g):
+                return ev_i[e, SEQ] < ev_i[g, SEQ]
+            s = tops_dd_order(ev_f[e, TH], ev_f[e, TL], ev_f[e, TERR], ev_f[g, TH], ev_f[g, TL], ev_f[g, TERR])
+            if s == UNDECIDED:
+                counters[ORDER_EXACT] += 1
+                if keyed:
+                    s = tops_key_order(ev_f[e, CY], ev_f[e, R2], ev_f[g, CY], ev_f[g, R2])
+                else:
+                    s = circle_events_order_exact(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[c, 0],
+                                                  sites[c, 1], sites[p, 0], sites[p, 1], sites[q, 0], sites[q, 1],
+                                                  sites[r, 0], sites[r, 1])
     if s != 0:
         return s < 0
     return ev_i[e, SEQ] < ev_i[g, SEQ]
@@ -154,15 +202,20 @@ def _exact_before_site(sites, ev_i, ev_f, e, sy, counters):
     a, b, c = ev_i[e, A], ev_i[e, B], ev_i[e, C]
     s = tops_order_filter(sites[a, 1], ev_f[e, Q], ev_f[e, ERRQ], sy, 0.0, 0.0)
     if s == UNDECIDED:
-        keyed = _refine(sites, ev_i, ev_f, e, counters)
+        _refine(sites, ev_i, ev_f, e, counters)
         s = tops_order_filter(sites[a, 1], ev_f[e, Q], ev_f[e, ERRQ], sy, 0.0, 0.0)
-    if s == UNDECIDED:
-        counters[ORDER_EXACT] += 1
-        if keyed:
-            s = tops_key_order(ev_f[e, CY], ev_f[e, R2], sy, 0.0)
-        else:
-            s = circle_event_vs_site_exact(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[c, 0],
-                                           sites[c, 1], sy)
+        if s == UNDECIDED:
+            s = tops_dd_order(ev_f[e, TH], ev_f[e, TL], ev_f[e, TERR], sy, 0.0, 0.0)
+        if s == UNDECIDED:
+            keyed = _refine_exact(sites, ev_i, ev_f, e)
+            s = tops_dd_order(ev_f[e, TH], ev_f[e, TL], ev_f[e, TERR], sy, 0.0, 0.0)
+            if s == UNDECIDED:
+                counters[ORDER_EXACT] += 1
+                if keyed:
+                    s = tops_key_order(ev_f[e, CY], ev_f[e, R2], sy, 0.0)
+                else:
+                    s = circle_event_vs_site_exact(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1],
+                                                   sites[c, 0], sites[c, 1], sy)
     return s <= 0
 
 
@@ -187,7 +240,11 @@ def _sift_up(sites, ev_i, ev_f, heap, hkey, k, counters):
         counters[ORDER_CALLS] += 1
         o = _float_order(ye, erre, hkey[parent, 0], hkey[parent, 1])
         if o == 0:
-            o = -1 if _exact_before(sites, ev_i, ev_f, e, heap[parent], counters) else 1
+            g = heap[parent]
+            if _same_exact_key(ev_i, ev_f, e, g):
+                o = -1 if ev_i[e, SEQ] < ev_i[g, SEQ] else 1
+            else:
+                o = -1 if _exact_before(sites, ev_i, ev_f, e, g, counters) else 1
         if o > 0:
             break
         g = heap[parent]
@@ -215,13 +272,21 @@ def _sift_down(sites, ev_i, ev_f, heap, hkey, size, k, counters):
             counters[ORDER_CALLS] += 1
             o = _float_order(hkey[child + 1, 0], hkey[child + 1, 1], hkey[child, 0], hkey[child, 1])
             if o == 0:
-                o = -1 if _exact_before(sites, ev_i, ev_f, heap[child + 1], heap[child], counters) else 1
+                f, g = heap[child + 1], heap[child]
+                if _same_exact_key(ev_i, ev_f, f, g):
+                    o = -1 if ev_i[f, SEQ] < ev_i[g, SEQ] else 1
+                else:
+                    o = -1 if _exact_before(sites, ev_i, ev_f, f, g, counters) else 1
             if o < 0:
                 child += 1
         counters[ORDER_CALLS] += 1
         o = _float_order(hkey[child, 0], hkey[child, 1], ye, erre)
         if o == 0:
-            o = -1 if _exact_before(sites, ev_i, ev_f, heap[child], e, counters) else 1
+            g = heap[child]
+            if _same_exact_key(ev_i, ev_f, g, e):
+                o = -1 if ev_i[g, SEQ] < ev_i[e, SEQ] else 1
+            else:
+                o = -1 if _exact_before(sites, ev_i, ev_f, g, e, counters) else 1
         if o > 0:
             break
         g = heap[child]

@@ -84,8 +84,14 @@ def test_exact_fallbacks_happen_on_degenerate_input_only():
     random_stats, grid_stats = {}, {}
     fortune(datasets_gen.generate("uniform", 1000, seed=0), random_stats)
     fortune(datasets_gen.generate("grid", 1000, seed=0), grid_stats)
-    assert random_stats["event_comparisons_exact"] == 0
-    assert grid_stats["event_comparisons_exact"] > 0               # equal circle tops on a grid
+    assert random_stats["event_comparisons_exact"] == 0 and random_stats["exact_keys"] == 0
+    # equal circle tops on a grid: settled by the events' exact keys, never by the last resort
+    assert grid_stats["exact_keys"] > 0 and grid_stats["event_comparisons_exact"] == 0
+    # mirror-image circles of different sites on concentric lattice circles tie with no exact
+    # key (their centres are not floats): the exact comparison itself decides
+    many = {}
+    fortune(datasets_gen.generate("cocircular_many", 2000, seed=0), many)
+    assert many["event_comparisons_exact"] > 0
 
 
 # ------------------------------------------------------------------ degenerate configurations

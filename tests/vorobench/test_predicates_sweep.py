@@ -16,14 +16,18 @@ from vorobench.predicates import (
     circle_event_vs_site_exact,
     circle_events_order,
     circle_events_order_exact,
+    circle_event_key,
+    circle_event_top,
     circle_exact_key,
     circle_top,
     circle_top_relative,
     circumcentre_accurate,
     orient2d,
+    tops_dd_order,
     tops_key_order,
     tops_order_filter,
 )
+from vorobench.predicates import KEY_ABSENT, KEY_FOUND, KEY_NOT_SOUGHT
 
 _DIGITS = 400
 
@@ -354,3 +358,81 @@ def test_circumcentre_accurate_for_nearly_collinear_sites():
         vx, vy = circumcentre_accurate(*t.ravel())
         scale = abs(ux) + abs(uy)
         assert abs(F(vx) - ux) <= scale * F(1, 2 ** 50) and abs(F(vy) - uy) <= scale * F(1, 2 ** 50)
+
+
+# ------------------------------------------------------------------ double-double event keys
+def _key_triples(rng):
+    """Triples where the keys matter: random, offset, nearly collinear, lattice, nudged lattice
+    (near_grid's 1e-12 noise on integers: tops ~1e-14 apart), big cocircular coordinates."""
+    out = _triples(rng, 150) + _triples(rng, 50, 1e-3, 1e9) + _triples(rng, 50, 1e6, -3e7)
+    for eps in (1e-6, 1e-10, 1e-14, 1e-16):
+        out.append(np.array([[0.0, 0.0], [0.5, eps], [1.0, 0.0]]))
+    while len(out) < 450:
+        t = rng.integers(-30, 30, size=(3, 2)).astype(float)
+        t += rng.choice([0.0, 1e-12]) * (2 * rng.random((3, 2)) - 1)
+        t *= rng.choice([1.0, 2.0 ** -30, 3e7])
+        if orient2d(*t.ravel()) != 0:
+            out.append(t)
+    return out
+
+
+def test_double_double_tops_lie_within_their_certified_bounds():
+    rng = np.random.default_rng(11)
+    states = set()
+    for t in _key_triples(rng):
+        top = reference_circle_top(*t)
+        for key in (circle_event_key, circle_event_top):
+            state, cy, r2, q, errq, th, tl, terr = key(*t.ravel())
+            states.add(int(state) if key is circle_event_top else -1)
+            with localcontext() as ctx:
+                ctx.prec = _DIGITS
+                miss = abs(Decimal(th) + Decimal(tl) - top)
+                assert miss <= Decimal(terr), (t, key.__name__)
+                assert abs(Decimal(t[0, 1]) + Decimal(q) - top) <= Decimal(errq), (t, key.__name__)
+                # the bound is tight: ~1e-28 of the top's terms (base, centre, radius), not a
+                # vacuous one
+                uy, rr = _exact_centre_y_and_r2(t)
+                scale = abs(Decimal(t[0, 1])) + abs(Decimal(float(uy))) + Decimal(float(rr)).sqrt()
+                if terr != np.inf:
+                    assert Decimal(terr) < Decimal(1e-25) * scale, (t, terr)
+    assert {KEY_FOUND, KEY_ABSENT, KEY_NOT_SOUGHT} <= states
+
+
+def test_cheap_and_exact_keys_agree_on_the_exact_key():
+    rng = np.random.default_rng(12)
+    for t in _key_triples(rng):
+        state, cy, r2, *_ = circle_event_top(*t.ravel())
+        ok, cy2, r22, *_ = circle_event_key(*t.ravel())
+        uy, rr = _exact_centre_y_and_r2(t)
+        assert ok == (F(float(uy)) == uy and F(float(rr)) == rr)
+        if state != KEY_NOT_SOUGHT:
+            assert (state == KEY_FOUND) == ok
+        if ok:
+            assert F(cy2) == uy and F(r22) == rr
+        if state == KEY_FOUND:
+            assert (cy, r2) == (cy2, r22)
+
+
+def test_tops_dd_order_never_contradicts_the_exact_order():
+    rng = np.random.default_rng(13)
+    triples = _key_triples(rng)
+    decided = 0
+    for i in range(0, len(triples) - 1):
+        for t1, t2 in ((triples[i], triples[i + 1]), (triples[i], triples[i] + [[0.0, 0.0]] * 3)):
+            _, _, _, _, _, h1, l1, e1 = circle_event_key(*t1.ravel())
+            _, _, _, _, _, h2, l2, e2 = circle_event_top(*t2.ravel())
+            got = tops_dd_order(h1, l1, e1, h2, l2, e2)
+            want = circle_events_order_exact(*t1.ravel(), *t2.ravel())
+            if got != UNDECIDED:
+                decided += 1
+                assert got == want, (t1, t2)
+            else:
+                assert want == 0 or abs(h1 - h2) <= e1 + e2 + 1e-15 * abs(h1)
+    assert decided > 300
+    # a site at the top's own float height, and one ulp either side
+    for t in triples[:100]:
+        _, _, _, _, _, h, l, e = circle_event_key(*t.ravel())
+        for sy in (h, np.nextafter(h, np.inf), np.nextafter(h, -np.inf)):
+            got = tops_dd_order(h, l, e, sy, 0.0, 0.0)
+            if got != UNDECIDED:
+                assert got == circle_event_vs_site_exact(*t.ravel(), sy)
