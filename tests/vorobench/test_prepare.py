@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 
 from vorobench import prepare
 
@@ -39,6 +40,22 @@ def test_duplicates_are_removed_in_order_of_first_appearance():
     assert sites.tolist() == [[2, 2], [0, 0], [1, 1]]
     assert inverse.tolist() == [0, 1, 0, 2, 1, 1]
     assert np.array_equal(sites[inverse], np.asarray(pts, dtype=float) + 0.0)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(st.sampled_from([0.0, -0.0, 1.0, -1.0, 0.5, 1e-300, 5e-324, 1e300, 3.0]),
+                          st.sampled_from([0.0, -0.0, 2.0, -7.5, 1e-300, 5e-324, 1e300])), max_size=60))
+def test_deduplication_matches_a_dictionary_of_first_appearances(rows):
+    """Few distinct values, so that duplicates (and -0.0 against 0.0) abound."""
+    first: dict = {}
+    want = [first.setdefault((x + 0.0, y + 0.0), len(first)) for x, y in rows]
+    try:
+        sites, inverse = prepare(np.asarray(rows, dtype=float).reshape(-1, 2))
+    except ValueError as exc:                      # 1e300 with 5e-324: beyond the exact range
+        assert "span" in str(exc)
+        return
+    assert inverse.tolist() == want
+    assert [tuple(r) for r in sites.tolist()] == list(first)
 
 
 def test_output_is_contiguous_float64_and_integers_accepted():
