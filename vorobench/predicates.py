@@ -636,8 +636,36 @@ def _orient2d_filter(ax, ay, bx, by, cx, cy):
     return _UNDECIDED
 
 
+@njit(cache=True, inline='always')
+def _two_two_diff_sign(a1, a0, b1, b0):
+    # exact sign of (a1 + a0) - (b1 + b0) for two-component values (Shewchuk's Two_Two_Diff:
+    # four nonoverlapping components; the sign is that of the largest nonzero one)
+    i, x0 = two_diff(a0, b0)
+    j, x1a = two_sum(a1, i)
+    k, x1 = two_diff(x1a, b1)
+    x3, x2 = two_sum(j, k)
+    if x3 != 0.0:
+        return _sign(x3)
+    if x2 != 0.0:
+        return _sign(x2)
+    if x1 != 0.0:
+        return _sign(x1)
+    return _sign(x0)
+
+
 @njit(cache=True)
 def _orient2d_exact(ax, ay, bx, by, cx, cy):
+    # Stage B (no allocation): when the four differences are floats exactly (lattices, and
+    # nearby points by Sterbenz's lemma), the determinant is a difference of two exact
+    # two-component products. Otherwise the full expansion in the original coordinates.
+    acx, t0 = two_diff(ax, cx)
+    bcx, t1 = two_diff(bx, cx)
+    acy, t2 = two_diff(ay, cy)
+    bcy, t3 = two_diff(by, cy)
+    if t0 == 0.0 and t1 == 0.0 and t2 == 0.0 and t3 == 0.0:
+        l1, l0 = two_product(acx, bcy)
+        r1, r0 = two_product(acy, bcx)
+        return _two_two_diff_sign(l1, l0, r1, r0)
     h = np.empty(ORIENT2D_EXPANSION_MAX)
     n = orient2d_expansion(ax, ay, bx, by, cx, cy, h)
     return expansion_sign(h, n)
@@ -681,7 +709,54 @@ def _incircle_filter(ax, ay, bx, by, cx, cy, dx, dy):
 
 
 @njit(cache=True)
+def _incircle_in_floats(ax, ay, bx, by, cx, cy, dx, dy):
+    # the float evaluation of the determinant with every difference, product and sum checked
+    # error-free: its sign when nothing rounded (small integer or dyadic lattices: every
+    # cocircular quadruple of a grid), else _UNDECIDED. Allocates nothing.
+    adx, t0 = two_diff(ax, dx)
+    bdx, t1 = two_diff(bx, dx)
+    cdx, t2 = two_diff(cx, dx)
+    ady, t3 = two_diff(ay, dy)
+    bdy, t4 = two_diff(by, dy)
+    cdy, t5 = two_diff(cy, dy)
+    if t0 != 0.0 or t1 != 0.0 or t2 != 0.0 or t3 != 0.0 or t4 != 0.0 or t5 != 0.0:
+        return _UNDECIDED
+    p0, r0 = two_product(bdx, cdy)
+    p1, r1 = two_product(cdx, bdy)
+    m0, r2 = two_diff(p0, p1)
+    p2, r3 = two_product(cdx, ady)
+    p3, r4 = two_product(adx, cdy)
+    m1, r5 = two_diff(p2, p3)
+    p4, r6 = two_product(adx, bdy)
+    p5, r7 = two_product(bdx, ady)
+    m2, r8 = two_diff(p4, p5)
+    q0, r9 = two_product(adx, adx)
+    q1, r10 = two_product(ady, ady)
+    alift, r11 = two_sum(q0, q1)
+    q2, r12 = two_product(bdx, bdx)
+    q3, r13 = two_product(bdy, bdy)
+    blift, r14 = two_sum(q2, q3)
+    q4, r15 = two_product(cdx, cdx)
+    q5, r16 = two_product(cdy, cdy)
+    clift, r17 = two_sum(q4, q5)
+    u0, r18 = two_product(alift, m0)
+    u1, r19 = two_product(blift, m1)
+    u2, r20 = two_product(clift, m2)
+    v, r21 = two_sum(u0, u1)
+    det, r22 = two_sum(v, u2)
+    tails = (abs(r0) + abs(r1) + abs(r2) + abs(r3) + abs(r4) + abs(r5) + abs(r6) + abs(r7) + abs(r8)
+             + abs(r9) + abs(r10) + abs(r11) + abs(r12) + abs(r13) + abs(r14) + abs(r15) + abs(r16)
+             + abs(r17) + abs(r18) + abs(r19) + abs(r20) + abs(r21) + abs(r22))
+    if tails == 0.0:
+        return _sign(det)
+    return _UNDECIDED
+
+
+@njit(cache=True)
 def _incircle_exact(ax, ay, bx, by, cx, cy, dx, dy):
+    s = _incircle_in_floats(ax, ay, bx, by, cx, cy, dx, dy)
+    if s != _UNDECIDED:
+        return s
     buf = np.empty(1024 + INCIRCLE_EXPANSION_MAX)
     h = buf[:INCIRCLE_EXPANSION_MAX]
     w = buf[INCIRCLE_EXPANSION_MAX:]
@@ -894,6 +969,7 @@ __all__ += [
     "KEY_NOT_SOUGHT",
     "tops_dd_order",
     "circumcentre_accurate",
+    "circumcentre_offsets_dd",
     "tops_key_order",
     "circle_event_vs_site_exact",
     "circle_event_vs_site",
@@ -1477,6 +1553,41 @@ def _circle_parts_dd(ax, ay, bx, by, cx, cy):
     if dh < 0.0:
         dh, dl, nyh, nyl = -dh, -dl, -nyh, -nyl
     return True, 2.0 * dh, 2.0 * dl, 2.0 * de, nyh, nyl, nye, sh, sl, se
+
+
+@njit(cache=True)
+def circumcentre_offsets_dd(ax, ay, bx, by, cx, cy):
+    """``(ok, ux, uy)``: the circumcentre of a, b, c minus a, to about an ulp, from numerators
+    and determinant in double-double with propagated error bounds; ``ok`` is False when
+    those bounds are not below 2**-70 of the values (then the caller needs expansions).
+    Allocates nothing: the fast path for ill-conditioned (sliver) triangles."""
+    bxh, bxl = two_diff(bx, ax)
+    byh, byl = two_diff(by, ay)
+    cxh, cxl = two_diff(cx, ax)
+    cyh, cyl = two_diff(cy, ay)
+    p0h, p0l, p0e = _ddv_mul(bxh, bxl, 0.0, cyh, cyl, 0.0)
+    p1h, p1l, p1e = _ddv_mul(byh, byl, 0.0, cxh, cxl, 0.0)
+    dh, dl, de = _ddv_add(p0h, p0l, p0e, -p1h, -p1l, p1e)
+    p2h, p2l, p2e = _ddv_mul(bxh, bxl, 0.0, bxh, bxl, 0.0)
+    p3h, p3l, p3e = _ddv_mul(byh, byl, 0.0, byh, byl, 0.0)
+    b2h, b2l, b2e = _ddv_add(p2h, p2l, p2e, p3h, p3l, p3e)
+    p4h, p4l, p4e = _ddv_mul(cxh, cxl, 0.0, cxh, cxl, 0.0)
+    p5h, p5l, p5e = _ddv_mul(cyh, cyl, 0.0, cyh, cyl, 0.0)
+    c2h, c2l, c2e = _ddv_add(p4h, p4l, p4e, p5h, p5l, p5e)
+    p6h, p6l, p6e = _ddv_mul(cyh, cyl, 0.0, b2h, b2l, b2e)
+    p7h, p7l, p7e = _ddv_mul(byh, byl, 0.0, c2h, c2l, c2e)
+    nxh, nxl, nxe = _ddv_add(p6h, p6l, p6e, -p7h, -p7l, p7e)
+    p8h, p8l, p8e = _ddv_mul(bxh, bxl, 0.0, c2h, c2l, c2e)
+    p9h, p9l, p9e = _ddv_mul(cxh, cxl, 0.0, b2h, b2l, b2e)
+    nyh, nyl, nye = _ddv_add(p8h, p8l, p8e, -p9h, -p9l, p9e)
+    limit = 2.0 ** -70 / _DD_SAFETY
+    if not (de < limit * abs(dh) and nxe <= limit * abs(nxh) and nye <= limit * abs(nyh)
+            and math.isfinite(dh + nxh + nyh)):
+        return False, 0.0, 0.0
+    # the centre is a + (nx, ny) / (2 d)
+    uxh, uxl = _dd_div(nxh, nxl, 2.0 * dh, 2.0 * dl)
+    uyh, uyl = _dd_div(nyh, nyl, 2.0 * dh, 2.0 * dl)
+    return True, uxh + uxl, uyh + uyl
 
 
 @njit(cache=True)

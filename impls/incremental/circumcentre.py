@@ -10,8 +10,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from vorobench.predicates import (ORIENT2D_EXPANSION_MAX, diff_expansion, estimate, expansion_diff,
-                                  expansion_product, expansion_sum, orient2d_expansion)
+from vorobench.predicates import (ORIENT2D_EXPANSION_MAX, circumcentre_offsets_dd, diff_expansion, estimate,
+                                  expansion_diff, expansion_product, expansion_sum, orient2d_expansion)
 
 __all__ = ["circumcentre", "CANCELLATION_THRESHOLD"]
 
@@ -68,8 +68,9 @@ def circumcentre(ax: float, ay: float, bx: float, by: float, cx: float, cy: floa
 
     Computed relative to ``a``, which keeps large common offsets (1e9) out of the products;
     if the determinant or either numerator is dominated by cancellation (nearly collinear
-    triples, whose centres lie far away), everything is recomputed exactly from the
-    original coordinates and rounded once.
+    triples, whose centres lie far away; slivers), they are recomputed in double-double with
+    certified error bounds (no allocation), or exactly from the original coordinates when
+    even those bounds are too wide, and the quotient is rounded once.
     """
     bx_ = bx - ax
     by_ = by - ay
@@ -89,7 +90,9 @@ def circumcentre(ax: float, ay: float, bx: float, by: float, cx: float, cy: floa
     if (abs(det) <= CANCELLATION_THRESHOLD * (abs(d1) + abs(d2))
             or abs(num_x) <= CANCELLATION_THRESHOLD * (abs(x1) + abs(x2))
             or abs(num_y) <= CANCELLATION_THRESHOLD * (abs(y1) + abs(y2))):
-        ux, uy = _exact_offsets(ax, ay, bx, by, cx, cy)
+        ok, ux, uy = circumcentre_offsets_dd(ax, ay, bx, by, cx, cy)
+        if not ok:
+            ux, uy = _exact_offsets(ax, ay, bx, by, cx, cy)
         return ax + ux, ay + uy
     inv = 0.5 / det
     return ax + num_x * inv, ay + num_y * inv

@@ -101,6 +101,14 @@ def _locate(pts, tri, opp, start, inf, px, py, cap, counters, stats):
     raise RuntimeError("incremental: point location walk exceeded its step cap")
 
 
+@njit(cache=True, inline='always')
+def _cell(x, y, x0, y0, scale, side):
+    """Index of the cell of (x, y) in a side x side grid over the sites' bounding square."""
+    i = min(side - 1, int((x - x0) * scale))
+    j = min(side - 1, int((y - y0) * scale))
+    return j * side + i
+
+
 @njit(cache=True)
 def triangulate(pts, order, counters):
     """Delaunay triangulation of ``pts`` inserted in ``order``.
@@ -160,16 +168,36 @@ def triangulate(pts, order, counters):
     bnd_v = np.empty(cap_t + 2, dtype=np.int64)
     bnd_o = np.empty(cap_t + 2, dtype=np.int64)
     fan_from = np.empty(n + 1, dtype=np.int32)  # new triangle whose first corner is this vertex
+    # Where walks start: the previous site's triangle, or a triangle at the last site inserted
+    # into p's cell of a coarse grid when that site is nearer. Space-filling orders jump
+    # (between the arms of a parabola, say), and a straight walk across slivers is long; the
+    # grid hands the walk a nearby vertex. ``vertex_tri[v]``: a finite triangle at vertex v.
+    vertex_tri = np.zeros(n + 1, dtype=np.int32)
+    side = max(1, int(np.sqrt(n / 4.0)))
+    x0 = pts[:, 0].min()
+    y0 = pts[:, 1].min()
+    span = max(pts[:, 0].max() - x0, pts[:, 1].max() - y0)
+    cell_scale = side / span if span > 0.0 else 0.0
+    cell_vertex = np.full(side * side, -1, dtype=np.int64)
+    for k in range(3):
+        cell_vertex[_cell(pts[seed[k], 0], pts[seed[k], 1], x0, y0, cell_scale, side)] = seed[k]
     last = 0
+    previous = i2
     for m in range(2, n):
         if m == third:
             continue
         p = order[m]
         px = pts[p, 0]
         py = pts[p, 1]
+        cell = _cell(px, py, x0, y0, cell_scale, side)
+        start = last
+        w = cell_vertex[cell]
+        if w >= 0 and ((pts[w, 0] - px) ** 2 + (pts[w, 1] - py) ** 2
+                       < (pts[previous, 0] - px) ** 2 + (pts[previous, 1] - py) ** 2):
+            start = vertex_tri[w]
         # the located triangle contains p (or is the ghost beyond the hull edge p sees), so
         # its circle contains p strictly: it is in conflict without a test
-        t0 = _locate(pts, tri, opp, last, inf, px, py, _WALK_CAP_FACTOR * ntri + 64, counters, stats)
+        t0 = _locate(pts, tri, opp, start, inf, px, py, _WALK_CAP_FACTOR * ntri + 64, counters, stats)
         # ---- grow the cavity: triangles in conflict, connected to t0
         inside = 2 * m
         mark[t0] = inside
@@ -217,11 +245,35 @@ def triangulate(pts, order, counters):
             fan_from[u] = s
             if u != inf and bnd_v[j] != inf:
                 last = s
+                # every vertex of the cavity is on its boundary, so this renews all pointers
+                # into the triangles just reused
+                vertex_tri[u] = s
+                vertex_tri[bnd_v[j]] = s
+                vertex_tri[p] = s
         for j in range(nb):
             s = cavity[j] if j < ncav else ntri - (nb - j)
             s2 = fan_from[tri[3 * s + 1]]    # the fan triangle starting where this one's edge ends
             opp[3 * s + 1] = 3 * s2 + 2
             opp[3 * s2 + 2] = 3 * s + 1
+        # the next walk starts in the fan triangle (u, v, p) whose angle at p faces the next
+        # site: a short walk even where the triangles around p are long slivers (sites on a
+        # convex curve). Only a starting guess, so plain float orientations suffice.
+        nxt = m + 1 if m + 1 != third else m + 2
+        if nxt < n:
+            q = order[nxt]
+            qx = pts[q, 0]
+            qy = pts[q, 1]
+            for j in range(nb):
+                u = bnd_u[j]
+                v = bnd_v[j]
+                if u == inf or v == inf:
+                    continue
+                if ((pts[v, 0] - qx) * (py - qy) - (pts[v, 1] - qy) * (px - qx) >= 0.0
+                        and (px - qx) * (pts[u, 1] - qy) - (py - qy) * (pts[u, 0] - qx) >= 0.0):
+                    last = cavity[j] if j < ncav else ntri - (nb - j)
+                    break
+        cell_vertex[cell] = p
+        previous = p
         stats[0] += 1
         stats[2] += ncav
         stats[3] += nb

@@ -22,6 +22,7 @@ from vorobench.predicates import (
     circle_top,
     circle_top_relative,
     circumcentre_accurate,
+    circumcentre_offsets_dd,
     orient2d,
     tops_dd_order,
     tops_key_order,
@@ -436,3 +437,22 @@ def test_tops_dd_order_never_contradicts_the_exact_order():
             got = tops_dd_order(h, l, e, sy, 0.0, 0.0)
             if got != UNDECIDED:
                 assert got == circle_event_vs_site_exact(*t.ravel(), sy)
+
+
+def test_circumcentre_offsets_in_double_double_are_within_an_ulp_or_refused():
+    rng = np.random.default_rng(14)
+    used = refused = 0
+    for t in _key_triples(rng):
+        ok, ux, uy = circumcentre_offsets_dd(*t.ravel())
+        if not ok:
+            refused += 1
+            continue
+        used += 1
+        (ax, ay), (bx, by), (cx, cy) = (map(F, p) for p in t)
+        d = 2 * ((bx - ax) * (cy - ay) - (by - ay) * (cx - ax))
+        b2, c2 = (bx - ax) ** 2 + (by - ay) ** 2, (cx - ax) ** 2 + (cy - ay) ** 2
+        want_x = ((cy - ay) * b2 - (by - ay) * c2) / d
+        want_y = ((bx - ax) * c2 - (cx - ax) * b2) / d
+        assert abs(F(ux) - want_x) <= F(np.spacing(abs(ux))), t
+        assert abs(F(uy) - want_y) <= F(np.spacing(abs(uy))), t
+    assert used > 300 and refused > 0          # nearly collinear triples go to the expansions
