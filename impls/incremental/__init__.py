@@ -31,11 +31,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from impls.base import Implementation
-from impls.incremental.dual import voronoi_edges
+from impls.incremental.dual import voronoi_dcel
 from impls.incremental.order import brio_order
 
 from impls.incremental.triangulate import STAT_NAMES, triangulate
-from vorobench.dcel import assemble, collinear_diagram
+from vorobench.dcel import collinear_diagram
 from vorobench.diagram import Diagram
 from vorobench.predicates import INCIRCLE_CALLS, INCIRCLE_EXACT, ORIENT_CALLS, ORIENT_EXACT
 
@@ -86,13 +86,13 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
             stats.update(counts, collinear=1)
         return collinear_diagram(sites)
     counters = np.zeros(4, dtype=np.int64)
-    vertices, edge_sites, edge_vertices, merged = voronoi_edges(points, ids, tri, opp, ntri, counters)
+    vertices, origin, twin, nxt, site, merged = voronoi_dcel(points, ids, tri, opp, ntri, counters)
     if stats is not None:
         stats.update(counts)
         stats["merged_triangles"] = int(merged)
         for key, value in _predicate_stats(counters).items():
             stats[key] += value
-    return assemble(sites, vertices, edge_sites, edge_vertices)
+    return Diagram(sites, vertices, origin, twin, nxt, site)
 
 
 def warmup() -> None:

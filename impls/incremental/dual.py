@@ -17,7 +17,7 @@ from numba import njit
 from impls.incremental.circumcentre import circumcentre
 from vorobench.predicates import incircle_counted
 
-__all__ = ["voronoi_edges"]
+__all__ = ["voronoi_vertices", "voronoi_edges", "voronoi_dcel"]
 
 
 @njit(cache=True)
@@ -66,19 +66,25 @@ def _insert_by_id(low, r, s, ids):
 
 
 @njit(cache=True)
-def voronoi_edges(pts, ids, tri, opp, ntri, counters):
-    """Vertices and edges of the Voronoi diagram dual to a Delaunay triangulation.
+def _circumcentre_of(pts, ids, a, b, c):
+    # the circumcentre computed from a, b, c in increasing site id (the rule of the module)
+    if ids[a] > ids[b]:
+        a, b = b, a
+    if ids[b] > ids[c]:
+        b, c = c, b
+    if ids[a] > ids[b]:
+        a, b = b, a
+    return circumcentre(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1])
 
-    ``pts`` are the points the triangulation indexes (in insertion order, for locality) and
-    ``ids[v]`` the caller's site id of point v: output edges use those ids, and a vertex's
-    coordinates come from its three smallest ids. Returns (vertices (V, 2),
-    edge_sites (E, 2), edge_vertices (E, 2), merged): the edge arrays in the form
-    :func:`vorobench.dcel.assemble` takes; ``merged`` counts triangles folded into a
-    cocircular neighbour's vertex.
 
-    Two passes when no two neighbouring triangles are cocircular (one vertex per finite
-    triangle, then one edge per Delaunay edge, each interior edge tested on the way); the
-    first cocircular pair found hands over to :func:`_merged_dual`.
+@njit(cache=True)
+def voronoi_vertices(pts, ids, tri, opp, ntri, counters):
+    """The Voronoi vertex of every triangle: (vid, vertices, merged).
+
+    ``vid[t]`` is triangle t's vertex (-1 for a ghost); cocircular neighbours share one
+    vertex; ``merged`` counts triangles folded into a neighbour's vertex. One pass when no two
+    neighbouring triangles are cocircular (each interior edge tested on the way); the first
+    cocircular pair found hands over to :func:`_merged_vertices`.
     """
     n = pts.shape[0]
     inf = n
@@ -91,52 +97,34 @@ def voronoi_edges(pts, ids, tri, opp, ntri, counters):
         c = tri[3 * t + 2]
         if a == inf or b == inf or c == inf:
             continue
-        if ids[a] > ids[b]:
-            a, b = b, a
-        if ids[b] > ids[c]:
-            b, c = c, b
-        if ids[a] > ids[b]:
-            a, b = b, a
-        x, y = circumcentre(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1])
+        x, y = _circumcentre_of(pts, ids, a, b, c)
         vertices[nv, 0] = x
         vertices[nv, 1] = y
         vid[t] = nv
         nv += 1
-    ne = 0
-    edge_sites = np.empty((3 * ntri // 2, 2), dtype=np.int64)
-    edge_vertices = np.empty((3 * ntri // 2, 2), dtype=np.int64)
     tests = np.zeros_like(counters)        # added to counters only if this pass completes
     for e in range(3 * ntri):
         oe = opp[e]
         if oe < e:
             continue
         t = e // 3
+        t2 = oe // 3
+        if vid[t] < 0 or vid[t2] < 0:
+            continue
         a = tri[e]
         b = tri[3 * t + (e - 3 * t + 1) % 3]
-        if a == inf or b == inf:
-            continue
-        left = vid[t]
-        t2 = oe // 3
-        right = vid[t2]
-        if left >= 0 and right >= 0:
-            c = tri[3 * t + (e - 3 * t + 2) % 3]
-            d = tri[3 * t2 + (oe - 3 * t2 + 2) % 3]
-            if incircle_counted(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1],
-                                pts[d, 0], pts[d, 1], tests) == 0:
-                return _merged_dual(pts, ids, tri, opp, ntri, counters)
-        # a's half-edge runs along perp(b - a), i.e. from the right triangle's centre to the left's
-        edge_sites[ne, 0] = ids[a]
-        edge_sites[ne, 1] = ids[b]
-        edge_vertices[ne, 0] = right
-        edge_vertices[ne, 1] = left
-        ne += 1
+        c = tri[3 * t + (e - 3 * t + 2) % 3]
+        d = tri[3 * t2 + (oe - 3 * t2 + 2) % 3]
+        if incircle_counted(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1],
+                            pts[d, 0], pts[d, 1], tests) == 0:
+            return _merged_vertices(pts, ids, tri, opp, ntri, counters)
     counters += tests
-    return vertices[:nv], edge_sites[:ne], edge_vertices[:ne], 0
+    return vid, vertices[:nv], 0
 
 
 @njit(cache=True)
-def _merged_dual(pts, ids, tri, opp, ntri, counters):
-    """:func:`voronoi_edges` when some neighbouring triangles share their circumcircle:
+def _merged_vertices(pts, ids, tri, opp, ntri, counters):
+    """:func:`voronoi_vertices` when some neighbouring triangles share their circumcircle:
     union-find over cocircular neighbours, one vertex per group."""
     n = pts.shape[0]
     inf = n
@@ -198,6 +186,22 @@ def _merged_dual(pts, ids, tri, opp, ntri, counters):
         for t in range(ntri):
             if not ghost[t]:
                 vid[t] = vid[_find(parent, t)]
+    return vid, vertices, merged
+
+
+@njit(cache=True)
+def voronoi_edges(pts, ids, tri, opp, ntri, counters):
+    """Vertices and edges of the Voronoi diagram dual to a Delaunay triangulation.
+
+    ``pts`` are the points the triangulation indexes (in insertion order, for locality) and
+    ``ids[v]`` the caller's site id of point v: output edges use those ids, and a vertex's
+    coordinates come from its three smallest ids. Returns (vertices (V, 2),
+    edge_sites (E, 2), edge_vertices (E, 2), merged): the edge arrays in the form
+    :func:`vorobench.dcel.assemble` takes; ``merged`` counts triangles folded into a
+    cocircular neighbour's vertex. (:func:`voronoi_dcel` gives the DCEL itself, faster.)
+    """
+    inf = pts.shape[0]
+    vid, vertices, merged = voronoi_vertices(pts, ids, tri, opp, ntri, counters)
     # ---- one Voronoi edge per Delaunay edge between different vertices (or a vertex and a ray)
     ne = 0
     edge_sites = np.empty((3 * ntri // 2, 2), dtype=np.int64)
@@ -222,3 +226,59 @@ def _merged_dual(pts, ids, tri, opp, ntri, counters):
         edge_vertices[ne, 1] = left
         ne += 1
     return vertices, edge_sites[:ne], edge_vertices[:ne], merged
+
+
+@njit(cache=True)
+def voronoi_dcel(pts, ids, tri, opp, ntri, counters):
+    """The Voronoi diagram dual to a Delaunay triangulation as DCEL arrays, in one pass over
+    the triangulation's half-edges (no sort): (vertices, origin, twin, next, site, merged).
+
+    Delaunay half-edge e = u -> v (its triangle t on its left) gives cell u's Voronoi
+    half-edge, which runs along perp(v - u) from the centre of the triangle on e's right
+    (``opp[e]``'s; -1 for a ghost: from infinity) to t's centre; its twin is the one of
+    ``opp[e]`` (numbered as the pair 2k, 2k + 1). It is followed, around cell u, by the
+    Voronoi half-edge of the next Delaunay half-edge out of u, turning through t:
+    ``opp[prev(e)]``; edges to the infinite vertex and edges inside a cocircular group have
+    no Voronoi half-edge and are turned past (after a ray out to infinity, this reaches the
+    ray coming back, as the contract asks). Same vertices as :func:`voronoi_edges`.
+    """
+    inf = pts.shape[0]
+    vid, vertices, merged = voronoi_vertices(pts, ids, tri, opp, ntri, counters)
+    m = 3 * ntri
+    # int32 throughout: half the memory traffic of these mostly cache-missing passes
+    hid = np.full(m, -1, dtype=np.int32)
+    pairs = 0
+    for e in range(m):
+        oe = opp[e]
+        if oe < e:
+            continue
+        t = e // 3
+        a = tri[e]
+        b = tri[3 * t + (e - 3 * t + 1) % 3]
+        if a == inf or b == inf or vid[t] == vid[oe // 3]:
+            continue
+        hid[e] = 2 * pairs
+        hid[oe] = 2 * pairs + 1
+        pairs += 1
+    H = 2 * pairs
+    origin = np.empty(H, dtype=np.int32)
+    nxt = np.empty(H, dtype=np.int32)
+    site = np.empty(H, dtype=np.int32)
+    for e in range(m):
+        h = hid[e]
+        if h < 0:
+            continue
+        t = e // 3
+        origin[h] = vid[opp[e] // 3]
+        site[h] = ids[tri[e]]
+        f = opp[3 * t + (e - 3 * t + 2) % 3]
+        for _ in range(m):
+            if hid[f] >= 0:
+                break
+            g = f // 3
+            f = opp[3 * g + (f - 3 * g + 2) % 3]
+        if hid[f] < 0:
+            raise RuntimeError("voronoi_dcel: a cell does not close up")
+        nxt[h] = hid[f]
+    twin = np.arange(H, dtype=np.int32) ^ 1
+    return vertices, origin, twin, nxt, site, merged
