@@ -40,6 +40,7 @@ _EXTERNAL: dict[str, tuple[str, str]] = {
     "triangle-incremental": ("impls.external.triangle_incremental", "triangle"),
     "boost": ("impls.external.boost", "pyvoronoi"),
     "geos": ("impls.external.geos", "shapely"),
+    "cgal": ("impls.external.cgal", "CGAL"),
 }
 
 _registered: dict[str, Implementation] = {}

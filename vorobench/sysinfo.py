@@ -62,7 +62,8 @@ def package_versions() -> dict[str, Optional[str]]:
 
 def library_versions() -> dict[str, Optional[str]]:
     """The geometry libraries behind the outside references, as far as each one tells (None if
-    absent): Qhull comes inside scipy, Boost.Polygon inside pyvoronoi, GEOS inside shapely."""
+    absent): Qhull comes inside scipy, Boost.Polygon inside pyvoronoi, GEOS inside shapely, CGAL
+    compiled into its bindings (the release from ``CGAL_VERSION_NR``, then the package's version)."""
     versions = package_versions()
     out: dict[str, Optional[str]] = {
         "qhull": f"bundled with scipy {versions['scipy']}" if versions.get("scipy") else None,
@@ -78,6 +79,15 @@ def library_versions() -> dict[str, Optional[str]]:
             out["geos"] = str(shapely.geos_version_string)
         except Exception:  # a broken shapely install is recorded as "unknown", not fatal
             out["geos"] = "unknown"
+    if versions.get("cgal"):
+        try:
+            from CGAL.CGAL_Triangulation_2 import CGAL_VERSION_NR
+
+            nr = int(CGAL_VERSION_NR)       # 1MMmmbiiii: major, minor, bug-fix release
+            out["cgal"] = (f"{nr // 10**7 % 100}.{nr // 10**5 % 100}.{nr // 10**4 % 10} "
+                           f"(Python package cgal {versions['cgal']})")
+        except Exception:  # bindings that do not load: the package version alone
+            pass
     return out
 
 
