@@ -25,7 +25,7 @@ __all__ = ["add_arguments", "run", "own_implementations", "demo_implementations"
 DEMO_DATASETS = ("uniform", "normal", "clusters", "grid", "cocircular", "duplicates", "huge_offset")
 
 #: Outside libraries drawn as reference lines when installed (the ``peers`` extra).
-DEMO_REFERENCES = ("triangle", "boost", "geos")
+DEMO_REFERENCES = ("triangle", "cgal", "boost", "geos")
 
 #: Sizes when several implementations share the time; one more decade when qhull is alone.
 _SIZES = (1_000, 3_000, 10_000, 30_000)

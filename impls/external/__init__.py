@@ -2,8 +2,9 @@
 
 One module per library: :mod:`.triangle_lib` (Shewchuk's Triangle, three algorithms, with
 :mod:`.triangle_sweep` and :mod:`.triangle_incremental` naming the two non-default ones for
-the registry), :mod:`.boost` (Boost.Polygon's sweep through ``pyvoronoi``) and :mod:`.geos`
-(GEOS through ``shapely.voronoi_polygons``). Each is importable only when its library is
+the registry), :mod:`.cgal` (CGAL's ``Delaunay_triangulation_2`` through the official
+bindings, package ``cgal``), :mod:`.boost` (Boost.Polygon's sweep through ``pyvoronoi``) and
+:mod:`.geos` (GEOS through ``shapely.voronoi_polygons``). Each is importable only when its library is
 installed (``pip install vorobench[peers]``); the registry lists it only then.
 
 Every adapter times two parts of its build, ``library`` (wall time inside the library's own

@@ -14,7 +14,7 @@ corner, the triangle across the opposite edge (-1 on the hull). That call is ``l
 Conversion (``convert_s``): the hull is closed with ghost triangles (one per hull edge,
 using an infinite vertex n) so that the triangulation has the layout of our own
 incremental implementation, and its dual is taken by the same routine,
-:func:`impls.incremental.dual.voronoi_edges`: circumcentres from the three smallest site
+:func:`impls.incremental.dual.voronoi_dcel`: circumcentres from the three smallest site
 ids on each empty circle, hull edges become rays, and neighbours whose four sites are
 exactly cocircular (exact ``incircle == 0``) are merged into one vertex of degree >= 4.
 Exactness: Triangle decides every orientation and in-circle test with Shewchuk's adaptive
@@ -49,8 +49,8 @@ from numpy.typing import NDArray
 from impls.base import Implementation
 from impls.external.clock import BuildClock
 from impls.external.screen import flattest_triangle, triangulation
-from impls.incremental.dual import voronoi_edges
-from vorobench.dcel import assemble, collinear_diagram
+from impls.incremental.dual import voronoi_dcel
+from vorobench.dcel import collinear_diagram
 from vorobench.diagram import Diagram
 from vorobench.predicates import INCIRCLE_CALLS, INCIRCLE_EXACT
 from vorobench.scaling import exact_range_sites
@@ -154,8 +154,8 @@ def build_with(sites: NDArray[np.float64], stats: Optional[dict], switch: str) -
     tri, opp, ntri = ghost_layout(triangles, out["neighbors"], n)
     counters = np.zeros(4, dtype=np.int64)
     ids = np.arange(n, dtype=np.int64)           # Triangle keeps the input order: point v is site v
-    vertices, edge_sites, edge_vertices, merged = voronoi_edges(sites, ids, tri, opp, ntri, counters)
-    diagram = assemble(sites, vertices, edge_sites, edge_vertices)
+    vertices, origin, twin, nxt, site, merged = voronoi_dcel(sites, ids, tri, opp, ntri, counters)
+    diagram = Diagram(sites, vertices, origin, twin, nxt, site)
     clock.report()
     if stats is not None:
         stats.update(triangles=int(len(triangles)), merged_triangles=int(merged),
@@ -200,8 +200,9 @@ def sweep_supports(sites: NDArray[np.float64]) -> Optional[str]:
 def warmup() -> None:
     """Compile the dual's numba kernels (Triangle itself is C) on every code path."""
     rng = np.random.default_rng(0)
-    build(rng.random((40, 2)))
-    build(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [2.0, 0.0], [0.5, 0.5]]))
+    for sites in (rng.random((40, 2)), np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [2.0, 0.0], [0.5, 0.5]])):
+        sites.setflags(write=False)          # as Implementation.run passes them: one compiled version
+        build(sites)
 
 
 _ORIGIN = "Triangle (J. R. Shewchuk, C), Python package triangle"

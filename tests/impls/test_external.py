@@ -25,8 +25,8 @@ WITNESSES = Path(__file__).parent / "witnesses"
 
 #: registry name -> the library it needs
 LIBRARY = {"triangle": "triangle", "triangle-sweep": "triangle", "triangle-incremental": "triangle",
-           "boost": "pyvoronoi", "geos": "shapely"}
-EXACT_ADAPTERS = ["triangle", "triangle-incremental"]
+           "boost": "pyvoronoi", "geos": "shapely", "cgal": "CGAL"}
+EXACT_ADAPTERS = ["triangle", "triangle-incremental", "cgal"]
 
 
 def _needs(name: str) -> None:

@@ -27,7 +27,7 @@ from vorobench import Diagram, certify, compare, prepare
 OWN = ["fortune", "halfplane", "incremental", "qhull"]
 #: registry name -> the library it needs
 ADAPTERS = {"triangle": "triangle", "triangle-sweep": "triangle", "triangle-incremental": "triangle",
-            "boost": "pyvoronoi", "geos": "shapely"}
+            "boost": "pyvoronoi", "geos": "shapely", "cgal": "CGAL"}
 
 GRID = np.array([[x, y] for x in range(6) for y in range(6)], dtype=np.float64)
 
