@@ -67,8 +67,23 @@ def _available(rows) -> list:
     return [row for row in rows if row[1] in here]
 
 
-def measure(families, sizes, rounds: int, log=print) -> list[dict]:
-    """One record per (family, n, column): the best of ``rounds`` timings, or the reason why none."""
+def _extrapolated(history: list[tuple[int, float]], n: int) -> Optional[float]:
+    """Seconds a contender would take at n sites, from its times at smaller sizes (at least
+    linear growth; the slope of the last two sizes when it is steeper)."""
+    if not history:
+        return None
+    (n1, t1) = history[-1]
+    slope = 1.0
+    if len(history) >= 2:
+        (n0, t0) = history[-2]
+        if n1 > n0 and t0 > 0 and t1 > 0:
+            slope = max(1.0, math.log(t1 / t0) / math.log(n1 / n0))
+    return t1 * (n / n1) ** slope
+
+
+def measure(families, sizes, rounds: int, log=print, budget: float = 60.0) -> list[dict]:
+    """One record per (family, n, column): the best of ``rounds`` timings, or the reason why
+    none (unsupported, failed, or skipped: extrapolated past ``budget`` seconds)."""
     contenders = _available(CONTENDERS)
     for _, name, _ in contenders:
         impl = impls.get(name)
@@ -76,6 +91,7 @@ def measure(families, sizes, rounds: int, log=print) -> list[dict]:
             impl.warmup()
     records = []
     for family in families:
+        history: dict[str, list[tuple[int, float]]] = {}
         for n in sizes:
             sites, _ = prepare(datasets_gen.generate(family, n, seed=0))
             points = datasets_gen.generate(family, n, seed=0)
@@ -87,6 +103,10 @@ def measure(families, sizes, rounds: int, log=print) -> list[dict]:
             lexsort = time.perf_counter() - t0
             best: dict[str, float] = {}
             why: dict[str, str] = {}
+            for column, _, _ in contenders:
+                guess = _extrapolated(history.get(column, []), sites.shape[0])
+                if guess is not None and guess > budget:
+                    why[column] = f"skipped: extrapolated {guess:.0f} s > budget {budget:g} s"
             for _ in range(rounds):
                 for column, name, which in contenders:
                     if column in why:
@@ -101,6 +121,8 @@ def measure(families, sizes, rounds: int, log=print) -> list[dict]:
                         why[column] = f"{type(exc).__name__}: {exc}"
                         continue
                     best[column] = min(best.get(column, math.inf), seconds)
+            for column, seconds in best.items():
+                history.setdefault(column, []).append((int(sites.shape[0]), seconds))
             for column, name, which in contenders:
                 records.append({"family": family, "n": int(sites.shape[0]), "requested_n": n, "column": column,
                                 "impl": name, "time": which, "seconds": best.get(column),
@@ -192,13 +214,16 @@ def main(argv=None) -> int:
     parser.add_argument("--families", default=",".join(FAMILIES), help="comma-separated dataset families")
     parser.add_argument("--sizes", type=parse_sizes, default=[1_000_000], help="sizes, e.g. 1e4,1e5,1e6")
     parser.add_argument("--rounds", type=int, default=2, help="rounds per case; the best is kept (default 2)")
+    parser.add_argument("--budget", type=float, default=60.0,
+                        help="skip a contender whose time, extrapolated from smaller sizes, exceeds this (s)")
     parser.add_argument("--json", default=None, help="also write the records to this JSON file")
     args = parser.parse_args(argv)
     families = [f for f in args.families.split(",") if f]
     unknown = [f for f in families if f not in datasets_gen.available()]
     if unknown:
         parser.error(f"unknown families: {', '.join(unknown)}")
-    records = measure(families, args.sizes, args.rounds, log=lambda s: print(s, file=sys.stderr, flush=True))
+    records = measure(families, args.sizes, args.rounds, log=lambda s: print(s, file=sys.stderr, flush=True),
+                      budget=args.budget)
     if args.json:
         with open(args.json, "w") as f:
             json.dump(records, f, indent=1)

@@ -11,12 +11,15 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-__all__ = ["brio_order", "hilbert_keys", "adaptive_hilbert_keys", "hilbert_index", "HILBERT_BITS", "FIRST_ROUND",
-           "ORDER_SEED"]
+__all__ = ["brio_order", "order_bits", "hilbert_keys", "adaptive_hilbert_keys", "hilbert_index", "HILBERT_BITS",
+           "MAX_BITS", "FIRST_ROUND", "ORDER_SEED"]
 
-#: Grid resolution of the Hilbert curve: 2**HILBERT_BITS cells per side (16M cells: finer
-#: than any benchmark needs for locality).
+#: Grid resolution of the Hilbert curve for a fixed-resolution order: 2**HILBERT_BITS cells
+#: per side (16M cells).
 HILBERT_BITS = 12
+#: Finest grid of the insertion order: 2**MAX_BITS cells per side; with the round number in
+#: the high bits the sort key still fits an int64 (2 * 26 + 6 bits).
+MAX_BITS = 26
 #: Sites in the first (purely random, unsorted) round.
 FIRST_ROUND = 64
 #: Seed of the random permutation: the order (hence the counts in ``stats``) is reproducible.
@@ -92,24 +95,26 @@ def adaptive_hilbert_keys(points: NDArray[np.float64], bits: int, seed: int = OR
     n = points.shape[0]
     if n == 0:
         return np.zeros(0, dtype=np.int64)
-    side = 1 << bits
-    sample = np.random.default_rng(seed).integers(0, n, size=min(n, side))
+    m = min(n, 1 << HILBERT_BITS)
+    sample = np.random.default_rng(seed).integers(0, n, size=m)
     x0, y0, span = _bounding_box(points)
     # the plain bounding-box grid is enough when it separates (almost) every sampled site
     box_cells = _box_cells_hilbert(points[sample], x0, y0, span, bits)
     if np.unique(box_cells).size >= 0.9 * np.unique(sample).size:
         return _box_cells_hilbert(points, x0, y0, span, bits)
-    cuts = np.full((2, side), np.inf)          # padded to a power of two for the search
-    cuts[0, :sample.size] = np.sort(points[sample, 0])
-    cuts[1, :sample.size] = np.sort(points[sample, 1])
-    return _quantile_cells_hilbert(points, cuts, sample.size, bits)
+    width = 1 << HILBERT_BITS
+    cuts = np.full((2, width), np.inf)         # padded to a power of two for the search
+    cuts[0, :m] = np.sort(points[sample, 0])
+    cuts[1, :m] = np.sort(points[sample, 1])
+    return _quantile_cells_hilbert(points, cuts, m, bits)
 
 
 @njit(cache=True)
 def _quantile_cells_hilbert(points, cuts, m, bits):
     """Hilbert index of each point's cell: per axis, its rank among the m sorted cuts
-    (branch-free binary search), scaled to 2**bits bins."""
+    (branch-free binary search over the padded cuts), scaled to 2**bits bins."""
     n = points.shape[0]
+    width = cuts.shape[1]
     side = 1 << bits
     ix = np.empty(n, dtype=np.int64)
     iy = np.empty(n, dtype=np.int64)
@@ -117,11 +122,11 @@ def _quantile_cells_hilbert(points, cuts, m, bits):
         for axis in range(2):
             x = points[i, axis]
             pos = 0
-            step = side >> 1
+            step = width >> 1
             while step > 0:
                 pos += step * (cuts[axis, pos + step - 1] < x)
                 step >>= 1
-            pos += cuts[axis, pos] < x if pos < side else 0   # the last cut
+            pos += cuts[axis, pos] < x if pos < width else 0   # the last cut
             cell = min(pos * side // (m + 1), side - 1)
             if axis == 0:
                 ix[i] = cell
@@ -141,13 +146,21 @@ def brio_order(points: NDArray[np.float64], seed: int = ORDER_SEED) -> NDArray[n
     start = n
     while start > FIRST_ROUND:
         start //= 2
-    keys = adaptive_hilbert_keys(points, HILBERT_BITS, seed)[perm]
-    return perm[np.argsort(_round_major(keys, start))]
+    bits = order_bits(n)
+    keys = adaptive_hilbert_keys(points, bits, seed)[perm]
+    return perm[np.argsort(_round_major(keys, start, bits))]
+
+
+def order_bits(n: int) -> int:
+    """Grid bits of the insertion order for n sites: a cell per site even along a curve
+    (sites on a parabola fill a line of cells, not the square; with fewer cells, hundreds
+    share one, in random order, and every walk between them crosses the slivers between)."""
+    return int(min(MAX_BITS, max(HILBERT_BITS, int(n).bit_length() + 1)))
 
 
 @njit(cache=True)
-def _round_major(keys, start):
-    """Sort keys: round number in the high bits, Hilbert index in the low 2 * HILBERT_BITS.
+def _round_major(keys, start, bits):
+    """Sort keys: round number in the high bits, Hilbert index in the low 2 * bits.
 
     Position t of the random permutation is in round 0 if t < start, else in round
     floor(log2(t / start)) + 1: rounds of doubling size up to n.
@@ -159,5 +172,5 @@ def _round_major(keys, start):
         while t >= bound:
             r += 1
             bound *= 2
-        out[t] = (r << (2 * HILBERT_BITS)) | keys[t]
+        out[t] = (r << (2 * bits)) | keys[t]
     return out
