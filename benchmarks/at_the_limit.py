@@ -35,8 +35,8 @@ import numpy as np
 
 import datasets_gen
 import impls
-from vorobench.cli_args import sizes as parse_sizes
-from vorobench.prepare import prepare
+from vorobench.cli.args import sizes as parse_sizes
+from vorobench.core.prepare import prepare
 
 #: (column, implementation, which time): "total" is the whole run, "library" the outside
 #: library's own call.

@@ -22,7 +22,7 @@ import pytest
 
 import datasets_gen
 import impls
-from vorobench.prepare import prepare
+from vorobench.core.prepare import prepare
 
 @functools.lru_cache(maxsize=None)
 def prepared_sites(dataset: str, n: int, seed: int = 0) -> np.ndarray:

@@ -31,7 +31,7 @@ from scipy.spatial import Voronoi
 
 import datasets_gen
 import impls
-from vorobench.prepare import prepare
+from vorobench.core.prepare import prepare
 
 TARGET_RATIO = 0.2
 TARGET_PEAK_MB = 1024
@@ -39,7 +39,7 @@ TARGET_STARTUP_S = 2.0
 
 _BUILD_ONCE = """
 import sys, numpy as np, datasets_gen, impls
-from vorobench.prepare import prepare
+from vorobench.core.prepare import prepare
 n, build = int(sys.argv[1]), sys.argv[2] == "build"
 sites, _ = prepare(datasets_gen.generate("uniform", n, seed=0))
 impl = impls.get("fortune")

@@ -18,7 +18,7 @@ import numpy as np
 
 import datasets_gen
 import impls
-from vorobench.prepare import prepare
+from vorobench.core.prepare import prepare
 
 TARGET_N, TARGET_SECONDS = 20_000, 60.0
 

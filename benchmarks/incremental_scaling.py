@@ -19,7 +19,7 @@ from scipy.spatial import Voronoi
 
 import datasets_gen
 import impls
-from vorobench.prepare import prepare
+from vorobench.core.prepare import prepare
 
 TARGET_RATIO = 0.15
 

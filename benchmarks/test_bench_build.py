@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import pytest
 
-from vorobench.demo import own_implementations
+from vorobench.harness.demo import own_implementations
 
 DATASETS = ("uniform", "clusters", "grid")
 SIZES = (1_000, 10_000, 100_000)

@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 import impls
-from vorobench.certify import certify
-from vorobench.compare import compare
+from vorobench.judge.certificate import certify
+from vorobench.judge.comparison import compare
 
 SIZES = (100_000, 1_000_000)
 

@@ -17,8 +17,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from impls.base import Implementation, InputMutated, UnsupportedInput
-from vorobench.diagram import Diagram
-from vorobench.prepare import prepare
+from vorobench.core.diagram import Diagram
+from vorobench.core.prepare import prepare
 
 __all__ = ["Implementation", "UnsupportedInput", "InputMutated", "available", "get", "build", "register", "registered",
            "unregister", "ENTRY_POINT_GROUP"]

@@ -10,9 +10,9 @@ from typing import Callable, Iterator, Optional
 import numpy as np
 from numpy.typing import NDArray
 
-from vorobench.diagram import Diagram
-from vorobench.scaling import exact_shift, scale_back_vertices, scale_points
-from vorobench.schema import CounterError, check_counters
+from vorobench.core.diagram import Diagram
+from vorobench.core.scaling import exact_shift, scale_back_vertices, scale_points
+from vorobench.judge.outcomes import CounterError, check_counters
 
 __all__ = ["Implementation", "BuildFunction", "UnsupportedInput", "InputMutated", "CounterError", "record_timing"]
 
@@ -97,8 +97,8 @@ class Implementation:
         screened other numbers) the scaled sites, and the vertices are scaled back; the
         diagram's ``sites`` are a copy of ``sites``, bit for bit. Sites that no power of two
         brings into the range, and diagrams whose vertices leave the float range when scaled
-        back, raise :class:`~vorobench.scaling.OutsideExactRange` (a ``ValueError``); see
-        :mod:`vorobench.scaling` for the rule. Inside the range this costs one pass over the
+        back, raise :class:`~vorobench.core.scaling.OutsideExactRange` (a ``ValueError``); see
+        :mod:`vorobench.core.scaling` for the rule. Inside the range this costs one pass over the
         coordinates.
         """
         shift = exact_shift(sites)

@@ -12,7 +12,7 @@ Complexity: O(n^2) clips (every ordered pair), each O(cell size) in the worst ca
 cocircular sites: every test exact); with the filters below most clips cost a distance
 comparison (uniform, 2 * 10^4 sites: 4 * 10^8 clips, 3 * 10^5 exact incircle calls).
 Input: prepared sites (distinct, finite float64), any n >= 0; coordinates within the range
-where :mod:`vorobench.predicates` is exact.
+where :mod:`vorobench.core.predicates` is exact.
 Representation of a cell: the cyclic list of the sites whose bisectors bound it, in
 counter-clockwise order, plus a marker for the arc at infinity if it is unbounded, so an
 unbounded cell is an open chain with a ray at each end (no bounding box, no fake edges).
@@ -54,13 +54,13 @@ from numba import njit
 from numpy.typing import NDArray
 
 from impls.base import Implementation
-from impls.incremental.circumcentre import circumcentre
-from impls.incremental.order import HILBERT_BITS, hilbert_keys
-from vorobench.dcel import assemble, collinear_diagram
-from vorobench.diagram import Diagram
-from vorobench.predicates import (INCIRCLE_CALLS, INCIRCLE_EXACT, ORIENT_CALLS, ORIENT_EXACT, incircle_counted,
+from vorobench.core.circumcentre import circumcentre
+from vorobench.core.spatial_order import HILBERT_BITS, hilbert_keys
+from vorobench.core.builder import assemble, collinear_diagram
+from vorobench.core.diagram import Diagram
+from vorobench.core.predicates import (INCIRCLE_CALLS, INCIRCLE_EXACT, ORIENT_CALLS, ORIENT_EXACT, incircle_counted,
                                   orient2d_counted, orient2d_many)
-from vorobench.scaling import exact_range_sites
+from vorobench.core.scaling import exact_range_sites
 
 __all__ = ["build", "cells", "supports", "IMPLEMENTATION", "AT_INFINITY", "MAX_SITES"]
 
@@ -327,7 +327,7 @@ def _glue(sites, ptr, neighbours, unbounded):
     """Turn independent cells into one edge list: vertices identified by site triple, then
     merged along edges whose two cells name their ends differently (cocircular sites).
 
-    Returns (vertices, edge_sites, edge_vertices, merged) for :func:`vorobench.dcel.assemble`.
+    Returns (vertices, edge_sites, edge_vertices, merged) for :func:`vorobench.core.builder.assemble`.
     """
     n = sites.shape[0]
     H = ptr[n]

@@ -32,10 +32,10 @@ from numpy.typing import NDArray
 from scipy.spatial import Delaunay, QhullError, Voronoi
 
 from impls.base import Implementation
-from vorobench.dcel import assemble, collinear_diagram
-from vorobench.diagram import Diagram, InvalidDiagramError
-from vorobench.predicates import orient2d_many
-from vorobench.tolerances import RIDGE_DIRECTION_REL_TOL, data_scale
+from vorobench.core.builder import assemble, collinear_diagram
+from vorobench.core.diagram import Diagram, InvalidDiagramError
+from vorobench.core.predicates import orient2d_many
+from vorobench.core.tolerances import RIDGE_DIRECTION_REL_TOL, data_scale
 
 __all__ = ["build", "IMPLEMENTATION"]
 

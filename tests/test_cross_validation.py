@@ -1,6 +1,6 @@
 """CI gate: every registered implementation against the reference, on every dataset family.
 
-Every build goes through the judging engine (:class:`vorobench.crossval.Judge`): each
+Every build goes through the judging engine (:class:`vorobench.judge.engine.Judge`): each
 implementation runs in its own sandbox, so a crash or a hang fails its own tests only.
 Implementations join by being registered: the parameters come from ``impls.available()`` at
 collection time. Each must certify (exactly, or within tolerance if floating point), agree
@@ -18,8 +18,8 @@ from hypothesis import strategies as st
 
 import datasets_gen
 import impls
-from vorobench.crossval import DEFAULT_REFERENCE, Judge, agree_exactly, decide
-from vorobench.prepare import prepare
+from vorobench.judge.engine import DEFAULT_REFERENCE, Judge, agree_exactly, decide
+from vorobench.core.prepare import prepare
 
 SIZES = (0, 1, 2, 3, 10, 100, 1000)
 SEEDS = (0, 1)
@@ -80,7 +80,7 @@ def test_implementation_on_dataset(name, dataset):
 
 
 # ------------------------------------------------------------------------------ generated point sets
-# Coordinates within the exact range of vorobench.predicates (|x| in [1e-50, 1e50], or 0): the
+# Coordinates within the exact range of vorobench.core.predicates (|x| in [1e-50, 1e50], or 0): the
 # contract every implementation is built on; smaller magnitudes are flushed to 0.
 _real = st.floats(-1e3, 1e3, allow_nan=False).map(lambda x: 0.0 if abs(x) < 1e-30 else x)
 _coord = st.integers(min_value=0, max_value=6)

@@ -49,10 +49,10 @@ from numpy.typing import NDArray
 from impls.base import Implementation
 from impls.external.clock import BuildClock
 from impls.external.screen import changed_decisions, circumcentres, triangulation
-from vorobench.dcel import assemble
-from vorobench.diagram import Diagram
-from vorobench.predicates import orient2d_many
-from vorobench.scaling import exact_range_sites
+from vorobench.core.builder import assemble
+from vorobench.core.diagram import Diagram
+from vorobench.core.predicates import orient2d_many
+from vorobench.core.scaling import exact_range_sites
 
 __all__ = ["build", "supports", "to_grid", "vertex_triples", "GRID_HALF_SPAN_BITS", "IMPLEMENTATION"]
 

@@ -8,7 +8,7 @@ edge flips); O(n) for the conversion.
 Input: prepared sites (distinct, finite float64), any n >= 0. n = 0, 1: no edges (CGAL is
 not called). n >= 2: CGAL triangulates; when it reports dimension < 2 (all sites on a line,
 decided by its exact orientation test) the diagram is the n - 1 parallel bisector lines
-(:func:`vorobench.dcel.collinear_diagram`).
+(:func:`vorobench.core.builder.collinear_diagram`).
 Library part (``library_s``): one ``Delaunay_triangulation_2().insert(points)`` call with
 the list of all the points (CGAL sorts them spatially itself).
 Conversion (``convert_s``): everything else.
@@ -30,7 +30,7 @@ Conversion (``convert_s``): everything else.
 * CGAL's infinite faces are ghost triangles: the faces and neighbours give the half-edge
   layout of our own incremental triangulation directly (``e = 3 t + k`` from corner k to
   k + 1, ``opp[e]`` its reverse), and its dual is taken by the same routine,
-  :func:`impls.incremental.dual.voronoi_dcel`: circumcentres from the three smallest site
+  :func:`vorobench.core.delaunay_dual.voronoi_dcel`: circumcentres from the three smallest site
   ids on each empty circle, hull edges become rays, and neighbours whose four sites are
   exactly cocircular (exact ``incircle == 0``) are merged into one vertex of degree >= 4.
 Exactness: the bindings' kernel is ``Exact_predicates_inexact_constructions_kernel``:
@@ -64,11 +64,11 @@ from numpy.typing import NDArray
 
 from impls.base import Implementation
 from impls.external.clock import BuildClock
-from impls.incremental.dual import voronoi_dcel
-from vorobench.dcel import collinear_diagram
-from vorobench.diagram import Diagram
-from vorobench.predicates import INCIRCLE_CALLS, INCIRCLE_EXACT
-from vorobench.scaling import exact_range_sites
+from vorobench.core.delaunay_dual import voronoi_dcel
+from vorobench.core.builder import collinear_diagram
+from vorobench.core.diagram import Diagram
+from vorobench.core.predicates import INCIRCLE_CALLS, INCIRCLE_EXACT
+from vorobench.core.scaling import exact_range_sites
 
 __all__ = ["build", "supports", "read_triangulation", "half_edges", "cgal_version", "DIGITS", "IMPLEMENTATION"]
 

@@ -50,12 +50,12 @@ from numpy.typing import NDArray
 from impls.base import Implementation
 from impls.external.clock import BuildClock
 from impls.external.screen import circumcentres, smallest_incircle_margin, triangulation
-from vorobench.certify import convex_hull_boundary
-from vorobench.dcel import assemble
-from vorobench.diagram import Diagram
-from vorobench.predicates import orient2d_many
-from vorobench.scaling import exact_range_sites
-from vorobench.sorting import argsort_keys, dense_rank
+from vorobench.judge.certificate import convex_hull_boundary
+from vorobench.core.builder import assemble
+from vorobench.core.diagram import Diagram
+from vorobench.core.predicates import orient2d_many
+from vorobench.core.scaling import exact_range_sites
+from vorobench.core.sorting import argsort_keys, dense_rank
 
 __all__ = ["build", "supports", "diagram_from_cells", "InconsistentCellsError", "ENVELOPE_EXPONENTS",
            "MIN_RELATIVE_SPACING", "MIN_INCIRCLE_MARGIN", "IMPLEMENTATION"]

@@ -18,8 +18,8 @@ from numba import njit
 from numpy.typing import NDArray
 
 from impls.incremental import delaunay
-from impls.incremental.circumcentre import circumcentre
-from vorobench.predicates import incircle_many, orient2d_many
+from vorobench.core.circumcentre import circumcentre
+from vorobench.core.predicates import incircle_many, orient2d_many
 
 __all__ = ["Triangulation", "triangulation", "changed_decisions", "flattest_triangle", "smallest_incircle_margin",
            "circumcentres"]

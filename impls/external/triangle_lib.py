@@ -8,13 +8,13 @@ is located by Mucke, Saias and Zhu's jump and walk from a random sample of trian
 The conversion is O(n).
 Input: prepared sites (distinct, finite float64), any n >= 0. Triangle refuses fewer than
 three vertices and returns no triangle for collinear ones: both give the n - 1 parallel
-bisector lines (:func:`vorobench.dcel.collinear_diagram`).
+bisector lines (:func:`vorobench.core.builder.collinear_diagram`).
 Library part: ``triangle.triangulate(..., "n" + switch)`` gives CCW triangles and, for each
 corner, the triangle across the opposite edge (-1 on the hull). That call is ``library_s``.
 Conversion (``convert_s``): the hull is closed with ghost triangles (one per hull edge,
 using an infinite vertex n) so that the triangulation has the layout of our own
 incremental implementation, and its dual is taken by the same routine,
-:func:`impls.incremental.dual.voronoi_dcel`: circumcentres from the three smallest site
+:func:`vorobench.core.delaunay_dual.voronoi_dcel`: circumcentres from the three smallest site
 ids on each empty circle, hull edges become rays, and neighbours whose four sites are
 exactly cocircular (exact ``incircle == 0``) are merged into one vertex of degree >= 4.
 Exactness: Triangle decides every orientation and in-circle test with Shewchuk's adaptive
@@ -49,11 +49,11 @@ from numpy.typing import NDArray
 from impls.base import Implementation
 from impls.external.clock import BuildClock
 from impls.external.screen import flattest_triangle, triangulation
-from impls.incremental.dual import voronoi_dcel
-from vorobench.dcel import collinear_diagram
-from vorobench.diagram import Diagram
-from vorobench.predicates import INCIRCLE_CALLS, INCIRCLE_EXACT
-from vorobench.scaling import exact_range_sites
+from vorobench.core.delaunay_dual import voronoi_dcel
+from vorobench.core.builder import collinear_diagram
+from vorobench.core.diagram import Diagram
+from vorobench.core.predicates import INCIRCLE_CALLS, INCIRCLE_EXACT
+from vorobench.core.scaling import exact_range_sites
 
 __all__ = ["build", "build_with", "ghost_layout", "sweep_supports", "SWEEP_MIN_FLATNESS", "SWITCHES",
            "DIVIDE_AND_CONQUER", "SWEEP", "INCREMENTAL", "IMPLEMENTATION"]

@@ -9,7 +9,7 @@ Input: prepared sites (distinct, finite float64), any n >= 0. The predicates are
 long as their float filters and expansion products neither overflow nor underflow: site
 coordinates of magnitude 0 or in [2**-100, 2**100) (about [7.9e-31, 1.3e30]; the degree-6
 circle tops are the binding ones), where ``Implementation.run`` scales every input by a
-power of two (:mod:`vorobench.scaling`); the degree-20 comparison of two circle events
+power of two (:mod:`vorobench.core.scaling`); the degree-20 comparison of two circle events
 rescales its differences by a power of two itself. Offsets of 1e9 with spacing 1e-3, and
 spacing 1e-9 near 0, are well inside.
 
@@ -24,10 +24,10 @@ Structure (three separate files, as in Boost.Polygon's builder / predicates / ou
   delete, search), keyed by breakpoints evaluated at the current sweep position.
 * ``event_queue.py``: circle events in an indexed binary heap (removal of cancelled events
   in O(log n)); site events are the pre-sorted array.
-The DCEL is filled by the shared :func:`vorobench.dcel.assemble` from the recorded edges
+The DCEL is filled by the shared :func:`vorobench.core.builder.assemble` from the recorded edges
 (a, b, start, end); unbounded edges keep -1 (no clipping box).
 
-Exactness: every decision is a predicate of ``vorobench.predicates``, float-filtered with an
+Exactness: every decision is a predicate of ``vorobench.core.predicates``, float-filtered with an
 exact expansion fallback: arc location (``breakpoint_side``: sign of a degree-3 polynomial
 plus exact coordinate comparisons saying which intersection of the two parabolas is meant),
 circle-event existence (``orient2d`` of the three sites: the breakpoints converge iff the
@@ -66,7 +66,7 @@ Speed notes: the sweep runs on a copy of the sites in event order (memory locali
 mapped back after the DCEL is built), removed arcs' and events' rows are reused, and the
 heap and treap kernels are inlined into the sweep (numba reference-counts arrays passed to
 non-inlined calls; that was a fifth of the run time). numba caches each file by its own
-content: after editing ``vorobench/predicates.py`` or a kernel module here, delete
+content: after editing ``vorobench/core/predicates/__init__.py`` or a kernel module here, delete
 ``impls/fortune/__pycache__/*.nb[ic]`` so the inlined copies are recompiled.
 """
 
@@ -79,8 +79,8 @@ from numpy.typing import NDArray
 
 from impls.base import Implementation
 from impls.fortune.sweep import COUNTER_NAMES, N_COUNTERS, OK, sweep
-from vorobench.dcel import assemble
-from vorobench.diagram import Diagram
+from vorobench.core.builder import assemble
+from vorobench.core.diagram import Diagram
 
 __all__ = ["build", "warmup", "IMPLEMENTATION"]
 

@@ -6,7 +6,7 @@ traced by the breakpoint to its right, its pending circle EVENT (-1 = none) and 
 treap priority PRIO (a min-heap on PRIO keeps the expected depth O(log n)). The tree is not
 keyed by stored values: the order is the left-to-right order of the arcs, and a search
 compares the new site with breakpoints evaluated at the current sweep position (exact
-:func:`~vorobench.predicates.breakpoint_side`).
+:func:`~vorobench.core.predicates.breakpoint_side`).
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from vorobench.predicates import UNDECIDED, breakpoint_side_exact, breakpoint_side_filter
+from vorobench.core.predicates import UNDECIDED, breakpoint_side_exact, breakpoint_side_filter
 
 __all__ = [
     "LEFT", "RIGHT", "PARENT", "PREV", "NEXT", "SITE", "EDGE", "EVENT", "PRIO", "ARC_FIELDS",

@@ -11,14 +11,14 @@ of a cancelled event O(log n).
 
 Order, in stages: (1) the float tops when their error intervals are disjoint; (2) the same
 with the base heights a_y subtracted separately (large offsets); (3) once per event, exact
-arithmetic finds its key (:func:`~vorobench.predicates.circle_event_key`): a refined relative
+arithmetic finds its key (:func:`~vorobench.core.predicates.circle_event_key`): a refined relative
 top, the top in double-double with a certified error of ~1e-29 of its terms, and, when the
 centre's y and squared radius are floats exactly (lattices and cocircular lattice points,
 where ties abound), the exact key (cy, r2). Then: equal exact keys are a tie at once (the
 common case on lattices, checked before anything else once both events have keys); (2)
 again; the double-double tops; exact keys compared as cy + sqrt(r2) in a few exact
 operations; and only for tops closer than ~1e-29 without exact keys,
-:func:`~vorobench.predicates.circle_events_order_exact`. Exact ties go to the older event
+:func:`~vorobench.core.predicates.circle_events_order_exact`. Exact ties go to the older event
 (smaller SEQ), which keeps the order total.
 """
 
@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from vorobench.predicates import (KEY_FOUND, KEY_NOT_SOUGHT, UNDECIDED, circle_event_key, circle_event_top,
+from vorobench.core.predicates import (KEY_FOUND, KEY_NOT_SOUGHT, UNDECIDED, circle_event_key, circle_event_top,
                                   circle_event_vs_site_exact, circle_events_order_exact, tops_dd_order,
                                   tops_key_order, tops_order_filter)
 

@@ -1,6 +1,6 @@
 """Fortune's sweep in one compiled pass: site events, circle events, edges recorded as they close.
 
-The sweep line moves upward (increasing y, ties by x). Output, for :func:`vorobench.dcel.assemble`:
+The sweep line moves upward (increasing y, ties by x). Output, for :func:`vorobench.core.builder.assemble`:
 ``edge_sites`` (a, b) and ``edge_vertices`` (start, end) of a's half-edge, which runs along
 perp(b - a), -1 = infinity; ``vertices`` are circumcentres. A breakpoint between a left arc p
 and a right arc q moves along perp(q - p) (the decided region is below the beach line and p's
@@ -15,14 +15,14 @@ from numba import njit
 
 from impls.fortune import beach_line as bl
 from impls.fortune import event_queue as eq
-from vorobench.predicates import circle_top_relative, circle_top_to_y, circumcentre_accurate, orient2d_counted
+from vorobench.core.predicates import circle_top_relative, circle_top_to_y, circumcentre_accurate, orient2d_counted
 
 __all__ = [
     "sweep", "COUNTER_NAMES", "N_COUNTERS",
     "OK", "ERR_LOCATE", "ERR_CAPACITY", "ERR_ITERATIONS", "ERR_STATE",
 ]
 
-# counters layout: 0-3 as in vorobench.predicates (orient2d calls / exact, incircle unused),
+# counters layout: 0-3 as in vorobench.core.predicates (orient2d calls / exact, incircle unused),
 # 4-5 breakpoint tests (beach_line), 6-7 event comparisons (event_queue), then the sweep's own.
 SITE_EVENTS = 8
 CIRCLE_EVENTS = 9
@@ -38,7 +38,7 @@ COUNTER_NAMES = (
 )
 
 #: Relative error bound of a float circle top above which its float circumcentre is replaced
-#: by :func:`~vorobench.predicates.circumcentre_accurate` (nearly collinear triples).
+#: by :func:`~vorobench.core.predicates.circumcentre_accurate` (nearly collinear triples).
 ILL_CONDITIONED = 1e-12
 
 OK = 0

@@ -7,8 +7,8 @@ Complexity: O(n log n) expected. Sites are inserted in a biased randomized inser
 does not depend on the input order (``sorted`` included), and each new site is located by a
 visibility walk from the previous insertion, short because consecutive sites are close.
 Input: prepared sites (distinct, finite float64), any n >= 0; coordinates within the range
-where :mod:`vorobench.predicates` is exact (|x| in [2**-100, 2**100) or 0), where
-``Implementation.run`` scales every input by a power of two (:mod:`vorobench.scaling`).
+where :mod:`vorobench.core.predicates` is exact (|x| in [2**-100, 2**100) or 0), where
+``Implementation.run`` scales every input by a power of two (:mod:`vorobench.core.scaling`).
 Exactness: every decision is an exact predicate (orient2d for the walk and for hull
 conflicts, incircle for conflicts and for merging cocircular triangles); floating point is
 used only for the vertex coordinates.
@@ -31,13 +31,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from impls.base import Implementation
-from impls.incremental.dual import voronoi_dcel
-from impls.incremental.order import brio_order
+from vorobench.core.delaunay_dual import voronoi_dcel
+from vorobench.core.spatial_order import brio_order
 
 from impls.incremental.triangulate import STAT_NAMES, triangulate
-from vorobench.dcel import collinear_diagram
-from vorobench.diagram import Diagram
-from vorobench.predicates import INCIRCLE_CALLS, INCIRCLE_EXACT, ORIENT_CALLS, ORIENT_EXACT
+from vorobench.core.builder import collinear_diagram
+from vorobench.core.diagram import Diagram
+from vorobench.core.predicates import INCIRCLE_CALLS, INCIRCLE_EXACT, ORIENT_CALLS, ORIENT_EXACT
 
 __all__ = ["build", "delaunay", "IMPLEMENTATION"]
 

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from vorobench.predicates import incircle_counted, orient2d_counted
+from vorobench.core.predicates import incircle_counted, orient2d_counted
 
 __all__ = ["triangulate", "STAT_NAMES"]
 
@@ -115,7 +115,7 @@ def triangulate(pts, order, counters):
 
     Returns (tri, opp, ntri, stats, ok): ``ok`` is False when all sites are collinear (no
     triangle exists; the caller builds parallel lines instead). ``counters`` receives the
-    predicate counts (see :mod:`vorobench.predicates`).
+    predicate counts (see :mod:`vorobench.core.predicates`).
     """
     n = pts.shape[0]
     inf = n

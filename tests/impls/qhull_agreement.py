@@ -8,7 +8,7 @@ tails, parabola, 1e9 offsets) the tolerances are looser. Exact agreement is test
 the exact implementations themselves.
 """
 
-from vorobench.compare import compare
+from vorobench.judge.comparison import compare
 
 import impls
 

@@ -15,11 +15,11 @@ import pytest
 
 import datasets_gen
 import impls
-from vorobench.certify import certify
-from vorobench.compare import compare
-from vorobench.crossval import check_case
-from vorobench.predicates import incircle_many
-from vorobench.prepare import prepare
+from vorobench.judge.certificate import certify
+from vorobench.judge.comparison import compare
+from vorobench.judge.engine import check_case
+from vorobench.core.predicates import incircle_many
+from vorobench.core.prepare import prepare
 
 WITNESSES = Path(__file__).parent / "witnesses"
 

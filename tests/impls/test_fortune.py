@@ -9,9 +9,9 @@ from hypothesis import given, settings, strategies as st
 import datasets_gen
 import impls
 from qhull_agreement import assert_agrees_with_qhull
-from vorobench.certify import certify
-from vorobench.compare import compare
-from vorobench.prepare import prepare
+from vorobench.judge.certificate import certify
+from vorobench.judge.comparison import compare
+from vorobench.core.prepare import prepare
 
 FAMILIES = datasets_gen.available()
 CASES = [(n, seed) for n in (10, 100, 1000) for seed in (0, 1, 2)] + [(10000, 0)]
@@ -187,7 +187,7 @@ def test_vertex_of_a_triple_whose_float_determinant_vanishes():
     a = (float.fromhex("0x1.c800000000001p+5"), float.fromhex("0x1.d800000000002p+5"))
     b = (float.fromhex("0x1.d000000000000p+5"), float.fromhex("0x1.d000000000002p+5"))
     c = (float.fromhex("0x1.d000000000001p+5"), float.fromhex("0x1.d000000000001p+5"))
-    from vorobench.predicates import circle_top_relative, orient2d
+    from vorobench.core.predicates import circle_top_relative, orient2d
     assert orient2d(*a, *b, *c) == 1 and circle_top_relative(*a, *b, *c)[0] == np.inf
     pts = _ulp_lattice(np.random.default_rng(18))     # gave an infinite vertex before the fix
     d = fortune(pts)

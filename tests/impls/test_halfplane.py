@@ -9,11 +9,11 @@ from hypothesis import given, settings, strategies as st
 import datasets_gen
 import impls
 from impls.halfplane import AT_INFINITY, cells
-from impls.incremental.order import HILBERT_BITS, hilbert_keys
+from vorobench.core.spatial_order import HILBERT_BITS, hilbert_keys
 from qhull_agreement import assert_agrees_with_qhull
-from vorobench.certify import certify
-from vorobench.compare import compare
-from vorobench.prepare import prepare
+from vorobench.judge.certificate import certify
+from vorobench.judge.comparison import compare
+from vorobench.core.prepare import prepare
 
 FAMILIES = datasets_gen.available()
 CASES = [(n, seed) for n in (10, 100, 1000) for seed in (0, 1)]

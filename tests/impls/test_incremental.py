@@ -11,13 +11,13 @@ from hypothesis import given, settings, strategies as st
 import datasets_gen
 import impls
 from impls.incremental import delaunay
-from impls.incremental.circumcentre import circumcentre
-from impls.incremental.order import brio_order, hilbert_keys
+from vorobench.core.circumcentre import circumcentre
+from vorobench.core.spatial_order import brio_order, hilbert_keys
 from qhull_agreement import assert_agrees_with_qhull as agrees_with_qhull
-from vorobench.certify import certify
-from vorobench.compare import compare
-from vorobench.predicates import incircle_many, orient2d_many
-from vorobench.prepare import prepare
+from vorobench.judge.certificate import certify
+from vorobench.judge.comparison import compare
+from vorobench.core.predicates import incircle_many, orient2d_many
+from vorobench.core.prepare import prepare
 
 FAMILIES = datasets_gen.available()
 CASES = [(n, seed) for n in (10, 100, 1000) for seed in (0, 1)] + [(10000, 0)]

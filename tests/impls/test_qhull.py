@@ -7,7 +7,7 @@ from scipy.spatial import Delaunay
 import datasets_gen
 import impls
 import vorobench
-from vorobench.clip import polygon_area
+from vorobench.core.clip import polygon_area
 
 SIZES = [0, 1, 2, 3, 10, 200]
 

@@ -9,7 +9,7 @@ import pytest
 
 import impls
 from impls.base import Implementation
-from vorobench.dcel import collinear_diagram
+from vorobench.core.builder import collinear_diagram
 
 
 def test_qhull_is_always_available():
@@ -46,7 +46,7 @@ def test_register_and_build_prepares_points():
 def test_entry_point_plugin_is_found(tmp_path, monkeypatch):
     (tmp_path / "vb_dummy_plugin.py").write_text(textwrap.dedent("""
         from impls.base import Implementation
-        from vorobench.dcel import collinear_diagram
+        from vorobench.core.builder import collinear_diagram
 
         def make():
             return Implementation("plugin-lines", "from an entry point", "O(n log n)",

@@ -24,7 +24,7 @@ import numpy as np
 
 from impls.base import Implementation
 from impls.qhull import build as qhull_build
-from vorobench.diagram import Diagram
+from vorobench.core.diagram import Diagram
 
 __all__ = ["IMPLEMENTATIONS", "HUNGRY_MB"]
 

@@ -30,7 +30,7 @@ IMPLEMENTATIONS = [
 
 
 def square_or_die(x: int) -> int:
-    """A task for :func:`vorobench.executors.run_tasks`: ``x * x``, except that 3 kills its worker."""
+    """A task for :func:`vorobench.harness.executors.run_tasks`: ``x * x``, except that 3 kills its worker."""
     if x == 3:
         os._exit(3)
     return x * x

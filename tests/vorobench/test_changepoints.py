@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from vorobench.changepoints import counter_steps, time_steps
+from vorobench.harness.changepoints import counter_steps, time_steps
 
 
 def _series(levels, repeats=5, noise=0.05, run_noise=0.0, seed=0):

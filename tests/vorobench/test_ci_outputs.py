@@ -4,7 +4,7 @@ import json
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from vorobench.ci_outputs import write_markdown
+from vorobench.harness.ci_outputs import write_markdown
 from vorobench.cli import main
 
 DOUBLES = str(Path(__file__).with_name("doubles.py"))

@@ -8,9 +8,9 @@ import pytest
 import datasets_gen
 import impls
 from vorobench import Diagram
-from vorobench.compare import compare
-from vorobench.dcel import assemble
-from vorobench.testing import assert_diagrams_equal
+from vorobench.judge.comparison import compare
+from vorobench.core.builder import assemble
+from vorobench.judge.testing import assert_diagrams_equal
 
 SQUARE = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
 

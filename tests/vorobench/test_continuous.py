@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from vorobench import continuous
+from vorobench.harness import continuous
 from vorobench.cli import build_parser, main
 
 PLUGIN = '''
@@ -109,7 +109,7 @@ def test_bench_options_are_passed_on_with_the_callers_paths_made_absolute(tmp_pa
                      "--plugin", str(tmp_path / "mine.py"), "--plugin", "pkg.mod", "--store", str(tmp_path / "runs")]
     # every option bench knows parses back to what the caller asked for
     bench = argparse.ArgumentParser()
-    from vorobench import bench_cmd
+    from vorobench.cli import bench as bench_cmd
 
     bench_cmd.add_arguments(bench)
     again = bench.parse_args(words)

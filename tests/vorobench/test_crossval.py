@@ -9,9 +9,9 @@ import datasets_gen
 import impls
 from impls.base import Implementation
 from impls.qhull import build as qhull_build
-from vorobench.crossval import BuildResult, agree_exactly, build_and_certify, check_case
-from vorobench.dcel import assemble
-from vorobench.diagram import Diagram
+from vorobench.judge.engine import BuildResult, agree_exactly, build_and_certify, check_case
+from vorobench.core.builder import assemble
+from vorobench.core.diagram import Diagram
 
 SQUARE = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
 
@@ -101,7 +101,7 @@ def test_exact_implementations_must_agree_exactly():
     merged = assemble(sites, [[0.5, 0.5]], [[0, 1], [1, 2], [2, 3], [3, 0]], [[-1, 0]] * 4)
     split = assemble(sites, [[0.5, 0.5], [0.5, 0.5 + 5e-14]], [[0, 1], [1, 2], [2, 3], [3, 0], [0, 2]],
                      [[-1, 0], [-1, 0], [-1, 1], [-1, 1], [0, 1]])
-    from vorobench.certify import certify
+    from vorobench.judge.certificate import certify
 
     a = BuildResult("exact_a", True, merged, certify(merged))
     b = BuildResult("exact_b", True, split, certify(split))

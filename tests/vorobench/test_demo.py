@@ -5,7 +5,7 @@ from __future__ import annotations
 import pandas as pd
 
 from vorobench.cli import main
-from vorobench.demo import demo_sizes, own_implementations
+from vorobench.harness.demo import demo_sizes, own_implementations
 
 
 def test_own_implementations_leave_out_adapters_and_plugins():
@@ -38,7 +38,7 @@ def test_demo_writes_results_and_report(tmp_path, capsys):
 
 def test_demo_adds_installed_outside_references():
     import impls
-    from vorobench.demo import DEMO_REFERENCES, demo_implementations
+    from vorobench.harness.demo import DEMO_REFERENCES, demo_implementations
 
     names = demo_implementations()
     assert names[: len(own_implementations())] == own_implementations()

@@ -1,4 +1,4 @@
-"""vorobench.executors and bench --executor: a local process pool and a real Dask LocalCluster
+"""vorobench.harness.executors and bench --executor: a local process pool and a real Dask LocalCluster
 (two worker processes on loopback) give the same verdicts, and a worker that dies loses no
 finished result: its case is retried once, then recorded as lost."""
 
@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from vorobench import executors
-from vorobench.executors import DaskMissing, make_executor, parse_spec, run_tasks
+from vorobench.harness import executors
+from vorobench.harness.executors import DaskMissing, make_executor, parse_spec, run_tasks
 
 HERE = Path(__file__).parent
 PLUGIN = str(HERE / "executor_doubles.py")
@@ -85,8 +85,9 @@ def test_dask_executor_runs_tasks_on_the_cluster(dask_address):
 
 
 def _bench(out: Path, executor: str, workers: int):
-    from vorobench import bench_cmd, results
-    from vorobench.runner import RunConfig
+    from vorobench.cli import bench as bench_cmd
+    from vorobench.harness import results
+    from vorobench.harness.runner import RunConfig
 
     config = RunConfig(repeat=1, plugins=(PLUGIN,), timeout=60)
     code, _ = bench_cmd.execute(["fortune", "exit_on_some"], ["uniform"], [50, 156], [0], out, config,
@@ -120,7 +121,7 @@ def test_bench_on_dask_and_local_same_verdicts_and_no_case_dropped(tmp_path, das
 def test_report_warns_when_timings_come_from_several_hosts(tmp_path):
     import pandas as pd
 
-    from vorobench.analysis import mixed_hosts_note
+    from vorobench.harness.analysis import mixed_hosts_note
 
     rows = pd.DataFrame({"impl": ["a", "b", "c"], "status": ["ok", "ok", "lost"], "host": ["n1", "n1", "n2"]})
     assert mixed_hosts_note(rows) is None                       # the lost row timed nothing

@@ -25,8 +25,8 @@ import datasets_gen
 import impls
 from impls.base import InputMutated, UnsupportedInput
 from vorobench.cli import main
-from vorobench.crossval import Judge
-from vorobench.worker import plugins_registered
+from vorobench.judge.engine import Judge
+from vorobench.harness.worker import plugins_registered
 
 HERE = Path(__file__).parent
 DOUBLES = str(HERE / "doubles.py")
@@ -95,7 +95,7 @@ def test_a_diagram_of_other_sites_fails_where_qhull_is_only_within_tolerance(tmp
 
 @pytest.mark.parametrize("scale", [1.0, 2.0**-1060, 1e-200, 1e300])
 def test_a_diagram_of_other_sites_is_caught_at_every_scale(scale):
-    from vorobench.crossval import build_and_certify
+    from vorobench.judge.engine import build_and_certify
 
     with plugins_registered([DOUBLES]):
         res = build_and_certify("other_sites", datasets_gen.generate("grid", 36) * scale)

@@ -1,4 +1,4 @@
-"""Tests for vorobench.predicates: exact signs checked against rational arithmetic.
+"""Tests for vorobench.core.predicates: exact signs checked against rational arithmetic.
 
 Two independent exact references are used, both written from the definitions:
 * ``Fraction`` evaluation (``Fraction(float)`` is exact), for fixtures and
@@ -20,7 +20,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numba import njit
 
-from vorobench import predicates as P
+from vorobench.core import predicates as P
 
 RNG_SEED = 20240611
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from vorobench.predicates import (
+from vorobench.core.predicates import (
     UNDECIDED,
     breakpoint_side,
     breakpoint_side_exact,
@@ -28,7 +28,7 @@ from vorobench.predicates import (
     tops_key_order,
     tops_order_filter,
 )
-from vorobench.predicates import KEY_ABSENT, KEY_FOUND, KEY_NOT_SOUGHT
+from vorobench.core.predicates import KEY_ABSENT, KEY_FOUND, KEY_NOT_SOUGHT
 
 _DIGITS = 400
 

@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from vorobench import regress
+from vorobench.harness import regress
 from vorobench.cli import main
 
 DOUBLES = str(Path(__file__).with_name("doubles.py"))

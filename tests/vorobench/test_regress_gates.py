@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import pytest
 
-from vorobench import regress
+from vorobench.harness import regress
 from vorobench.cli import main
-from vorobench.results import ResultsFile
+from vorobench.harness.results import ResultsFile
 
 
 def _write(path, impls=("a", "b"), sizes=(100, 200, 300), seeds=(0,)) -> str:

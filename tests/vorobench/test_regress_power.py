@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from vorobench import regress
+from vorobench.harness import regress
 from vorobench.cli import main
 
 SIZES = (1000, 2000, 5000, 10000, 20000, 50000)

@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from vorobench import analysis, results
+from vorobench.harness import analysis, results
 from vorobench.cli import main
 
 SIZES = [1000, 4000, 16000, 64000]
@@ -119,7 +119,7 @@ def test_report_of_a_run_where_nothing_succeeded(tmp_path):
 
 
 def test_busy_machine_is_mentioned(results_csv, tmp_path):
-    from vorobench.report import busy_machine_note
+    from vorobench.harness.report import busy_machine_note
 
     results.update_run_metadata(results_csv, "r1", load_average=[5.5, 5.0, 4.0], load_average_end=[3.0, 4.0, 4.0])
     note = busy_machine_note(results.read_metadata(results_csv))

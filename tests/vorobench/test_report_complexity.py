@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from vorobench import analysis
+from vorobench.harness import analysis
 
 SIZES = [1000, 3000, 10000, 30000]
 

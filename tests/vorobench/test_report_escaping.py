@@ -15,9 +15,9 @@ from html.parser import HTMLParser
 import pytest
 from markdown_it import MarkdownIt
 
-from vorobench import results
+from vorobench.harness import results
 from vorobench.cli import main
-from vorobench.report import FIGURES
+from vorobench.harness.report import FIGURES
 
 SCRIPT = "<script>alert(1)</script>"
 FAILURE_HEADER = ["impl", "dataset", "n", "seed", "status", "verdict", "step", "error"]
@@ -27,7 +27,7 @@ FENCE = "```\n</code></pre><script>alert(2)</script>"
 #: Tags of the Markdown rendered by markdown-it.
 MARKDOWN_TAGS = {"h1", "h2", "p", "ul", "li", "strong", "em", "code", "pre", "table", "thead", "tbody", "tr", "th",
                  "td", "img", "a"}
-#: Tags the interactive page writes (vorobench.report_html), the Markdown parts included.
+#: Tags the interactive page writes (vorobench.harness.report_html), the Markdown parts included.
 OWN_TAGS = MARKDOWN_TAGS | {"html", "head", "meta", "title", "style", "script", "body", "h3", "div", "section", "nav",
                             "fieldset", "legend", "label", "input", "button", "span", "b", "i", "small", "details",
                             "summary", "br"}

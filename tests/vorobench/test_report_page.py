@@ -12,9 +12,9 @@ from html.parser import HTMLParser
 import numpy as np
 import pytest
 
-from vorobench import figures, report, results
+from vorobench.harness import figures, report, results
 from vorobench.cli import main
-from vorobench.schema import Verdict
+from vorobench.judge.outcomes import Verdict
 
 SIZES = [1000, 4000, 16000, 64000]
 DATASETS = ("uniform", "grid")

@@ -6,8 +6,8 @@ import json
 
 import pandas as pd
 
-from vorobench import results, sysinfo
-from vorobench.results import ResultsFile
+from vorobench.harness import results, sysinfo
+from vorobench.harness.results import ResultsFile
 
 
 def _row(impl="a", n=10, repeat=0, status="ok", time_s=0.25, **extra):

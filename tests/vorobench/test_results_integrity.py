@@ -16,9 +16,9 @@ import sys
 import pandas as pd
 import pytest
 
-from vorobench import results
+from vorobench.harness import results
 from vorobench.cli import main
-from vorobench.results import ResultsFile
+from vorobench.harness.results import ResultsFile
 
 
 def _case(impl: str, repeats: int = 2, **extra) -> list[dict]:

@@ -12,9 +12,9 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from vorobench import runner
+from vorobench.harness import runner
 from vorobench.cli import main
-from vorobench.runner import Case, CaseOutcome, RunConfig
+from vorobench.harness.runner import Case, CaseOutcome, RunConfig
 
 DOUBLES = str(Path(__file__).with_name("doubles.py"))
 ROOT = Path(__file__).resolve().parents[2]
@@ -110,7 +110,7 @@ def test_resume_skips_finished_cases(tmp_path):
     df = pd.read_csv(out)
     assert sorted(df["n"]) == [30, 40]
     assert df["run_id"].nunique() <= 2
-    from vorobench.results import read_metadata
+    from vorobench.harness.results import read_metadata
 
     assert [r["cases_to_run"] for r in read_metadata(out)["runs"]] == [1, 1]
 
@@ -128,7 +128,7 @@ def test_skip_after_timeout_and_budget_extrapolation():
 
 
 def test_interrupt_keeps_finished_cases(tmp_path, monkeypatch):
-    from vorobench import bench_cmd
+    from vorobench.cli import bench as bench_cmd
 
     calls = []
 

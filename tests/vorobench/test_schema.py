@@ -9,9 +9,10 @@ import pandas as pd
 import pytest
 
 import impls
-from vorobench import crossval, results, schema
-from vorobench.runner import Case, RunConfig, run_case
-from vorobench.worker import plugins_registered
+from vorobench.judge import engine as crossval, outcomes as schema
+from vorobench.harness import results
+from vorobench.harness.runner import Case, RunConfig, run_case
+from vorobench.harness.worker import plugins_registered
 
 DOUBLES = str(Path(__file__).with_name("doubles.py"))
 

@@ -7,9 +7,9 @@ import datasets_gen
 import impls
 from impls.base import Implementation
 from impls.qhull import build as qhull_build
-from vorobench.crossval import check_case
-from vorobench.diagram import Diagram
-from vorobench.shrink import ddmin, shrink_case, write_witness
+from vorobench.judge.engine import check_case
+from vorobench.core.diagram import Diagram
+from vorobench.judge.shrink import ddmin, shrink_case, write_witness
 
 
 def _moved_vertex(sites, stats=None) -> Diagram:

@@ -11,7 +11,7 @@ import pandas as pd
 import pytest
 
 from vorobench.cli import main
-from vorobench.store import Store
+from vorobench.harness.store import Store
 
 DOUBLES = str(Path(__file__).with_name("doubles.py"))
 

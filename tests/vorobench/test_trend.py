@@ -13,9 +13,9 @@ import pandas as pd
 import pytest
 from plotly.offline import get_plotlyjs
 
-from vorobench import trend
+from vorobench.harness import trend
 from vorobench.cli import main
-from vorobench.store import Store
+from vorobench.harness.store import Store
 
 FAST, SLOW = "aaaa1111", "bbbb2222"
 

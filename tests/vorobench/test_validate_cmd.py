@@ -9,7 +9,7 @@ import impls
 from impls.base import Implementation
 from impls.qhull import build as qhull_build
 from vorobench.cli import main
-from vorobench.diagram import Diagram
+from vorobench.core.diagram import Diagram
 
 
 def _swapped_edge(sites, stats=None) -> Diagram:

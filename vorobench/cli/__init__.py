@@ -1,0 +1,238 @@
+"""The vorobench command line: build, check, time and compare Voronoi diagram constructions."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+from typing import Optional, Sequence
+
+__all__ = ["main", "parse_list", "parse_sizes"]
+
+
+def parse_list(text: str) -> list[str]:
+    """Comma-separated names; empty items dropped, repeats collapsed (first place kept)."""
+    return list(dict.fromkeys(t.strip() for t in text.split(",") if t.strip()))
+
+
+def parse_sizes(text: str) -> list[int]:
+    """Comma-separated sizes; accepts 1e4, 10k, 1M (see :func:`vorobench.cli.args.sizes`)."""
+    from vorobench.cli.args import sizes
+
+    return sizes(text)
+
+
+def _console():
+    from rich.console import Console
+
+    console = Console()
+    # Piped output has no terminal width: give tables room instead of rich's 80 columns.
+    return console if console.is_terminal else Console(width=160)
+
+
+def cmd_impls(args: argparse.Namespace) -> int:
+    """Table of the implementations that can run here."""
+    from rich.table import Table
+
+    import impls
+
+    table = Table(title="implementations")
+    for col in ("name", "exact", "complexity", "from", "description"):
+        table.add_column(col)
+    for name in impls.available():
+        try:
+            impl = impls.get(name)
+        except Exception as exc:  # an outside plugin that fails to load is listed, not fatal
+            table.add_row(name, "?", "?", "?", f"[red]failed to load: {exc}[/red]")
+            continue
+        table.add_row(impl.name, "yes" if impl.exact else "no", impl.complexity, impl.origin, impl.description)
+    _console().print(table)
+    return 0
+
+
+def cmd_datasets(args: argparse.Namespace) -> int:
+    """Table of the dataset families."""
+    from rich.table import Table
+
+    import datasets_gen
+
+    table = Table(title="datasets")
+    for col in ("name", "family", "exact n", "description"):
+        table.add_column(col)
+    for name in datasets_gen.available():
+        ds = datasets_gen.DATASETS[name]
+        exact = "yes" if ds.exact_n else f"no: {ds.note}" if ds.note else "no"
+        table.add_row(name, ds.family, exact, ds.description)
+    _console().print(table)
+    return 0
+
+
+def load_points(dataset: Optional[str], n: int, seed: int, points_file: Optional[str]):
+    """Points from a named dataset or from a file, with the label to show for them."""
+    import datasets_gen
+
+    if points_file:
+        return datasets_gen.load(points_file), Path(points_file).name
+    return datasets_gen.generate(dataset, n, seed=seed), f"{dataset} n={n} seed={seed}"
+
+
+def _build_in_sandbox(name: str, sites):
+    """Runs in the sandbox: ({"unsupported", "seconds", "stats"}, the diagram's arrays)."""
+    import numbers
+
+    import impls
+    from vorobench.judge.engine import diagram_arrays
+    from vorobench.core.diagram import Diagram
+
+    impl = impls.get(name)
+    reason = impl.unsupported_reason(sites)
+    if reason:
+        return {"unsupported": reason}, None
+    stats: dict = {}
+    t0 = time.perf_counter_ns()
+    diagram = impl.run(sites, stats, check_supports=False)
+    seconds = (time.perf_counter_ns() - t0) / 1e9
+    if type(diagram) is not Diagram:
+        raise TypeError(f"build returned {type(diagram).__name__}, not a Diagram")
+    counters = {str(k): (int(v) if isinstance(v, numbers.Integral) else float(v))
+                for k, v in stats.items() if isinstance(v, numbers.Real)}
+    return {"unsupported": "", "seconds": seconds, "stats": counters}, diagram_arrays(diagram)
+
+
+def cmd_build(args: argparse.Namespace) -> int:
+    """Build one diagram in an isolated worker, print its counts, optionally plot and save it."""
+    import impls
+    from vorobench.core.prepare import prepare
+    from vorobench.judge.sandbox import Sandbox
+    from vorobench.harness.worker import plugins_registered
+
+    points, label = load_points(args.dataset, args.n, args.seed, args.points)
+    sites, _ = prepare(points)
+    with plugins_registered(args.plugin):
+        impls.get(args.impl)                                   # KeyError naming the available ones
+        box = Sandbox(args.impl, plugins=args.plugin, memory_limit_mb=args.memory_limit)
+        try:
+            outcome = box.call(_build_in_sandbox, args.impl, sites, timeout=args.timeout)
+        finally:
+            box.close()
+    if not outcome.ok:
+        print(f"vorobench build: {args.impl} failed on {label}: {outcome.kind}: {outcome.message}", file=sys.stderr)
+        return 1
+    data, arrays = outcome.value
+    if data["unsupported"]:
+        raise ValueError(f"{args.impl} does not support {label}: {data['unsupported']}")
+    from vorobench.judge.engine import diagram_from_arrays
+
+    diagram = diagram_from_arrays(arrays)
+    if not (diagram.sites.shape == sites.shape and (diagram.sites == sites).all()):
+        print(f"vorobench build: {args.impl} returned the diagram of other sites than {label}", file=sys.stderr)
+        return 1
+    stats, elapsed = data["stats"], data["seconds"]
+    diagram.validate()
+    c = diagram.counts()
+    print(f"{args.impl} on {label}: {points.shape[0]} points, {c['n']} distinct sites")
+    print(f"V = {c['V']}  E = {c['E']}  H = {c['H']}  ({elapsed:.4f} s, structure valid)")
+    if stats:
+        print("stats: " + ", ".join(f"{k}={v}" for k, v in stats.items()))
+    if args.save:
+        diagram.save(args.save)
+        print(f"saved {args.save}")
+    if args.plot:
+        from vorobench.judge.plotting import save_plot
+
+        save_plot(diagram, args.plot, title=f"{args.impl}: {label}")
+        print(f"wrote {args.plot}")
+    return 0
+
+
+# Commands that live in their own modules register here: name -> (module, help).
+_EXTRA_COMMANDS: dict[str, tuple[str, str]] = {
+    "validate": ("vorobench.cli.validate", "cross-validate implementations against a reference"),
+    "bench": ("vorobench.cli.bench", "time implementations on datasets (worker per case)"),
+    "report": ("vorobench.harness.report", "figures + Markdown/HTML report from a results file"),
+    "compare": ("vorobench.harness.regress", "compare two result files and flag regressions"),
+    "history": ("vorobench.cli.history", "list the runs of a run store"),
+    "trend": ("vorobench.harness.trend", "HTML page of build times and counters across a run store's runs, change points marked"),
+    "continuous": ("vorobench.harness.continuous", "benchmark two git revisions in their own worktrees and compare them"),
+    "demo": ("vorobench.harness.demo", "the main job: default benchmark + cross-validation + report"),
+    "fuzz": ("vorobench.harness.fuzz", "seeded campaign of small random/degenerate cases, cross-validated on an executor"),
+}
+
+
+def _add_dataset_args(p: argparse.ArgumentParser, default: str = "uniform") -> None:
+    from vorobench.cli.args import non_negative_int, size
+
+    p.add_argument("--dataset", default=default, help=f"dataset name (default {default}); see `vorobench datasets`")
+    p.add_argument("--n", type=size, default=1000, help="number of points (default 1000)")
+    p.add_argument("--seed", type=non_negative_int, default=0, help="dataset seed (default 0)")
+    p.add_argument("--points", help="read points from a .npy/.csv/.txt file instead of a dataset")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    import importlib
+    import importlib.util
+
+    from vorobench.cli.args import OneLineParser, non_negative_float, plain_help, positive_float
+
+    parser = OneLineParser(prog="vorobench", description=__doc__)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
+    sub.add_parser("impls", help="list implementations").set_defaults(func=cmd_impls)
+    sub.add_parser("datasets", help="list dataset families").set_defaults(func=cmd_datasets)
+    p = sub.add_parser("build", help="build one diagram, print counts, plot/save it")
+    p.add_argument("--impl", default="qhull", help="implementation name (default qhull)")
+    _add_dataset_args(p)
+    p.add_argument("--plot", help="write a picture (PNG/SVG/PDF) of the diagram")
+    p.add_argument("--save", help="save the diagram as .npz")
+    p.add_argument("--timeout", type=positive_float, default=None,
+                   help="seconds the build may take, warm-up aside (default: no limit)")
+    p.add_argument("--memory-limit", type=non_negative_float, default=None, metavar="MB",
+                   help="address space the build may add (MemoryError instead of the OOM killer)")
+    p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
+                   help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
+    p.set_defaults(func=cmd_build)
+    for name, (module, help_text) in _EXTRA_COMMANDS.items():
+        if importlib.util.find_spec(module) is None:
+            continue
+        mod = importlib.import_module(module)
+        p = sub.add_parser(name, help=help_text, description=plain_help(mod.__doc__),
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
+        mod.add_arguments(p)
+        p.set_defaults(func=mod.run)
+    return parser
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 0
+    from vorobench.judge.isolation import Terminated, install_termination_handler
+
+    install_termination_handler()
+    try:
+        return int(args.func(args) or 0)
+    except (ValueError, KeyError, FileNotFoundError, FileExistsError, NotADirectoryError, IsADirectoryError,
+            PermissionError, OverflowError) as exc:
+        msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+        print(f"vorobench {args.command}: error: {_one_line(msg)}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        # The reader of our output went away (`vorobench history S | head`): not an error of ours.
+        # Point stdout at nothing, so that flushing it at exit does not fail again.
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
+    except Terminated as exc:
+        print(f"{exc}: workers stopped, finished results kept", file=sys.stderr)
+        return 143
+
+
+def _one_line(message: object) -> str:
+    lines = [line.strip() for line in str(message).splitlines() if line.strip()]
+    return "; ".join(lines)[:500] if lines else type(message).__name__

@@ -1,0 +1,291 @@
+"""Cross-validate implementations against a reference on every dataset; shrink failures to witnesses.
+
+Every case is built by each implementation (an exception is recorded as a crash), each diagram
+is certified, and each is compared with the reference, which is certified too. Prints a matrix
+implementation x dataset, writes ``summary.json`` and, for every failure, a small witness
+(``.npy``, the command that reproduces it, a PNG) under ``--out``. Exit status 1 if anything
+is wrong.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from vorobench.harness.atomic import replace_atomically
+from vorobench.judge.certificate import DEFAULT_PROBES
+from vorobench.judge.engine import (DEFAULT_REFERENCE, DEFAULT_TIMEOUT, VERDICTS, CaseVerdict, close_shared_judges,
+                                shared_judge)
+
+__all__ = ["add_arguments", "run"]
+
+_STYLE = {"exact": "green", "within_tolerance": "green", "certified": "green", "unsupported": "dim",
+          "differs": "bold red", "not_certified": "bold red", "crashed": "bold red", "timeout": "bold red",
+          "oom": "bold red", "mutated_input": "bold red"}
+_SHORT = {"within_tolerance": "within tol", "not_certified": "NOT CERTIFIED", "differs": "DIFFERS",
+          "crashed": "CRASHED", "timeout": "TIMEOUT", "oom": "OUT OF MEMORY", "mutated_input": "MUTATED INPUT"}
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    from vorobench.cli import args as cli_args
+
+    p.add_argument("--impls", type=cli_args.names, default=["all"],
+                   help="comma-separated implementations (default: all available)")
+    p.add_argument("--datasets", type=cli_args.names, default=["all"], help="comma-separated datasets, or 'all' (default)")
+    p.add_argument("--sizes", type=cli_args.sizes, default=[10, 100, 1000], help="comma-separated sizes (default 10,100,1000)")
+    p.add_argument("--seeds", type=cli_args.seeds, default=[0], help="comma-separated dataset seeds (default 0)")
+    p.add_argument("--reference", default=DEFAULT_REFERENCE, help=f"reference implementation (default {DEFAULT_REFERENCE})")
+    p.add_argument("--points", help="validate the points of this file (.npy/.csv/.txt) instead of datasets")
+    p.add_argument("--out", default="reports/validate", help="directory for summary.json and witnesses "
+                                                             "(default reports/validate)")
+    p.add_argument("--probes", type=cli_args.non_negative_int, default=DEFAULT_PROBES,
+                   help=f"random probes per certificate (default {DEFAULT_PROBES})")
+    p.add_argument("--timeout", type=cli_args.positive_float, default=DEFAULT_TIMEOUT,
+                   help=f"seconds each implementation may take to build and certify one case "
+                        f"(default {DEFAULT_TIMEOUT:g}; its warm-up has --warmup-timeout)")
+    p.add_argument("--warmup-timeout", type=cli_args.positive_float, default=300.0,
+                   help="seconds for starting an implementation's worker, JIT compilation included (default 300)")
+    p.add_argument("--memory-limit", type=cli_args.positive_float, default=None, metavar="MB",
+                   help="address space an implementation's worker may add (MemoryError instead of the OOM killer)")
+    p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
+                   help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
+    p.add_argument("--junit", metavar="FILE", help="also write the verdicts as JUnit XML (one test case per row)")
+    p.add_argument("--markdown", metavar="FILE",
+                   help="also write a Markdown digest (for $GITHUB_STEP_SUMMARY or a pull-request comment)")
+    p.add_argument("--no-shrink", action="store_true", help="save failing point sets as they are, unshrunk")
+    p.add_argument("--shrink-seconds", type=cli_args.non_negative_float, default=120.0,
+                   help="time budget per witness (default 120)")
+    p.add_argument("--executor", default="local", help="where cases are judged: 'local' (default) or dask://HOST:PORT")
+    p.add_argument("--workers", type=cli_args.positive_int, default=1,
+                   help="cases judged at once (default 1); every implementation runs in its own worker either way")
+
+
+def _cases(args: argparse.Namespace) -> list[dict[str, Any]]:
+    """(label, dataset, n, seed, points) of every case."""
+    import datasets_gen
+
+    if args.points:
+        pts = datasets_gen.load(args.points)
+        return [dict(dataset=Path(args.points).name, n=int(pts.shape[0]), seed=None, points=pts)]
+    names = list(args.datasets)
+    if not names or names == ["all"]:
+        names = datasets_gen.available()
+    unknown = [d for d in names if d not in datasets_gen.available() and not d.startswith(datasets_gen.FILE_PREFIX)]
+    if unknown:
+        raise ValueError(f"unknown dataset(s) {', '.join(unknown)}; see `vorobench datasets`")
+    return [dict(dataset=d, n=n, seed=s, points=None) for d in names for n in args.sizes for s in args.seeds]
+
+
+def _impl_names(args: argparse.Namespace) -> list[str]:
+    import impls
+
+    names = list(args.impls)
+    if not names or names == ["all"]:
+        names = impls.available()
+    for name in names + [args.reference]:
+        impls.get(name)  # KeyError naming the available ones
+    # The reference is certified too: it always has a row, first.
+    return [args.reference] + [n for n in names if n != args.reference]
+
+
+def _judge_case(item: tuple) -> tuple[np.ndarray, list[tuple[str, CaseVerdict, Any]]]:
+    """One case on any worker, through the judging engine: (sites, [(impl, verdict, peer)])."""
+    import datasets_gen
+
+    from vorobench.harness.worker import plugins_registered
+
+    case, names, reference, options = item
+    with plugins_registered(dict(options)["plugins"]):
+        points = case["points"] if case["points"] is not None else \
+            datasets_gen.generate(case["dataset"], case["n"], seed=case["seed"])
+        judged = shared_judge(names, reference, **dict(options)).judge(points)
+    return judged.sites, judged.rows
+
+
+def _write_json(path: Path, data: dict) -> None:
+    """Write ``data`` atomically: a reader never sees half a summary."""
+    replace_atomically(path, lambda f: json.dump(data, f, indent=1, default=_json_default))
+
+
+def _worst(verdicts: list[str]) -> str:
+    return max(verdicts, key=VERDICTS.index)
+
+
+def run(args: argparse.Namespace) -> int:
+    from vorobench.harness.worker import plugins_registered
+
+    with plugins_registered(args.plugin):
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
+    import impls
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+    from rich.table import Table
+
+    from rich.markup import escape
+
+    from vorobench.harness.executors import parse_spec
+    from vorobench.judge.shrink import shrink_case, write_witness
+
+    console = Console()
+    parse_spec(args.executor)
+    names = _impl_names(args)
+    cases = _cases(args)
+    reference = args.reference
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / "summary.json"
+    # Until the run ends, the summary on disk says it did not pass: a killed run is no green gate.
+    _write_json(path, dict(reference=reference, impls=names, cases=len(cases), complete=False, passed=False,
+                           note="validation started and has not finished (or was killed)"))
+    options = (("probes", args.probes), ("timeout", args.timeout), ("warmup_timeout", args.warmup_timeout),
+               ("memory_limit_mb", args.memory_limit), ("plugins", tuple(args.plugin)))
+    records: list[dict[str, Any]] = []
+    failures: list[tuple[dict[str, Any], CaseVerdict, np.ndarray]] = []
+    lost_cases: list[tuple[str, str]] = []
+    judged_count = 0
+    try:
+        with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                      console=console, transient=True) as progress:
+            task = progress.add_task("validating", total=len(cases))
+            items = [(case, names, reference, options) for case in cases]
+            if args.executor == "local" and args.workers == 1:
+                judged_cases = ((item, _judge_case(item), "") for item in items)     # here, one at a time
+            else:
+                from vorobench.harness.executors import run_tasks
+
+                # Off this machine a build may run without its sandbox: each case as a whole is bounded.
+                limit = None if args.executor == "local" else len(names) * (args.timeout + args.warmup_timeout)
+                judged_cases = ((r.item, r.value, r.lost or r.error)
+                                for r in run_tasks(args.executor, args.workers, _judge_case, items, timeout=limit))
+            for (case, *_), judged, lost in judged_cases:
+                label = f"{case['dataset']} n={case['n']}" + (f" seed={case['seed']}" if case["seed"] is not None else "")
+                progress.update(task, description=f"validated {label}")
+                progress.advance(task)
+                if lost:                        # its worker died (twice): every implementation's row says so
+                    lost_cases.append((label, lost))
+                    records += [dict(dataset=case["dataset"], n=case["n"], seed=case["seed"], exact_peer=None,
+                                     impl=name, reference=reference, verdict="crashed", passed=False, certified=None,
+                                     reference_certified=None, message=f"case lost: {lost}", blame="unknown",
+                                     n_sites=0, seconds=0.0) for name in names]
+                    continue
+                judged_count += 1
+                sites, checks = judged
+                for name, v, peer in checks:
+                    records.append(dict(dataset=case["dataset"], n=case["n"], seed=case["seed"], exact_peer=peer,
+                                        **v.to_dict()))
+                    if not v.passed:
+                        failures.append((dict(case, impl=name, label=label, exact_peer=peer), v, sites))
+        # Witnesses, through a judge of this process (sandboxed like the cases were).
+        witnesses = []
+        shrink_judge = shared_judge(names, reference, **dict(options))
+        for case, verdict, sites in failures:
+            name = case["impl"]
+            stem = f"{name}-{case['dataset']}-n{case['n']}" + (f"-s{case['seed']}" if case["seed"] is not None else "")
+            stem = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in stem)
+            peer = case["exact_peer"]
+            if peer:
+                stem += f"-vs-{peer}"
+            # A hang or an exhausted memory costs its whole allowance per try: not shrunk.
+            shrinkable = not args.no_shrink and verdict.verdict not in ("timeout", "oom")
+            with console.status(f"shrinking {name} on {case['label']} ({sites.shape[0]} points)"):
+                small = sites if not shrinkable else shrink_case(
+                    name, sites, verdict, reference=reference, exact_peer=peer, probes=min(args.probes, 2000),
+                    time_budget=args.shrink_seconds, judge=shrink_judge)
+                w = write_witness(out / "witnesses", stem, name, small, reference=reference, exact_peer=peer,
+                                  probes=min(args.probes, 2000), judge=shrink_judge,
+                                  verdict=None if shrinkable else verdict)
+            witnesses.append(dict(impl=name, dataset=case["dataset"], n=case["n"], seed=case["seed"],
+                                  verdict=verdict.verdict, points=str(w.points), command=str(w.command),
+                                  picture=str(w.picture) if w.picture else None, n_points=w.n_points,
+                                  shrunk_verdict=w.verdict.verdict))
+    finally:
+        close_shared_judges()
+    # The matrix: implementation x dataset (datasets as rows so that many fit on a terminal),
+    # worst verdict over sizes and seeds.
+    datasets = list(dict.fromkeys(r["dataset"] for r in records))
+    table = Table(title=f"cross-validation against {reference} ({len(cases)} cases)")
+    table.add_column("dataset")
+    for name in names:
+        table.add_column(escape(name) + (" (ref)" if name == reference else ""))
+    for d in datasets:
+        row = [escape(str(d))]
+        for name in names:
+            vs = [r for r in records if r["impl"] == name and r["dataset"] == d]
+            worst = _worst([r["verdict"] for r in vs])
+            bad = sum(not r["passed"] for r in vs)
+            text = _SHORT.get(worst, worst)
+            if bad:
+                text += f" {bad}/{len(vs)}"
+                style = _STYLE.get(worst, "")
+            elif any(r["blame"] == "reference" for r in vs):
+                text, style = "ref wrong", "yellow"
+            else:
+                style = _STYLE.get(worst, "")
+            row.append(f"[{style}]{text}[/]" if style else text)
+        table.add_row(*row)
+    console.print(table)
+    notes = []
+    float_impls = [n for n in names if not impls.get(n).exact]
+    if float_impls:
+        notes.append(f"{', '.join(float_impls)} {'is' if len(float_impls) == 1 else 'are'} floating point: "
+                     f"'within tolerance' against {'it' if len(float_impls) == 1 else 'them'} is a pass, and "
+                     f"{'its' if len(float_impls) == 1 else 'their'} certificates are judged within tolerance; "
+                     f"exact implementations must agree with each other exactly.")
+    pairs = [r for r in records if r["exact_peer"]]
+    if pairs:
+        bad_pairs = sum(not r["passed"] for r in pairs)
+        notes.append(f"{len(pairs)} comparisons between exact implementations (against "
+                     f"{', '.join(sorted({r['exact_peer'] for r in pairs}))}): "
+                     + ("all exact." if not bad_pairs else f"{bad_pairs} NOT exact."))
+    blamed = [r for r in records if r["blame"] == "reference"]
+    if blamed:
+        notes.append(f"{len(blamed)} difference(s) were the reference's failure (see the {reference} row).")
+    for note in notes:
+        console.print(f"[dim]note:[/] {note}")
+    for case, verdict, _ in failures:
+        against = f" vs {case['exact_peer']}" if case["exact_peer"] else ""
+        console.print(f"[red]FAIL[/] {escape(case['impl'])}{escape(against)} on {escape(case['label'])}: "
+                      f"{verdict.verdict}: {escape(verdict.message[:400])}")
+    for label, why in lost_cases:
+        console.print(f"[red]LOST[/] {escape(label)}: {escape(why[:400])}")
+    for w in witnesses:
+        console.print(f"  witness: {w['n_points']} points -> {w['points']}  (picture: {w['picture']}; "
+                      f"command in {w['command']})")
+    # An implementation that declared every case unsupported was never judged: no pass.
+    never_judged = sorted({r["impl"] for r in records} - {r["impl"] for r in records if r["verdict"] != "unsupported"})
+    if never_judged:
+        notes.append(f"{', '.join(never_judged)} declared every case unsupported: nothing of "
+                     f"{'it' if len(never_judged) == 1 else 'them'} was judged, so the gate does not pass.")
+        console.print(f"[red]NOT JUDGED[/] {escape(', '.join(never_judged))}: unsupported on every case")
+    # The gate: every planned case judged, and every verdict a pass.
+    ok = not failures and not lost_cases and judged_count == len(cases) and not never_judged
+    failed_impls = sorted({case["impl"] for case, _, _ in failures})
+    summary = dict(reference=reference, impls=names, datasets=datasets, cases=len(cases), judged=judged_count,
+                   complete=judged_count == len(cases), passed=ok, failures=len(failures), lost=len(lost_cases),
+                   failed_impls=failed_impls, never_judged=never_judged, timeout=args.timeout, notes=notes, witnesses=witnesses,
+                   results=records)
+    _write_json(path, summary)
+    from vorobench.harness.ci_outputs import write_junit, write_markdown
+
+    if args.junit:
+        console.print(f"JUnit XML: {write_junit(summary, args.junit)}")
+    if args.markdown:
+        console.print(f"Markdown digest: {write_markdown(summary, args.markdown)}")
+    console.print(f"{'[green]all passed[/]' if ok else f'[red]{len(failures)} failure(s)[/]'}: "
+                  f"{len(records)} results written to {path}")
+    return 0 if ok else 1
+
+
+def _json_default(x: Any) -> Any:
+    if isinstance(x, np.generic):
+        return x.item()
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    return str(x)

@@ -1,0 +1,181 @@
+"""The one DCEL builder shared by every implementation: edges in, linked half-edges out.
+
+An implementation reports each Voronoi edge once, as the pair of sites (a, b) it separates
+and the two vertex ids (start, end) of the half-edge whose cell is a, oriented along
+perp(b - a) (-1 = infinity). The builder allocates half-edges in pairs (twin of h is h ^ 1)
+and links ``next`` in a finishing pass: the successor of h in cell a is the half-edge of a
+that starts where h ends; a cell's half-edge that runs out to infinity is followed by the
+one that comes back. Cells between two parallel lines (collinear sites) have two half-edges
+from infinity, each followed by the other.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+from numpy.typing import ArrayLike, NDArray
+
+from vorobench.core.diagram import Diagram, InvalidDiagramError
+
+__all__ = ["assemble", "collinear_diagram"]
+
+
+def assemble(sites: NDArray[np.float64], vertices: ArrayLike, edge_sites: ArrayLike,
+             edge_vertices: ArrayLike, *, compact_vertices: bool = False) -> Diagram:
+    """Build a :class:`Diagram` from a list of edges.
+
+    ``edge_sites``: (E, 2) site pairs (a, b); ``edge_vertices``: (E, 2) vertex ids
+    (start, end) of a's half-edge, which runs in direction perp(b - a); -1 = infinity.
+    With ``compact_vertices``, vertices no edge uses are dropped and ids renumbered.
+    Raises :class:`InvalidDiagramError` if the edges do not close up into cells.
+    """
+    sites = np.ascontiguousarray(sites, dtype=np.float64).reshape(-1, 2)
+    vertices = np.ascontiguousarray(vertices, dtype=np.float64).reshape(-1, 2)
+    ab = np.asarray(edge_sites, dtype=np.int64).reshape(-1, 2)
+    se = np.asarray(edge_vertices, dtype=np.int64).reshape(-1, 2)
+    if ab.shape != se.shape:
+        raise ValueError(f"edge_sites {ab.shape} and edge_vertices {se.shape} differ in shape")
+    n = sites.shape[0]
+    if n <= 1 or ab.shape[0] == 0:
+        if n >= 2:
+            raise InvalidDiagramError(f"{n} sites but no edges")
+        return Diagram.empty(sites)
+    if compact_vertices:
+        used = np.zeros(vertices.shape[0], dtype=bool)
+        used[se[se >= 0]] = True
+        new_id = np.cumsum(used) - 1
+        se = np.where(se >= 0, new_id[np.maximum(se, 0)], -1)
+        vertices = vertices[used]
+    H = 2 * ab.shape[0]
+    site = ab.reshape(H)                      # half-edge 2e: cell a; 2e + 1: cell b
+    origin = se.reshape(H).copy()             # 2e starts at `start`, 2e + 1 starts at `end`
+    twin = np.arange(H, dtype=np.int64) ^ 1
+    nxt = _link_next(site, origin, twin, n, vertices.shape[0])
+    return Diagram(sites, vertices, origin, twin, nxt, site)
+
+
+_BIG_VERTEX = 16   # vertices of higher degree (many cocircular sites) are sorted and bisected
+
+
+@njit(cache=True)
+def _link_next_compiled(site, origin, twin, n, V):
+    """Fast path of :func:`_link_next`. Half-edges are bucketed by start vertex (counting
+    sort; ~3 per vertex), so next[h] is the member of dest(h)'s bucket in cell site[h];
+    a ray's successor is its cell's one half-edge from infinity. Sequential when vertex ids
+    follow the edge order. Returns (next, ok); ok is False on anything unusual (a strip
+    cell's two lines, a cell that does not close), which the numpy path then handles or reports."""
+    H = site.size
+    first = np.zeros(V + 1, dtype=np.int64)
+    from_infinity = np.full(n, -1, dtype=np.int64)
+    for h in range(H):
+        v = origin[h]
+        if v >= 0:
+            first[v + 1] += 1
+        elif from_infinity[site[h]] >= 0:
+            return np.empty(0, dtype=np.int64), False
+        else:
+            from_infinity[site[h]] = h
+    for v in range(V):
+        first[v + 1] += first[v]
+    fill = first[:V].copy()
+    members = np.empty(H, dtype=np.int64)
+    for h in range(H):
+        v = origin[h]
+        if v >= 0:
+            members[fill[v]] = h
+            fill[v] += 1
+    cells = np.empty(H, dtype=np.int64)     # site of each bucket member, buckets sorted by it
+    for v in range(V):
+        lo, hi = first[v], first[v + 1]
+        if hi - lo > _BIG_VERTEX:
+            part = members[lo:hi].copy()
+            order = np.argsort(site[part])
+            for k in range(hi - lo):
+                members[lo + k] = part[order[k]]
+        for k in range(lo, hi):
+            cells[k] = site[members[k]]
+    nxt = np.empty(H, dtype=np.int64)
+    taken = np.zeros(H, dtype=np.bool_)
+    for h in range(H):
+        c = site[h]
+        v = origin[twin[h]]
+        if v < 0:
+            g = from_infinity[c]
+            if g < 0:
+                return nxt, False
+        else:
+            lo, hi = first[v], first[v + 1]
+            if hi - lo > _BIG_VERTEX:
+                k = lo + np.searchsorted(cells[lo:hi], c)
+                if k >= hi or cells[k] != c or (k + 1 < hi and cells[k + 1] == c):
+                    return nxt, False
+            else:
+                k = -1
+                for m in range(lo, hi):
+                    if cells[m] == c:
+                        if k >= 0:
+                            return nxt, False
+                        k = m
+                if k < 0:
+                    return nxt, False
+            g = members[k]
+        if taken[g]:                            # next would not be a permutation
+            return nxt, False
+        taken[g] = True
+        nxt[h] = g
+    return nxt, True
+
+
+def _link_next(site: NDArray[np.int64], origin: NDArray[np.int64], twin: NDArray[np.int64],
+               n: int, V: int) -> NDArray[np.int64]:
+    """next[h] = the half-edge of cell site[h] starting at destination(h)."""
+    H = site.size
+    if H and site.min() >= 0 and site.max() < n and origin.min() >= -1 and origin.max() < V:
+        nxt, ok = _link_next_compiled(site, origin, twin, n, V)
+        if ok:
+            return nxt
+    key = site * (V + 1) + (origin + 1)       # (cell, start vertex); infinity sorts first
+    order = np.argsort(key, kind="stable")
+    sorted_key = key[order]
+    want = site * (V + 1) + (origin[twin] + 1)
+    pos = np.searchsorted(sorted_key, want)
+    pos_ok = np.minimum(pos, H - 1)
+    found = (pos < H) & (sorted_key[pos_ok] == want)
+    if not found.all():
+        h = int(np.flatnonzero(~found)[0])
+        end = int(origin[twin[h]])
+        where = "infinity" if end < 0 else f"vertex {end}"
+        raise InvalidDiagramError(
+            f"cell {int(site[h])} does not close: half-edge {h} ends at {where}, "
+            f"and no half-edge of the cell starts there")
+    nxt = order[pos_ok].astype(np.int64)
+    # Repeated (cell, start) keys: legal only for a strip cell's two full lines.
+    repeated = np.flatnonzero(sorted_key[1:] == sorted_key[:-1])
+    if repeated.size:
+        g1, g2 = order[repeated], order[repeated + 1]
+        strip = (origin[g1] < 0) & (origin[twin[g1]] < 0) & (origin[twin[g2]] < 0)
+        if not strip.all():
+            k = int(np.flatnonzero(~strip)[0])
+            v = int(origin[g1[k]])
+            raise InvalidDiagramError(
+                f"cell {int(site[g1[k]])} has two half-edges ({int(g1[k])}, {int(g2[k])}) starting at "
+                f"{'infinity' if v < 0 else f'vertex {v}'}")
+        triple = np.flatnonzero(np.diff(repeated) == 1)
+        if triple.size:
+            k = int(order[repeated[triple[0]]])
+            raise InvalidDiagramError(f"cell {int(site[k])} has three or more half-edges from infinity")
+        nxt[g1], nxt[g2] = g2, g1
+    return nxt
+
+
+def collinear_diagram(sites: NDArray[np.float64]) -> Diagram:
+    """The diagram of n >= 2 collinear sites: n - 1 parallel lines, no vertex.
+
+    Sites are ordered along their common line (lexicographically, which is monotone along
+    any line); consecutive sites are separated by their bisector, a full line.
+    """
+    sites = np.ascontiguousarray(sites, dtype=np.float64)
+    order = np.lexsort((sites[:, 1], sites[:, 0]))
+    pairs = np.stack([order[:-1], order[1:]], axis=1)
+    ends = np.full(pairs.shape, -1, dtype=np.int64)
+    return assemble(sites, np.zeros((0, 2)), pairs, ends)

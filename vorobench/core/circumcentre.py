@@ -1,0 +1,98 @@
+"""Circumcentres of site triples, computed the same way wherever a Voronoi vertex is made.
+
+A Voronoi vertex is identified by the sites on its empty circle; its coordinates are always
+computed from the three smallest site indices among them, in increasing order, so that two
+exact constructions that find the same vertex produce bit-identical coordinates.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from vorobench.core.predicates import (ORIENT2D_EXPANSION_MAX, circumcentre_offsets_dd, diff_expansion, estimate,
+                                  expansion_diff, expansion_product, expansion_sum, orient2d_expansion)
+
+__all__ = ["circumcentre", "CANCELLATION_THRESHOLD"]
+
+#: When a determinant or numerator keeps less than this fraction of the size of its terms,
+#: cancellation has eaten too many digits: it is recomputed exactly (expansion arithmetic).
+CANCELLATION_THRESHOLD = 1e-4
+
+
+@njit(cache=True)
+def _square_sum(x, xlen, y, ylen):
+    """Exact x**2 + y**2 of two expansions."""
+    xx = np.empty(2 * xlen * xlen)
+    yy = np.empty(2 * ylen * ylen)
+    out = np.empty(2 * xlen * xlen + 2 * ylen * ylen)
+    n1 = expansion_product(x, xlen, x, xlen, xx)
+    n2 = expansion_product(y, ylen, y, ylen, yy)
+    return out, expansion_sum(xx, n1, yy, n2, out)
+
+
+@njit(cache=True)
+def _cross_numerator(p, plen, s, slen, q, qlen, t, tlen):
+    """Float nearest to the exact p * s - q * t of four expansions."""
+    ps = np.empty(2 * plen * slen)
+    qt = np.empty(2 * qlen * tlen)
+    out = np.empty(2 * plen * slen + 2 * qlen * tlen)
+    n1 = expansion_product(p, plen, s, slen, ps)
+    n2 = expansion_product(q, qlen, t, tlen, qt)
+    return estimate(out, expansion_diff(ps, n1, qt, n2, out))
+
+
+@njit(cache=True)
+def _exact_offsets(ax, ay, bx, by, cx, cy):
+    """Centre minus a, from exact numerators and denominator (rounded once at the end)."""
+    ebx = np.empty(2)
+    eby = np.empty(2)
+    ecx = np.empty(2)
+    ecy = np.empty(2)
+    nbx = diff_expansion(bx, ax, ebx)
+    nby = diff_expansion(by, ay, eby)
+    ncx = diff_expansion(cx, ax, ecx)
+    ncy = diff_expansion(cy, ay, ecy)
+    b2, nb2 = _square_sum(ebx, nbx, eby, nby)
+    c2, nc2 = _square_sum(ecx, ncx, ecy, ncy)
+    num_x = _cross_numerator(ecy, ncy, b2, nb2, eby, nby, c2, nc2)
+    num_y = _cross_numerator(ebx, nbx, c2, nc2, ecx, ncx, b2, nb2)
+    h = np.empty(ORIENT2D_EXPANSION_MAX)
+    det = estimate(h, orient2d_expansion(ax, ay, bx, by, cx, cy, h))
+    return num_x / (2.0 * det), num_y / (2.0 * det)
+
+
+@njit(cache=True)
+def circumcentre(ax: float, ay: float, bx: float, by: float, cx: float, cy: float):
+    """Centre (x, y) of the circle through a, b, c (not collinear).
+
+    Computed relative to ``a``, which keeps large common offsets (1e9) out of the products;
+    if the determinant or either numerator is dominated by cancellation (nearly collinear
+    triples, whose centres lie far away; slivers), they are recomputed in double-double with
+    certified error bounds (no allocation), or exactly from the original coordinates when
+    even those bounds are too wide, and the quotient is rounded once.
+    """
+    bx_ = bx - ax
+    by_ = by - ay
+    cx_ = cx - ax
+    cy_ = cy - ay
+    b2 = bx_ * bx_ + by_ * by_
+    c2 = cx_ * cx_ + cy_ * cy_
+    d1 = bx_ * cy_
+    d2 = by_ * cx_
+    x1 = cy_ * b2
+    x2 = by_ * c2
+    y1 = bx_ * c2
+    y2 = cx_ * b2
+    det = d1 - d2
+    num_x = x1 - x2
+    num_y = y1 - y2
+    if (abs(det) <= CANCELLATION_THRESHOLD * (abs(d1) + abs(d2))
+            or abs(num_x) <= CANCELLATION_THRESHOLD * (abs(x1) + abs(x2))
+            or abs(num_y) <= CANCELLATION_THRESHOLD * (abs(y1) + abs(y2))):
+        ok, ux, uy = circumcentre_offsets_dd(ax, ay, bx, by, cx, cy)
+        if not ok:
+            ux, uy = _exact_offsets(ax, ay, bx, by, cx, cy)
+        return ax + ux, ay + uy
+    inv = 0.5 / det
+    return ax + num_x * inv, ay + num_y * inv

@@ -1,0 +1,281 @@
+"""The array-based DCEL (half-edge structure) that every implementation returns.
+
+Conventions (see DESIGN.md): half-edge h has cell ``site[h]`` on its left, runs along the
+bisector of ``site[h]`` and ``site[twin[h]]`` in direction ``perp(b - a)``, starts at
+``origin[h]`` (-1 = infinity), and ``next`` walks each cell counter-clockwise.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["Diagram", "InvalidDiagramError"]
+
+_FIELDS = ("sites", "vertices", "origin", "twin", "next", "site")
+_FORMAT_VERSION = 1
+
+
+class InvalidDiagramError(ValueError):
+    """A DCEL invariant is broken; the message names the invariant and the ids involved."""
+
+
+def _first(mask: NDArray[np.bool_]) -> int:
+    return int(np.flatnonzero(mask)[0])
+
+
+@dataclass(eq=False)
+class Diagram:
+    """A 2D Voronoi diagram as flat arrays: sites, vertices and four half-edge arrays."""
+
+    sites: NDArray[np.float64]
+    vertices: NDArray[np.float64]
+    origin: NDArray[np.integer]
+    twin: NDArray[np.integer]
+    next: NDArray[np.integer]
+    site: NDArray[np.integer]
+
+    # ------------------------------------------------------------------ construction
+    @classmethod
+    def empty(cls, sites: NDArray[np.float64]) -> "Diagram":
+        """The diagram with no edges (n = 0 or 1)."""
+        none = np.zeros(0, dtype=np.int64)
+        return cls(np.asarray(sites, dtype=np.float64).reshape(-1, 2), np.zeros((0, 2)),
+                   none, none.copy(), none.copy(), none.copy())
+
+    # ------------------------------------------------------------------ sizes
+    @property
+    def n_sites(self) -> int:
+        return int(self.sites.shape[0])
+
+    @property
+    def n_vertices(self) -> int:
+        return int(self.vertices.shape[0])
+
+    @property
+    def n_half_edges(self) -> int:
+        return int(self.origin.shape[0])
+
+    @property
+    def n_edges(self) -> int:
+        return self.n_half_edges // 2
+
+    def counts(self) -> dict[str, int]:
+        """Sizes as a dict: n (sites), V (vertices), E (edges), H (half-edges)."""
+        return {"n": self.n_sites, "V": self.n_vertices, "E": self.n_edges, "H": self.n_half_edges}
+
+    def __repr__(self) -> str:
+        c = self.counts()
+        return f"Diagram(n={c['n']}, V={c['V']}, E={c['E']}, H={c['H']})"
+
+    # ------------------------------------------------------------------ derived views
+    @property
+    def destination(self) -> NDArray[np.integer]:
+        """Vertex where each half-edge ends (-1 = infinity)."""
+        return self.origin[self.twin]
+
+    @property
+    def prev(self) -> NDArray[np.int64]:
+        """Inverse of ``next``: the half-edge before h along its cell."""
+        prev = np.empty(self.n_half_edges, dtype=np.int64)
+        prev[self.next] = np.arange(self.n_half_edges)
+        return prev
+
+    def edges(self) -> NDArray[np.int64]:
+        """One half-edge per twin pair (the one with the smaller index)."""
+        h = np.arange(self.n_half_edges)
+        return h[h < self.twin]
+
+    @property
+    def ridge_points(self) -> NDArray[np.int64]:
+        """scipy-style (E, 2) array: the two sites separated by each edge."""
+        e = self.edges()
+        return np.stack([self.site[e], self.site[self.twin[e]]], axis=1).astype(np.int64)
+
+    @property
+    def ridge_vertices(self) -> NDArray[np.int64]:
+        """scipy-style (E, 2) array: the end vertices of each edge, -1 for infinity."""
+        e = self.edges()
+        return np.stack([self.origin[e], self.origin[self.twin[e]]], axis=1).astype(np.int64)
+
+    def cell_half_edges(self, i: int) -> list[int]:
+        """Half-edges of cell i in counter-clockwise order (starting after infinity if unbounded)."""
+        first = np.flatnonzero(self.site == i)
+        if first.size == 0:
+            return []
+        starts = first[self.origin[first] < 0]
+        h0 = int(starts[0]) if starts.size else int(first[0])
+        out, h = [h0], int(self.next[h0])
+        while h != h0:
+            out.append(h)
+            if len(out) > first.size:
+                raise InvalidDiagramError(f"cell {i}: next does not return to half-edge {h0}")
+            h = int(self.next[h])
+        return out
+
+    @property
+    def regions(self) -> list[list[int]]:
+        """scipy-style: the vertices of each cell counter-clockwise, -1 where it is unbounded."""
+        return [[int(self.origin[h]) for h in self.cell_half_edges(i)] for i in range(self.n_sites)]
+
+    @property
+    def point_region(self) -> NDArray[np.int64]:
+        """scipy-style: index into ``regions`` of each site (cell i belongs to site i)."""
+        return np.arange(self.n_sites, dtype=np.int64)
+
+    def half_edge_direction(self, h: NDArray[np.integer] | int) -> NDArray[np.float64]:
+        """Direction perp(b - a) of half-edges h (not normalised)."""
+        a = self.sites[self.site[h]]
+        b = self.sites[self.site[self.twin[h]]]
+        d = b - a
+        return np.stack([-d[..., 1], d[..., 0]], axis=-1)
+
+    def bounding_box(self, margin: float = 0.1) -> tuple[float, float, float, float]:
+        """(xmin, ymin, xmax, ymax) around sites and vertices, widened by ``margin`` of its size."""
+        pts = np.concatenate([self.sites, self.vertices]) if self.n_vertices else self.sites
+        if pts.shape[0] == 0:
+            return (-1.0, -1.0, 1.0, 1.0)
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        span = float(max(hi[0] - lo[0], hi[1] - lo[1]))
+        pad = margin * span if span > 0 else max(1.0, float(np.abs(lo).max()) * 1e-9)
+        return (float(lo[0] - pad), float(lo[1] - pad), float(hi[0] + pad), float(hi[1] + pad))
+
+    def cell_polygon(self, i: int, box: tuple[float, float, float, float] | None = None
+                     ) -> NDArray[np.float64]:
+        """Cell i clipped to ``box`` = (xmin, ymin, xmax, ymax), as a CCW (k, 2) polygon.
+
+        The cell is the intersection of the left half-planes of its half-edges (each line
+        through the half-edge's finite end, or the sites' midpoint for a full line), so the
+        polygon reflects the diagram's own vertices.
+        """
+        from vorobench.core.clip import clip_convex
+
+        box = box or self.bounding_box()
+        xmin, ymin, xmax, ymax = box
+        poly = np.array([[xmin, ymin], [xmax, ymin], [xmax, ymax], [xmin, ymax]], dtype=np.float64)
+        if self.n_sites == 1 and i == 0:
+            return poly
+        hs = np.asarray(self.cell_half_edges(i), dtype=np.int64)
+        if hs.size == 0:
+            return np.zeros((0, 2))
+        direction = self.half_edge_direction(hs)
+        start, end = self.origin[hs], self.origin[self.twin[hs]]
+        a, b = self.sites[self.site[hs]], self.sites[self.site[self.twin[hs]]]
+        anchor = 0.5 * (a + b)
+        if self.n_vertices:
+            anchor = np.where((end >= 0)[:, None], self.vertices[np.maximum(end, 0)], anchor)
+            anchor = np.where((start >= 0)[:, None], self.vertices[np.maximum(start, 0)], anchor)
+        return clip_convex(poly, anchor, direction)
+
+    def polygons(self, box: tuple[float, float, float, float] | None = None
+                 ) -> list[NDArray[np.float64]]:
+        """Every cell clipped to ``box`` (default: bounding box of sites and vertices)."""
+        box = box or self.bounding_box()
+        return [self.cell_polygon(i, box) for i in range(self.n_sites)]
+
+    # ------------------------------------------------------------------ persistence
+    def save(self, path: str | Path) -> None:
+        """Write the diagram to a compressed ``.npz`` file."""
+        np.savez_compressed(path, format_version=_FORMAT_VERSION,
+                            **{f: getattr(self, f) for f in _FIELDS})
+
+    @classmethod
+    def load(cls, path: str | Path) -> "Diagram":
+        """Read a diagram written by :meth:`save`."""
+        with np.load(path, allow_pickle=False) as data:
+            missing = [f for f in _FIELDS if f not in data]
+            if missing:
+                raise ValueError(f"{path}: not a vorobench diagram (missing {', '.join(missing)})")
+            return cls(**{f: data[f] for f in _FIELDS})
+
+    # ------------------------------------------------------------------ invariants
+    def validate(self) -> "Diagram":
+        """Check every structural invariant; raise :class:`InvalidDiagramError` naming the first
+        broken one and the ids involved. Returns self so it can be chained."""
+        s, v = self.sites, self.vertices
+        if s.ndim != 2 or s.shape[1] != 2:
+            raise InvalidDiagramError(f"sites must have shape (n, 2), got {s.shape}")
+        if v.ndim != 2 or v.shape[1] != 2:
+            raise InvalidDiagramError(f"vertices must have shape (V, 2), got {v.shape}")
+        H = self.n_half_edges
+        for name in ("twin", "next", "site"):
+            arr = getattr(self, name)
+            if arr.shape != (H,):
+                raise InvalidDiagramError(f"{name} has shape {arr.shape}, origin has ({H},)")
+            if arr.dtype.kind not in "iu":
+                raise InvalidDiagramError(f"{name} must be an integer array, got {arr.dtype}")
+        if self.origin.dtype.kind != "i":
+            raise InvalidDiagramError(f"origin must be a signed integer array, got {self.origin.dtype}")
+        if not np.isfinite(v).all():
+            raise InvalidDiagramError(f"vertex {_first(~np.isfinite(v).all(axis=1))} is not finite")
+        n, V = self.n_sites, self.n_vertices
+        if n <= 1:
+            if H or V:
+                raise InvalidDiagramError(f"n = {n} must give no half-edges or vertices, got H={H}, V={V}")
+            return self
+        if H % 2:
+            raise InvalidDiagramError(f"odd number of half-edges ({H})")
+        for name, arr, lo, hi in (("origin", self.origin, -1, V), ("twin", self.twin, 0, H),
+                                  ("next", self.next, 0, H), ("site", self.site, 0, n)):
+            bad = (arr < lo) | (arr >= hi)
+            if bad.any():
+                h = _first(bad)
+                raise InvalidDiagramError(f"{name}[{h}] = {int(arr[h])} is out of range [{lo}, {hi})")
+        twin, nxt, site, origin = self.twin, self.next, self.site, self.origin
+        h = np.arange(H)
+        if (twin == h).any():
+            raise InvalidDiagramError(f"half-edge {_first(twin == h)} is its own twin")
+        bad = twin[twin] != h
+        if bad.any():
+            k = _first(bad)
+            raise InvalidDiagramError(
+                f"twin is not an involution: twin[{k}] = {int(twin[k])}, twin[{int(twin[k])}] = {int(twin[twin[k]])}")
+        bad = site[twin] == site
+        if bad.any():
+            k = _first(bad)
+            raise InvalidDiagramError(f"half-edge {k} and its twin {int(twin[k])} both bound cell {int(site[k])}")
+        bad = site[nxt] != site
+        if bad.any():
+            k = _first(bad)
+            raise InvalidDiagramError(
+                f"next leaves the cell: half-edge {k} (cell {int(site[k])}) -> {int(nxt[k])} (cell {int(site[nxt[k]])})")
+        indegree = np.bincount(nxt, minlength=H)
+        if (indegree != 1).any():
+            k = _first(indegree != 1)
+            raise InvalidDiagramError(f"next is not a permutation: half-edge {k} follows {int(indegree[k])} half-edges")
+        dest = origin[twin]
+        bad = origin[nxt] != dest
+        if bad.any():
+            k = _first(bad)
+            raise InvalidDiagramError(
+                f"half-edge {k} ends at vertex {int(dest[k])} but next[{k}] = {int(nxt[k])} starts at vertex "
+                f"{int(origin[nxt[k]])} (-1 = infinity)")
+        has_cell = np.bincount(site, minlength=n) > 0
+        if not has_cell.all():
+            raise InvalidDiagramError(f"site {_first(~has_cell)} has no cell (no half-edge bounds it)")
+        cycles, labels = _cycle_labels(nxt)
+        if cycles != n:
+            _, first_of_cycle = np.unique(labels, return_index=True)
+            per_cell = np.bincount(site[first_of_cycle], minlength=n)
+            k = _first(per_cell != 1)
+            raise InvalidDiagramError(
+                f"next must form one cycle per cell: {cycles} cycles for {n} cells; cell {k} has {int(per_cell[k])}")
+        used = np.zeros(V, dtype=bool)
+        used[origin[origin >= 0]] = True
+        if not used.all():
+            raise InvalidDiagramError(f"vertex {_first(~used)} is not the origin of any half-edge")
+        return self
+
+
+def _cycle_labels(perm: NDArray[np.integer]) -> tuple[int, NDArray[np.int32]]:
+    """Number of cycles of a permutation and the cycle label of each element."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    m = perm.size
+    graph = coo_matrix((np.ones(m, dtype=np.int8), (np.arange(m), perm)), shape=(m, m))
+    count, labels = connected_components(graph, directed=True, connection="weak")
+    return int(count), labels

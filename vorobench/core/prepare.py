@@ -1,0 +1,107 @@
+"""Input checking and deduplication: every implementation sees distinct finite float64 sites."""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+from numpy.typing import ArrayLike, NDArray
+
+from vorobench.core.scaling import check_exact_range
+
+__all__ = ["prepare"]
+
+
+def _as_real_array(points: ArrayLike) -> NDArray[np.float64]:
+    """Convert to a float64 array without silently accepting strings, complex or objects."""
+    if isinstance(points, (str, bytes)):
+        raise ValueError("points must be an array of shape (n, 2) of real numbers, got a string")
+    try:
+        arr = np.asarray(points)
+    except (ValueError, TypeError) as exc:  # ragged nested sequences
+        raise ValueError(f"points could not be read as an (n, 2) array: {exc}") from None
+    kind = arr.dtype.kind
+    if kind == "c":
+        raise ValueError("points must be real numbers, got complex values")
+    if kind in "USV":
+        raise ValueError(f"points must be real numbers, got {arr.dtype} (strings or bytes)")
+    if kind == "O":
+        raise ValueError("points must be real numbers, got Python objects (ragged rows or mixed types?)")
+    if kind not in "biuf":
+        raise ValueError(f"points must be real numbers, got dtype {arr.dtype}")
+    return arr
+
+
+@njit(cache=True)
+def _mix(x):
+    # splitmix64's finaliser: every input bit moves every output bit (uint64 arithmetic wraps)
+    x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    x = (x ^ (x >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return x ^ (x >> np.uint64(31))
+
+
+@njit(cache=True)
+def _first_appearance(bits):
+    """(site of each row, rows that start a site) for rows of two uint64 bit patterns: equal
+    rows share a site, sites numbered in order of first appearance. One pass over an open
+    addressing table of twice the rows' size: O(n) expected, no sort."""
+    n = bits.shape[0]
+    size = 1
+    while size < 2 * n:
+        size *= 2
+    mask = np.uint64(size - 1)
+    table = np.full(size, -1, dtype=np.int64)          # row that started the site, or -1
+    site_of_row = np.empty(n, dtype=np.intp)
+    firsts = np.empty(n, dtype=np.intp)
+    m = 0
+    for i in range(n):
+        x, y = bits[i, 0], bits[i, 1]
+        slot = _mix(x ^ _mix(y)) & mask
+        while True:
+            j = table[slot]
+            if j < 0:
+                table[slot] = i
+                site_of_row[i] = m
+                firsts[m] = i
+                m += 1
+                break
+            if bits[j, 0] == x and bits[j, 1] == y:
+                site_of_row[i] = site_of_row[j]
+                break
+            slot = (slot + np.uint64(1)) & mask
+    return site_of_row, firsts[:m]
+
+
+def prepare(points: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
+    """Check points and return ``(sites, inverse)``.
+
+    ``sites`` holds the distinct points in order of first appearance (float64, C-contiguous,
+    shape (m, 2)); ``inverse[i]`` is the site of input row i. n = 0 is allowed. Raises
+    ``ValueError`` naming the problem (and the first offending row for NaN/inf), and
+    :class:`~vorobench.core.scaling.OutsideExactRange` (a ``ValueError``) for points whose nonzero
+    magnitudes span more than the predicates' exact range after any power-of-two scaling
+    (1.0 together with 1e-300; see :mod:`vorobench.core.scaling`): refused here, before any
+    implementation sees them, every implementation is refused the same way.
+    """
+    arr = _as_real_array(points)
+    if arr.ndim == 1 and arr.size == 0:
+        arr = arr.reshape(0, 2)
+    if arr.ndim != 2 or arr.shape[1] != 2:
+        raise ValueError(f"points must have shape (n, 2), got shape {arr.shape}")
+    arr = np.ascontiguousarray(arr, dtype=np.float64)
+    finite = np.isfinite(arr).all(axis=1)
+    if not finite.all():
+        row = int(np.flatnonzero(~finite)[0])
+        raise ValueError(
+            f"points must be finite: row {row} is {arr[row].tolist()} "
+            f"({int((~finite).sum())} non-finite row(s) in all)"
+        )
+    n = arr.shape[0]
+    if n == 0:
+        return arr, np.zeros(0, dtype=np.intp)
+    check_exact_range(arr)
+    # -0.0 and 0.0 are the same point: normalise so that equal points have equal bits.
+    arr = arr + 0.0
+    inverse, firsts = _first_appearance(arr.view(np.uint64))
+    if firsts.size == n:
+        return arr, np.arange(n, dtype=np.intp)
+    return np.ascontiguousarray(arr[firsts]), inverse

@@ -1,0 +1,144 @@
+"""Verdicts as the files CI systems read: JUnit XML and a Markdown digest, for validate and compare.
+
+validate: one JUnit test case per (dataset, n, seed, implementation[, exact peer]) row of
+``summary.json``: a failing verdict is a ``<failure>`` with the verdict's message, an
+``unsupported`` row is ``<skipped>``. The Markdown digest (for ``$GITHUB_STEP_SUMMARY`` or a
+pull-request comment) says whether the gate passed and lists every failure. compare: one test
+case per case of BASE or NEW (a flag is a ``<failure>``, an inconclusive timing ``<skipped>``)
+plus one for the combined timing verdict. Text from the
+results is escaped: XML by the serializer, Markdown by :mod:`vorobench.harness.markdown_text`.
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from pathlib import Path
+from typing import Any
+
+from vorobench.harness.markdown_text import cell as _cell
+
+__all__ = ["write_junit", "write_markdown", "write_compare_junit", "write_compare_markdown"]
+
+
+def _case_name(row: dict[str, Any]) -> str:
+    seed = "" if row.get("seed") is None else f" seed={row['seed']}"
+    peer = f" vs {row['exact_peer']}" if row.get("exact_peer") else ""
+    return f"{row['impl']}{peer} on {row['dataset']} n={row['n']}{seed}"
+
+
+def write_junit(summary: dict[str, Any], path: str | Path) -> Path:
+    """``summary`` (validate's) as a JUnit XML file; returns its path."""
+    rows = summary.get("results", [])
+    failed = [r for r in rows if not r["passed"]]
+    skipped = [r for r in rows if r["passed"] and r["verdict"] == "unsupported"]
+    suite = ET.Element("testsuite", name="vorobench validate", tests=str(len(rows)), failures=str(len(failed)),
+                       skipped=str(len(skipped)), errors="0",
+                       time=f"{sum(float(r.get('seconds') or 0.0) for r in rows):.3f}")
+    for row in rows:
+        case = ET.SubElement(suite, "testcase", classname=f"vorobench.{row['impl']}", name=_case_name(row),
+                             time=f"{float(row.get('seconds') or 0.0):.3f}")
+        if not row["passed"]:
+            failure = ET.SubElement(case, "failure", type=str(row["verdict"]), message=str(row["message"])[:500])
+            failure.text = str(row["message"])
+        elif row["verdict"] == "unsupported":
+            ET.SubElement(case, "skipped", message=str(row["message"])[:500])
+    for name in summary.get("never_judged", []):
+        case = ET.SubElement(suite, "testcase", classname=f"vorobench.{name}", name=f"{name} judged at all")
+        ET.SubElement(case, "failure", type="never_judged", message=f"{name} declared every case unsupported")
+        suite.set("tests", str(int(suite.get("tests")) + 1))
+        suite.set("failures", str(int(suite.get("failures")) + 1))
+    return _write_suite(suite, path)
+
+
+def _write_suite(suite: ET.Element, path: str | Path) -> Path:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    root = ET.Element("testsuites", name="vorobench")
+    root.append(suite)
+    ET.ElementTree(root).write(path, encoding="utf-8", xml_declaration=True)
+    return path
+
+
+def write_markdown(summary: dict[str, Any], path: str | Path) -> Path:
+    """``summary`` (validate's) as a short Markdown digest; returns its path."""
+    rows = summary.get("results", [])
+    failed = [r for r in rows if not r["passed"]]
+    verdict = "passed" if summary.get("passed") else "FAILED"
+    lines = [f"## vorobench validate: {verdict}", "",
+             f"{summary.get('judged', 0)} of {summary.get('cases', 0)} cases judged against "
+             f"`{_cell(summary.get('reference', '?'))}`; {len(rows)} verdicts, {len(failed)} failing, "
+             f"{summary.get('lost', 0)} cases lost.", ""]
+    if summary.get("never_judged"):
+        lines += [f"Never judged (unsupported on every case): {_cell(', '.join(summary['never_judged']))}", ""]
+    if failed:
+        lines += ["| implementation | case | verdict | message |", "|---|---|---|---|"]
+        lines += [f"| {_cell(r['impl'])} | {_cell(_case_name(r))} | {_cell(r['verdict'])} | {_cell(r['message'])[:300]} |"
+                  for r in failed]
+        lines.append("")
+    return _write_text(lines, path)
+
+
+def _write_text(lines: list[str], path: str | Path) -> Path:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def write_compare_junit(comparison, path: str | Path, base: str, new: str) -> Path:
+    """A :class:`vorobench.harness.regress.RunComparison` as JUnit XML; returns its path."""
+    changes = comparison.changes
+    failures = sum(1 for c in changes if c.flagged) + bool(comparison.overall.flags)
+    skipped = sum(1 for c in changes if c.change == "inconclusive" and not c.flagged)
+    suite = ET.Element("testsuite", name=f"vorobench compare {new} vs {base}", tests=str(len(changes) + 1),
+                       failures=str(failures), skipped=str(skipped), errors="0")
+    for c in changes:
+        case = ET.SubElement(suite, "testcase", classname=f"vorobench.{c.impl}", name=c.name,
+                             time=f"{c.new_median_s or 0.0:.6f}")
+        if c.flagged:
+            message = "; ".join(c.flags)
+            ET.SubElement(case, "failure", type="regression", message=message[:500]).text = message
+        elif c.change == "inconclusive":
+            ET.SubElement(case, "skipped", message=f"timing inconclusive: {c.why_inconclusive}"[:500])
+    overall = ET.SubElement(suite, "testcase", classname="vorobench.all", name="all cases together (geometric mean)")
+    if comparison.overall.flags:
+        message = "; ".join(comparison.overall.flags)
+        ET.SubElement(overall, "failure", type="regression", message=message[:500]).text = message
+    return _write_suite(suite, path)
+
+
+def _ratio(c) -> str:
+    if c.ratio is None:
+        return "-"
+    ci = f" ({c.ci_low:.2f}-{c.ci_high:.2f})" if c.ci_low is not None else ""
+    return f"{c.ratio:.3f}{ci}"
+
+
+def write_compare_markdown(comparison, path: str | Path, base: str, new: str) -> Path:
+    """A :class:`vorobench.harness.regress.RunComparison` as a short Markdown digest; returns its path."""
+    o = comparison.overall
+    verdict = "no regression" if comparison.passed else "REGRESSION"
+    lines = [f"## vorobench compare: {verdict}", "",
+             f"`{_cell(new)}` against `{_cell(base)}`, threshold {comparison.threshold:.0%}, alpha "
+             f"{comparison.alpha:g}: {len(comparison.compared)} case(s) compared, {len(comparison.flagged)} "
+             f"flagged, {len(comparison.missing)} missing in NEW, {len(comparison.inconclusive)} inconclusive.", ""]
+    if o.geomean is not None:
+        ci = f" (95% CI {o.ci_low:.3f}-{o.ci_high:.3f})" if o.ci_low is not None else ""
+        lines += [f"All {o.cases} timed cases together: NEW / BASE = **{o.geomean:.3f}**{ci}, {o.change}.", ""]
+    if comparison.noise is not None:
+        lines += [f"Run-to-run noise band: x{math.exp(comparison.noise):.2f} either way (a single case's change "
+                  "inside it is inconclusive).", ""]
+    lines += ["| case | base | new | ratio (95% CI) | timing | verdict | flags |", "|---|---|---|---|---|---|---|"]
+    for c in comparison.changes:
+        verdict_cell = c.new_verdict if c.base_verdict == c.new_verdict else f"{c.base_verdict} -> {c.new_verdict}"
+        lines.append(f"| {_cell(c.name)} | {_seconds(c.base_median_s)} | {_seconds(c.new_median_s)} | {_ratio(c)} | "
+                     f"{_cell(c.change or '-')} | {_cell(verdict_cell or '-')} | "
+                     f"{_cell('; '.join(c.flags))[:300] or ''} |")
+    return _write_text(lines, path)
+
+
+def _seconds(x) -> str:
+    if x is None:
+        return "-"
+    return f"{x * 1e3:.3g} ms" if x < 1 else f"{x:.3g} s"

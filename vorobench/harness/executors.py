@@ -1,0 +1,282 @@
+"""Where tasks run: a process pool on this machine, or a running Dask cluster, behind one
+``concurrent.futures`` interface.
+
+``make_executor("local", N)`` is a :class:`concurrent.futures.ProcessPoolExecutor`;
+``make_executor("dask://HOST:PORT", N)`` is the executor of a ``distributed.Client`` connected
+to that scheduler (Dask does the scheduling, transport and pickling). :func:`run_tasks` maps a
+function over items on either, keeps a bounded number in flight, and survives worker deaths:
+a task whose worker died is retried once, alone, and then reported as lost, never dropped.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import multiprocessing as mp
+import time
+from collections import deque
+from dataclasses import dataclass
+from typing import Any, Callable, Iterable, Iterator, Optional
+
+__all__ = ["LOCAL", "DASK_PREFIX", "make_executor", "describe", "parse_spec", "TaskResult", "run_tasks",
+           "is_worker_death", "DaskMissing"]
+
+LOCAL = "local"
+DASK_PREFIX = "dask://"
+
+#: Exception types (by name, so that dask need not be imported) meaning "the worker died".
+_DEATHS = ("BrokenProcessPool", "BrokenExecutor", "KilledWorker", "CommClosedError")
+
+
+class DaskMissing(ValueError):
+    """``dask://`` was asked for but dask.distributed is not installed."""
+
+
+def parse_spec(spec: str) -> tuple[str, Optional[str]]:
+    """("local", None) or ("dask", "tcp://HOST:PORT"); ValueError for anything else."""
+    spec = (spec or LOCAL).strip()
+    if spec == LOCAL:
+        return LOCAL, None
+    if spec.startswith(DASK_PREFIX) and len(spec) > len(DASK_PREFIX):
+        return "dask", "tcp://" + spec[len(DASK_PREFIX):]
+    raise ValueError(f"unknown executor {spec!r}: use 'local' or 'dask://HOST:PORT'")
+
+
+#: Seconds to reach a Dask scheduler before giving up with a plain error.
+CONNECT_TIMEOUT = 10.0
+
+
+def _reach_scheduler(address: str, timeout: float) -> None:
+    """Ask the scheduler who it is, within ``timeout`` seconds in all; ValueError if it does not
+    answer. (``distributed.Client`` bounds the TCP connection but can wait forever for a port
+    that accepts and never speaks.)"""
+    import asyncio
+
+    from distributed.comm import connect
+
+    async def identity() -> None:
+        comm = await connect(address, timeout=timeout)
+        try:
+            await comm.write({"op": "identity", "reply": True})
+            await comm.read()
+        finally:
+            comm.abort()
+
+    try:
+        asyncio.run(asyncio.wait_for(identity(), timeout))
+    except (OSError, asyncio.TimeoutError, TimeoutError, EOFError) as exc:
+        raise ValueError(f"cannot reach the Dask scheduler at {address} within {timeout:g} s "
+                         f"({type(exc).__name__})") from None
+    except Exception as exc:  # the peer answered, but not as a Dask scheduler
+        raise ValueError(f"{address} does not answer as a Dask scheduler ({type(exc).__name__}: {exc})") from None
+
+
+def _dask_client(address: str):
+    try:
+        from distributed import Client
+    except ImportError as exc:
+        raise DaskMissing("the dask executor needs dask.distributed: pip install vorobench[dask]") from exc
+    _reach_scheduler(address, CONNECT_TIMEOUT)
+    try:
+        return Client(address, set_as_default=False, timeout=f"{CONNECT_TIMEOUT:g}s")
+    except (OSError, TimeoutError) as exc:
+        raise ValueError(f"cannot reach the Dask scheduler at {address} within {CONNECT_TIMEOUT:g} s "
+                         f"({type(exc).__name__})") from None
+
+
+class _DaskExecutor(cf.Executor):
+    """Tasks submitted to a Dask cluster through its client, as ``concurrent.futures`` futures.
+
+    Each result is fetched as soon as its task finishes and the Dask future released, so the
+    cluster does not keep finished results (nor recompute them when the worker holding one
+    dies). ``pure=False``: resubmitting an item is a new task, not the old (failed) one.
+    """
+
+    def __init__(self, client) -> None:
+        self.client = client
+
+    def submit(self, fn, /, *args, **kwargs) -> cf.Future:
+        result: cf.Future = cf.Future()
+        task = self.client.submit(fn, *args, pure=False, **kwargs)
+
+        def deliver(done) -> None:
+            try:
+                result.set_result(done.result())
+            except BaseException as exc:  # noqa: BLE001 - the task's failure goes to its future
+                result.set_exception(exc)
+            finally:
+                done.release()
+
+        result.set_running_or_notify_cancel()
+        result.abandon = task.cancel          # used by run_tasks when a task overstays its timeout
+        task.add_done_callback(deliver)
+        return result
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        self.client.close()
+
+
+def make_executor(spec: str = LOCAL, workers: int = 1) -> cf.Executor:
+    """A ``concurrent.futures`` executor: ``local`` = a pool of ``workers`` processes here;
+    ``dask://HOST:PORT`` = the workers of that Dask scheduler (``workers`` is not used: the
+    cluster decides)."""
+    kind, address = parse_spec(spec)
+    if kind == LOCAL:
+        if workers < 1:
+            raise ValueError("--workers must be at least 1")
+        from vorobench.harness.runner import default_start_method
+
+        # forkserver/spawn: a pool worker never inherits the parent's threads (progress bar, Dask).
+        return cf.ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context(default_start_method()))
+    return _DaskExecutor(_dask_client(address))
+
+
+def describe(executor: cf.Executor) -> str:
+    """One line for logs: how many workers and where."""
+    if isinstance(executor, _DaskExecutor):
+        info = executor.client.scheduler_info()
+        workers = info.get("workers", {})
+        hosts = sorted({w.get("host", "?") for w in workers.values()})
+        return f"dask {executor.client.scheduler.address}: {len(workers)} workers on {', '.join(hosts) or 'no host'}"
+    return f"local process pool: {getattr(executor, '_max_workers', '?')} workers"
+
+
+def capacity(executor: cf.Executor) -> int:
+    """How many tasks the executor can run at once (threads across a Dask cluster)."""
+    if isinstance(executor, _DaskExecutor):
+        workers = executor.client.scheduler_info().get("workers", {})
+        return max(1, sum(int(w.get("nthreads", 1)) for w in workers.values()))
+    return max(1, int(getattr(executor, "_max_workers", 1)))
+
+
+def is_worker_death(exc: BaseException) -> bool:
+    """True if ``exc`` says the process running the task died (not that the task raised)."""
+    return any(type(e).__name__ in _DEATHS for e in (exc, exc.__cause__) if e is not None)
+
+
+@dataclass
+class TaskResult:
+    """One item's outcome: its ``value``, or why it has none (``lost``: its worker died on every
+    try; ``error``: the task raised)."""
+
+    item: Any
+    value: Any = None
+    lost: str = ""
+    error: str = ""
+    attempts: int = 1
+    timed_out: bool = False
+
+    @property
+    def ok(self) -> bool:
+        return not (self.lost or self.error)
+
+
+_END = object()
+
+
+def run_tasks(spec: str, workers: int, fn: Callable[[Any], Any], items: Iterable[Any], *, retries: int = 1,
+              in_flight: Optional[int] = None, executor: Optional[cf.Executor] = None,
+              timeout: Optional[float] = None) -> Iterator[TaskResult]:
+    """``fn(item)`` for every item, on the executor ``spec``; yields results as they finish.
+
+    ``items`` is consumed lazily (at most ``in_flight`` tasks are submitted ahead), so a
+    generator may stop producing when a budget runs out. A task whose worker died is retried
+    up to ``retries`` times; retries run one at a time, so a death during a retry can be
+    blamed on that item alone (a broken local pool fails every task in it, innocent ones
+    included). A task still running ``timeout`` seconds after its submission is given up
+    (``timed_out``; on Dask its task is cancelled, though a running Python call cannot be
+    stopped and keeps its worker thread until it returns). Every item yields exactly one
+    :class:`TaskResult`.
+    """
+    own = executor is None
+    ex = executor or make_executor(spec, workers)
+    limit = in_flight or 2 * capacity(ex)
+    source = iter(items)
+    backlog: deque = deque()        # taken from `source` but not submitted (the pool was broken)
+    retry: deque = deque()
+    pending: dict[cf.Future, tuple[Any, int]] = {}
+    submitted: dict[cf.Future, float] = {}
+    exhausted = False
+    try:
+        while True:
+            careful = bool(retry) or any(a > 1 for _, a in pending.values())
+            broken = False
+            while len(pending) < (1 if careful else limit):
+                if retry:
+                    item, attempt = retry.popleft()
+                elif careful:
+                    break
+                elif backlog:
+                    item, attempt = backlog.popleft()
+                elif exhausted:
+                    break
+                else:
+                    item = next(source, _END)
+                    if item is _END:
+                        exhausted = True
+                        break
+                    attempt = 1
+                try:
+                    fut = ex.submit(fn, item)
+                except cf.BrokenExecutor:       # a worker died since the last look: not this item's fault
+                    (retry if attempt > 1 else backlog).appendleft((item, attempt))
+                    broken = True
+                    break
+                pending[fut] = (item, attempt)
+                submitted[fut] = time.monotonic()
+            if not broken:
+                if not pending:
+                    if retry or backlog:
+                        continue
+                    break
+                wait_s = None
+                if timeout is not None:
+                    wait_s = max(0.0, min(submitted[f] for f in pending) + timeout - time.monotonic())
+                done, _ = cf.wait(pending, timeout=wait_s, return_when=cf.FIRST_COMPLETED)
+                if not done:                            # the oldest task overstayed its timeout
+                    now = time.monotonic()
+                    for fut in [f for f in pending if now - submitted[f] >= timeout]:
+                        item, attempt = pending.pop(fut)
+                        del submitted[fut]
+                        getattr(fut, "abandon", fut.cancel)()
+                        yield TaskResult(item, error=f"no result within {timeout:g} s", attempts=attempt,
+                                         timed_out=True)
+                    continue
+                for fut in done:
+                    item, attempt = pending.pop(fut)
+                    submitted.pop(fut, None)
+                    exc = fut.exception()
+                    if exc is None:
+                        yield TaskResult(item, fut.result(), attempts=attempt)
+                    elif is_worker_death(exc):
+                        broken = broken or isinstance(exc, cf.BrokenExecutor)
+                        if attempt <= retries:
+                            retry.append((item, attempt + 1))
+                        else:
+                            yield TaskResult(item, lost=f"worker died on each of {attempt} tries "
+                                                        f"({type(exc).__name__}: {exc})"[:400], attempts=attempt)
+                    else:
+                        yield TaskResult(item, error=f"{type(exc).__name__}: {exc}"[:400], attempts=attempt)
+            if broken:
+                if not own:
+                    raise RuntimeError("the executor is broken (a worker process died)")
+                # A broken pool fails everything in it: collect those tasks for a retry, start anew.
+                for fut, (item, attempt) in list(pending.items()):
+                    cf.wait([fut])
+                    del pending[fut]
+                    submitted.pop(fut, None)
+                    exc = fut.exception()
+                    if exc is None:
+                        yield TaskResult(item, fut.result(), attempts=attempt)
+                    elif not is_worker_death(exc):
+                        yield TaskResult(item, error=f"{type(exc).__name__}: {exc}"[:400], attempts=attempt)
+                    elif attempt <= retries:
+                        retry.append((item, attempt + 1))
+                    else:
+                        yield TaskResult(item, lost=f"worker pool broke on each of {attempt} tries", attempts=attempt)
+                ex.shutdown(wait=False, cancel_futures=True)
+                ex = make_executor(spec, workers)
+    finally:
+        if own:
+            for fut in pending:
+                fut.cancel()
+            ex.shutdown(wait=True, cancel_futures=True)

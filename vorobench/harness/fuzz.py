@@ -1,0 +1,415 @@
+"""Fuzz campaign: many small random and degenerate cases, cross-validated on an executor.
+
+Case i of a campaign is (generator, n, seed), fixed by the campaign seed and i alone: the
+generators are the named datasets (fresh seeds, small sizes) and ``int_box``, points of a
+small integer box (duplicates and collinear triples everywhere) with lattice points of one
+circle mixed in (cocircular subsets). Each case is built by every implementation, certified
+and compared with the reference (:func:`vorobench.judge.engine.check_case`), exact
+implementations also with each other, as a task on the executor (``local`` or
+``dask://HOST:PORT``). Every checked case is appended to ``cases.jsonl`` in ``--out``, so a
+rerun skips it; every failure is shrunk to a witness (:mod:`vorobench.judge.shrink`) under
+``witnesses/``. ``--budget`` is a case count (``100000``) or a duration (``90s``, ``10m``, ``2h``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import multiprocessing as mp
+import socket
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Iterator, Optional, Sequence
+
+import numpy as np
+
+from vorobench.harness.atomic import replace_atomically
+
+__all__ = ["add_arguments", "run", "Budget", "parse_budget", "FuzzCase", "plan", "generate", "check_fuzz_case",
+           "shrink_failure", "run_campaign", "INT_BOX", "LOG_NAME"]
+
+INT_BOX = "int_box"
+LOG_NAME = "cases.jsonl"
+
+#: Lattice points on the circle of radius 5 (from 3-4-5 triangles): exactly cocircular.
+_CIRCLE5 = np.array([(5, 0), (4, 3), (3, 4), (0, 5), (-3, 4), (-4, 3), (-5, 0), (-4, -3), (-3, -4), (0, -5),
+                     (3, -4), (4, -3)], dtype=np.float64)
+
+
+@dataclass(frozen=True)
+class Budget:
+    """How much to check: ``cases`` cases in all, or ``seconds`` of checking in this run."""
+
+    cases: Optional[int] = None
+    seconds: Optional[float] = None
+
+    def __str__(self) -> str:
+        return f"{self.cases} cases" if self.cases is not None else f"{self.seconds:g} s"
+
+
+def parse_budget(text: str) -> Budget:
+    """``100000`` -> 100000 cases; ``90s``, ``10m``, ``2h`` -> a duration."""
+    text = text.strip().lower()
+    units = {"s": 1.0, "m": 60.0, "h": 3600.0}
+    try:
+        if text and text[-1] in units:
+            seconds = float(text[:-1]) * units[text[-1]]
+            if not 0 < seconds < float("inf"):
+                raise ValueError
+            return Budget(seconds=seconds)
+        cases = int(float(text))
+        if cases < 1:
+            raise ValueError
+        return Budget(cases=cases)
+    except (ValueError, OverflowError):
+        raise argparse.ArgumentTypeError(f"budget {text!r}: a case count (100000) or a duration (90s, 10m, 2h)") from None
+
+
+@dataclass(frozen=True)
+class FuzzCase:
+    """One case of a campaign and how to judge it (sent to a worker as it is)."""
+
+    generator: str
+    n: int
+    seed: int
+    impls: tuple[str, ...]
+    reference: str
+    probes: int = 500
+    plugins: tuple[str, ...] = ()
+    timeout: float = 60.0
+    memory_limit_mb: Optional[float] = None
+
+    def judge(self):
+        """This process's judge for the case's implementations and options."""
+        from vorobench.judge.engine import shared_judge
+
+        return shared_judge(self.impls, self.reference, probes=self.probes, plugins=self.plugins,
+                            timeout=self.timeout, memory_limit_mb=self.memory_limit_mb)
+
+    @property
+    def key(self) -> tuple[str, int, int]:
+        return (self.generator, self.n, self.seed)
+
+    def __str__(self) -> str:
+        return f"{self.generator} n={self.n} seed={self.seed}"
+
+
+def int_box(n: int, seed: int) -> np.ndarray:
+    """``n`` points of a small integer box (side 1 to 8: duplicates and collinear triples),
+    some replaced by lattice points of a radius-5 circle (an exactly cocircular subset)."""
+    rng = np.random.default_rng(seed)
+    side = int(rng.integers(1, 9))
+    points = rng.integers(0, side + 1, size=(n, 2)).astype(np.float64)
+    k = int(rng.integers(0, min(n, len(_CIRCLE5)) + 1))
+    if k:
+        centre = rng.integers(-3, side + 4, size=2)
+        points[:k] = _CIRCLE5[rng.choice(len(_CIRCLE5), size=k, replace=False)] + centre
+    return points[rng.permutation(n)]
+
+
+def generate(generator: str, n: int, seed: int) -> np.ndarray:
+    """The points of a case."""
+    if generator == INT_BOX:
+        return int_box(n, seed)
+    import datasets_gen
+
+    return datasets_gen.generate(generator, n, seed=seed)
+
+
+def plan(generators: Sequence[str], min_n: int, max_n: int, campaign_seed: int) -> Iterator[tuple[str, int, int]]:
+    """Case i = (generator i mod k, n drawn from [min_n, max_n], seed) for i = 0, 1, ...; the
+    same campaign seed always gives the same sequence, so a rerun can skip what is done."""
+    i = 0
+    while True:
+        rng = np.random.default_rng([campaign_seed, i])
+        yield generators[i % len(generators)], int(rng.integers(min_n, max_n + 1)), campaign_seed * 1_000_000_000 + i
+        i += 1
+
+
+def _verdict_record(v, peer: Optional[str]) -> dict[str, Any]:
+    return {"impl": v.impl, "peer": peer, "verdict": v.verdict, "passed": bool(v.passed), "blame": v.blame,
+            "message": v.message[:300]}
+
+
+def check_fuzz_case(case: FuzzCase) -> dict[str, Any]:
+    """Run on a worker: every implementation on the case's points, through the judging engine
+    (isolated builds, the reference certified once); a JSON-ready record."""
+    from vorobench.harness.worker import plugins_registered
+
+    t0 = time.perf_counter()
+    with plugins_registered(case.plugins):
+        points = generate(case.generator, case.n, case.seed)
+        judged = case.judge().judge(points)
+    results = [_verdict_record(v, peer) for _, v, peer in judged.rows]
+    return {"generator": case.generator, "n": case.n, "seed": case.seed, "status": "checked",
+            "n_points": int(points.shape[0]), "n_sites": int(judged.sites.shape[0]), "results": results,
+            "passed": judged.passed, "seconds": time.perf_counter() - t0, "host": socket.gethostname()}
+
+
+@dataclass(frozen=True)
+class ShrinkTask:
+    """A failure to shrink: the case, the implementation (and exact peer) that failed."""
+
+    case: FuzzCase
+    impl: str
+    peer: Optional[str]
+    seconds: float = 30.0
+
+
+def shrink_failure(task: ShrinkTask) -> np.ndarray:
+    """Run on a worker: the case's points shrunk by ddmin to a small set that still fails the
+    same way (the points unshrunk if the failure does not reproduce in this process)."""
+    from vorobench.core.prepare import prepare
+    from vorobench.judge.shrink import judge, shrink_case
+    from vorobench.harness.worker import plugins_registered
+
+    case = task.case
+    with plugins_registered(case.plugins):
+        sites, _ = prepare(generate(case.generator, case.n, case.seed))
+        engine = case.judge()
+        verdict = judge(task.impl, sites, reference=case.reference, exact_peer=task.peer, probes=case.probes,
+                        judge=engine)
+        if verdict.passed or verdict.verdict in ("timeout", "oom"):   # each try would cost the whole allowance
+            return sites
+        return shrink_case(task.impl, sites, verdict, reference=case.reference, exact_peer=task.peer,
+                           probes=case.probes, time_budget=task.seconds, judge=engine)
+
+
+@dataclass
+class CampaignSummary:
+    """What a run of a campaign did."""
+
+    checked: int = 0
+    previously: int = 0
+    failed: int = 0
+    failed_before: int = 0
+    lost: int = 0
+    errors: int = 0
+    seconds: float = 0.0
+    witnesses: list[dict[str, Any]] = field(default_factory=list)
+
+    @property
+    def rate(self) -> float:
+        return self.checked / self.seconds if self.seconds > 0 else 0.0
+
+
+def _read_log(path: Path) -> list[dict[str, Any]]:
+    if not path.exists():
+        return []
+    records = []
+    for line in path.read_text().splitlines():
+        try:
+            records.append(json.loads(line))
+        except json.JSONDecodeError:        # a line cut short by a crash: that case is rerun
+            continue
+    return records
+
+
+def _append(log, record: dict[str, Any]) -> None:
+    log.write(json.dumps(record, default=_json_default) + "\n")
+    log.flush()
+
+
+def _json_default(x: Any) -> Any:
+    if isinstance(x, np.generic):
+        return x.item()
+    return str(x)
+
+
+def _setup_text(setup: dict[str, Any]) -> str:
+    return ", ".join(f"{k} {v}" for k, v in setup.items() if k != "kind")
+
+
+def _write_json(path: Path, data: dict) -> None:
+    """Write ``data`` atomically: a reader never sees half a summary."""
+    replace_atomically(path, lambda f: json.dump(data, f, indent=1, default=_json_default))
+
+
+def _witness_stem(key: tuple[str, int, int], impl: str, peer: Optional[str]) -> str:
+    stem = f"{impl}-{key[0]}-n{key[1]}-s{key[2]}" + (f"-vs-{peer}" if peer else "")
+    return "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in stem)
+
+
+def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], budget: Budget, *,
+                 executor: str = "local", workers: int = 1, reference: str = "qhull", min_n: int = 3,
+                 max_n: int = 40, campaign_seed: int = 0, probes: int = 500, plugins: Sequence[str] = (),
+                 shrink: bool = True, shrink_seconds: float = 30.0, console=None, timeout: float = 60.0,
+                 memory_limit_mb: Optional[float] = None) -> CampaignSummary:
+    """Check cases until the budget is spent, skipping those already in ``out/cases.jsonl``;
+    then shrink every failure not yet witnessed. Returns what this run did."""
+    from rich.markup import escape
+
+    from vorobench.harness.executors import run_tasks
+    from vorobench.judge.shrink import write_witness
+    from vorobench.harness.worker import plugins_registered
+
+    out.mkdir(parents=True, exist_ok=True)
+    log_path = out / LOG_NAME
+    earlier = _read_log(log_path)
+    # A log answers only for the setup it was made with: reusing it under other implementations,
+    # reference, probes or plugins would skip cases nobody judged that way.
+    setup = {"kind": "setup", "impls": sorted(impls), "reference": reference, "probes": probes,
+             "plugins": sorted(str(Path(p).resolve()) if p.endswith(".py") else p for p in plugins),
+             "min_n": min_n, "max_n": max_n, "campaign_seed": campaign_seed}
+    logged = [r for r in earlier if r.get("kind") == "setup"]
+    if logged and {k: v for k, v in logged[0].items()} != setup:
+        raise ValueError(f"{log_path} was made with another setup ({_setup_text(logged[0])}); "
+                         f"use another --out for this one")
+    if earlier and not logged:
+        raise ValueError(f"{log_path} has no setup record (an older campaign): use another --out")
+    done = {(r["generator"], r["n"], r["seed"]) for r in earlier if r.get("kind", "case") == "case"}
+    witnessed = {(r["generator"], r["n"], r["seed"], r["impl"], r.get("peer")) for r in earlier
+                 if r.get("kind") == "witness"}
+    summary = CampaignSummary(previously=len(done))
+    started = time.monotonic()
+    deadline = started + budget.seconds if budget.seconds is not None else None
+
+    def todo() -> Iterator[FuzzCase]:
+        for i, (gen, n, seed) in enumerate(plan(generators, min_n, max_n, campaign_seed)):
+            if budget.cases is not None and i >= budget.cases:
+                return
+            if deadline is not None and time.monotonic() >= deadline:
+                return
+            if (gen, n, seed) not in done:
+                yield FuzzCase(gen, n, seed, tuple(impls), reference, probes, tuple(plugins), timeout, memory_limit_mb)
+
+    failures: list[tuple[FuzzCase, str, Optional[str]]] = []
+    for r in earlier:   # failures of earlier runs that were not shrunk yet
+        if r.get("kind", "case") == "case":
+            for v in r.get("results", []):
+                if not v["passed"] and (r["generator"], r["n"], r["seed"], v["impl"], v["peer"]) not in witnessed:
+                    failures.append((FuzzCase(r["generator"], r["n"], r["seed"], tuple(impls), reference, probes,
+                                              tuple(plugins), timeout, memory_limit_mb), v["impl"], v["peer"]))
+    summary.failed_before = sum(1 for r in earlier if r.get("kind", "case") == "case" and not r.get("passed"))
+    limit = None
+    if mp.current_process().daemon or not executor.startswith("local"):
+        # Off this machine a build may run without its sandbox: the case as a whole is bounded.
+        limit = (len(impls) + 1) * (timeout + 300.0)
+    with log_path.open("a") as log:
+        if not logged:
+            _append(log, setup)
+        for res in run_tasks(executor, workers, check_fuzz_case, todo(), timeout=limit):
+            case: FuzzCase = res.item
+            summary.checked += 1
+            if res.ok:
+                record = res.value
+                for v in record["results"]:
+                    if not v["passed"]:
+                        failures.append((case, v["impl"], v["peer"]))
+                summary.failed += not record["passed"]
+            else:
+                # The worker died (every try) or the task raised: recorded, never dropped.
+                record = {"generator": case.generator, "n": case.n, "seed": case.seed,
+                          "status": "lost" if res.lost else "error", "error": res.lost or res.error,
+                          "attempts": res.attempts, "results": [], "passed": False}
+                summary.lost += bool(res.lost)
+                summary.errors += bool(res.error)
+            _append(log, {"kind": "case", **record})
+            if console is not None and not record["passed"]:
+                console.print(f"[red]{record['status'] if not res.ok else 'FAIL'}[/] {case}: "
+                              + escape(record.get("error") or "; ".join(f"{v['impl']}: {v['verdict']}" for v in
+                                                                        record["results"] if not v["passed"])))
+        summary.seconds = time.monotonic() - started
+        if shrink and failures:
+            tasks = [ShrinkTask(case, impl, peer, shrink_seconds) for case, impl, peer in failures]
+            with plugins_registered(plugins):   # write_witness judges the witness here
+                for res in run_tasks(executor, workers, shrink_failure, tasks):
+                    task: ShrinkTask = res.item
+                    if not res.ok:
+                        if console is not None:
+                            console.print(f"[yellow]could not shrink[/] {task.impl} on {task.case}: "
+                                          f"{res.lost or res.error}")
+                        continue
+                    stem = _witness_stem(task.case.key, task.impl, task.peer)
+                    w = write_witness(out / "witnesses", stem, task.impl, res.value, reference=reference,
+                                      exact_peer=task.peer, probes=probes, judge=task.case.judge())
+                    entry = {"kind": "witness", "generator": task.case.generator, "n": task.case.n,
+                             "seed": task.case.seed, "impl": task.impl, "peer": task.peer,
+                             "n_points": w.n_points, "verdict": w.verdict.verdict, "points": str(w.points)}
+                    _append(log, entry)
+                    summary.witnesses.append(entry)
+    return summary
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    from vorobench.cli import args as cli_args
+
+    p.add_argument("--impls", type=cli_args.names, default=None,
+                   help="comma-separated implementations (default: all available)")
+    p.add_argument("--generators", type=cli_args.names, default=None,
+                   help=f"comma-separated dataset generators and/or {INT_BOX} (default: all datasets and {INT_BOX})")
+    p.add_argument("--budget", type=parse_budget, default=parse_budget("1000"),
+                   help="cases in the campaign (100000) or time for this run (90s, 10m, 2h); default 1000")
+    p.add_argument("--min-n", type=cli_args.positive_int, default=3, help="smallest case size (default 3)")
+    p.add_argument("--max-n", type=cli_args.size, default=40, help="largest case size (default 40)")
+    p.add_argument("--seed", type=cli_args.non_negative_int, default=0,
+                   help="campaign seed: fixes the sequence of cases (default 0)")
+    p.add_argument("--reference", default="qhull", help="reference implementation (default qhull)")
+    p.add_argument("--probes", type=cli_args.non_negative_int, default=500,
+                   help="random probes per certificate (default 500)")
+    p.add_argument("--timeout", type=cli_args.positive_float, default=60.0,
+                   help="seconds each implementation may take to build and certify one case (default 60)")
+    p.add_argument("--memory-limit", type=cli_args.positive_float, default=None, metavar="MB",
+                   help="address space an implementation's worker may add (MemoryError instead of the OOM killer)")
+    p.add_argument("--executor", default="local", help="'local' (process pool here) or dask://HOST:PORT")
+    p.add_argument("--workers", type=cli_args.positive_int, default=1, help="local worker processes (default 1)")
+    p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
+                   help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
+    p.add_argument("--no-shrink", action="store_true", help="save failing cases unshrunk")
+    p.add_argument("--shrink-seconds", type=cli_args.non_negative_float, default=30.0,
+                   help="time budget per witness (default 30)")
+    p.add_argument("--out", default="reports/fuzz", help="campaign directory: cases.jsonl, witnesses/, summary.json "
+                                                         "(default reports/fuzz; rerun to resume)")
+
+
+def run(args: argparse.Namespace) -> int:
+    import datasets_gen
+    import impls
+    from rich.console import Console
+
+    from vorobench.judge.engine import close_shared_judges
+    from vorobench.harness.executors import parse_spec
+    from vorobench.harness.worker import plugins_registered
+
+    console = Console()
+    parse_spec(args.executor)
+    if not 1 <= args.min_n <= args.max_n:
+        raise ValueError("--min-n and --max-n: need 1 <= min-n <= max-n")
+    with plugins_registered(args.plugin):
+        names = list(args.impls) if args.impls else impls.available()
+        for name in names + [args.reference]:
+            impls.get(name)             # KeyError naming the available ones
+    generators = list(args.generators) if args.generators else datasets_gen.available() + [INT_BOX]
+    unknown = [g for g in generators if g != INT_BOX and g not in datasets_gen.available()]
+    if unknown:
+        raise ValueError(f"unknown generator(s) {', '.join(unknown)}; see `vorobench datasets` (or {INT_BOX})")
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    # Until this run ends, the summary says it did not pass: a killed run is no green gate.
+    _write_json(out / "summary.json", {"passed": False, "complete": False,
+                                       "note": "fuzzing started and has not finished (or was killed)"})
+    console.print(f"fuzzing {', '.join(names)} against {args.reference} on {args.executor} "
+                  f"({args.workers} workers if local); budget {args.budget}; log {out / LOG_NAME}")
+    s = run_campaign(out, names, generators, args.budget, executor=args.executor, workers=args.workers,
+                     reference=args.reference, min_n=args.min_n, max_n=args.max_n, campaign_seed=args.seed,
+                     probes=args.probes, plugins=args.plugin, shrink=not args.no_shrink,
+                     shrink_seconds=args.shrink_seconds, console=console, timeout=args.timeout,
+                     memory_limit_mb=args.memory_limit)
+    # The gate covers the whole campaign: a failure logged by an earlier run still fails it.
+    bad = s.failed + s.failed_before + s.lost + s.errors
+    summary = {"passed": not bad, "complete": True, "checked": s.checked, "previously_checked": s.previously,
+               "failed": s.failed, "failed_before": s.failed_before, "lost": s.lost,
+               "errors": s.errors, "seconds": s.seconds, "cases_per_second": s.rate, "witnesses": s.witnesses,
+               "executor": args.executor, "workers": args.workers, "impls": names, "generators": generators}
+    _write_json(out / "summary.json", summary)
+    close_shared_judges()
+    for w in s.witnesses:
+        console.print(f"  witness: {w['impl']} on {w['generator']} n={w['n']} seed={w['seed']}: "
+                      f"{w['n_points']} points -> {w['points']}")
+    console.print(f"{s.checked} cases checked in {s.seconds:.1f} s ({s.rate:.2f} cases/s; "
+                  f"{s.previously} done before); "
+                  + ("[green]all passed[/]" if not bad else
+                     f"[red]{s.failed} failed, {s.failed_before} failed in earlier runs, {s.lost} lost, "
+                     f"{s.errors} errors[/]"))
+    return 0 if not bad else 1

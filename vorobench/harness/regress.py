@@ -1,0 +1,559 @@
+"""Compare two benchmark runs case by case and as a whole; flag slowdowns, counter changes and lost correctness.
+
+    vorobench compare BASE NEW [--threshold 0.10] [--junit FILE] [--markdown FILE]
+
+BASE and NEW are results files (.csv or .parquet) or runs of a run store (``DIR@latest``,
+``DIR@latest~1``, ``DIR@<run id>``, ``DIR@<commit>``; see :mod:`vorobench.harness.store`).
+
+Timings gate statistically, per case (implementation, dataset, n, seed) and over all cases:
+
+* **per case**: the ratio of median times NEW / BASE, a percentile bootstrap interval of it
+  (``scipy.stats.bootstrap``) and a one-sided Mann-Whitney U test (``scipy.stats.mannwhitneyu``).
+  A case is *slower* when the ratio exceeds 1 + threshold, its interval lies above 1 and the
+  rank test gives p < alpha; *faster* likewise; *same* when its interval lies within
+  1 ± threshold, which rules out a change of the threshold. Anything else is *inconclusive*:
+  its repeats can tell neither (too few of them for the rank test to reach alpha, or too much
+  noise), and the output says so instead of passing it silently.
+* **over all cases**: the geometric mean of the per-case ratios with a t interval of the mean
+  log ratio (``scipy.stats.ttest_1samp``). A uniform slowdown too small for any one case's
+  repeats is flagged here when the mean exceeds 1 + threshold and its interval lies above 1.
+
+Counters (``stat_*``, machine-independent integers) gate exactly: any change is flagged.
+So is a case that got a worse verdict or status, or that NEW lacks (a run that lost cases must
+not pass for having fewer to compare). Exit status 1 when anything is flagged, else 0; 2 when
+an input is not a results table with at least one case, or an option makes no sense.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Optional, Sequence
+
+import numpy as np
+
+from vorobench.judge.outcomes import counter_columns, status_rank, verdict_rank
+
+__all__ = ["add_arguments", "run", "CaseChange", "Overall", "RunComparison", "compare_frames", "compare_runs",
+           "compare_files", "load_side", "bootstrap_ratio_ci", "slowdown_p_value", "overall_change"]
+
+KEY = ["impl", "dataset", "n", "seed"]
+
+
+@dataclass
+class CaseChange:
+    """How one case changed between BASE and NEW, and why it is flagged (if it is)."""
+
+    impl: str
+    dataset: str
+    n: int
+    seed: int
+    base_status: Optional[str] = None
+    new_status: Optional[str] = None
+    base_verdict: Optional[str] = None
+    new_verdict: Optional[str] = None
+    base_median_s: Optional[float] = None
+    new_median_s: Optional[float] = None
+    base_repeats: int = 0
+    new_repeats: int = 0
+    ratio: Optional[float] = None
+    ci_low: Optional[float] = None
+    ci_high: Optional[float] = None
+    p_value: Optional[float] = None
+    #: "slower", "faster", "same", "inconclusive", or "" (no timing on one side)
+    change: str = ""
+    why_inconclusive: str = ""
+    counters: dict[str, tuple] = field(default_factory=dict)
+    flags: list[str] = field(default_factory=list)
+
+    @property
+    def flagged(self) -> bool:
+        return bool(self.flags)
+
+    @property
+    def name(self) -> str:
+        return f"{self.impl} {self.dataset} n={self.n} seed={self.seed}"
+
+
+@dataclass
+class Overall:
+    """The combined timing verdict: geometric mean of the per-case ratios, with its interval."""
+
+    cases: int = 0
+    geomean: Optional[float] = None
+    ci_low: Optional[float] = None
+    ci_high: Optional[float] = None
+    change: str = ""                     # "slower", "faster", "same", "inconclusive", "" (no case)
+    flags: list[str] = field(default_factory=list)
+
+
+@dataclass
+class RunComparison:
+    """Every case of BASE and NEW, the combined verdict, and what sets the exit status."""
+
+    changes: list[CaseChange]
+    overall: Overall
+    threshold: float
+    alpha: float
+    #: Run-to-run noise band (log ratio half-width, see :func:`noise_band`); None: too few cases.
+    noise: Optional[float] = None
+
+    @property
+    def missing(self) -> list[CaseChange]:
+        return [c for c in self.changes if c.new_status is None]
+
+    @property
+    def compared(self) -> list[CaseChange]:
+        return [c for c in self.changes if c.base_status is not None and c.new_status is not None]
+
+    @property
+    def flagged(self) -> list[CaseChange]:
+        return [c for c in self.changes if c.flagged and c.new_status is not None]
+
+    @property
+    def inconclusive(self) -> list[CaseChange]:
+        return [c for c in self.changes if c.change == "inconclusive"]
+
+    @property
+    def passed(self) -> bool:
+        return bool(self.compared) and not (self.flagged or self.missing or self.overall.flags)
+
+
+def bootstrap_ratio_ci(base: Sequence[float], new: Sequence[float], rng: np.random.Generator,
+                       resamples: int = 2000, level: float = 0.95) -> tuple[float, float]:
+    """Percentile bootstrap interval of median(new) / median(base), resampling each side."""
+    from scipy.stats import bootstrap
+
+    def ratio(b, m, axis=-1):
+        return np.median(m, axis=axis) / np.median(b, axis=axis)
+
+    result = bootstrap((np.asarray(base, float), np.asarray(new, float)), ratio, vectorized=True,
+                       method="percentile", n_resamples=resamples, confidence_level=level, rng=rng)
+    return float(result.confidence_interval.low), float(result.confidence_interval.high)
+
+
+def slowdown_p_value(base: Sequence[float], new: Sequence[float]) -> Optional[float]:
+    """One-sided Mann-Whitney U p-value for "NEW is slower than BASE" (None below 2 samples each)."""
+    from scipy.stats import mannwhitneyu
+
+    if len(base) < 2 or len(new) < 2:
+        return None
+    return float(mannwhitneyu(new, base, alternative="greater").pvalue)
+
+
+def _smallest_p(n1: int, n2: int) -> float:
+    """The smallest p-value a one-sided rank test can give with these sample sizes."""
+    return 1.0 / math.comb(n1 + n2, n1)
+
+
+def _timing(change: CaseChange, base: np.ndarray, new: np.ndarray, threshold: float, alpha: float,
+            rng: np.random.Generator) -> None:
+    change.base_median_s, change.new_median_s = float(np.median(base)), float(np.median(new))
+    change.base_repeats, change.new_repeats = int(base.size), int(new.size)
+    change.ratio = change.new_median_s / change.base_median_s
+    if base.size < 2 or new.size < 2:
+        change.change = "inconclusive"
+        change.why_inconclusive = "one repeat: noise cannot be told from change"
+        return
+    change.ci_low, change.ci_high = bootstrap_ratio_ci(base, new, rng)
+    slower = change.ratio >= 1
+    change.p_value = slowdown_p_value(base, new) if slower else slowdown_p_value(new, base)
+    testable = _smallest_p(base.size, new.size) < alpha
+    significant = testable and change.p_value < alpha
+    if slower and change.ratio > 1 + threshold and change.ci_low > 1 and significant:
+        change.change = "slower"
+    elif not slower and change.ratio < 1 / (1 + threshold) and change.ci_high < 1 and significant:
+        change.change = "faster"
+    elif 1 / (1 + threshold) < change.ci_low and change.ci_high < 1 + threshold:
+        change.change = "same"
+    else:
+        change.change = "inconclusive"
+        if not testable:
+            change.why_inconclusive = (f"{base.size} vs {new.size} repeats: the rank test cannot reach "
+                                       f"p < {alpha:g}")
+        else:
+            change.why_inconclusive = (f"95% CI {change.ci_low:.2f}-{change.ci_high:.2f} neither rules out nor "
+                                       f"shows a {threshold:.0%} change")
+
+
+def overall_change(changes: Sequence[CaseChange], threshold: float, level: float = 0.95) -> Overall:
+    """Geometric mean of the per-case ratios and a t interval of the mean log ratio; flagged
+    "slower" when the mean exceeds 1 + threshold and the interval lies above 1."""
+    from scipy.stats import ttest_1samp
+
+    logs = np.log([c.ratio for c in changes if c.ratio is not None and c.ratio > 0])
+    out = Overall(cases=int(logs.size))
+    if not logs.size:
+        return out
+    out.geomean = float(np.exp(logs.mean()))
+    if logs.size < 2:
+        out.change = "inconclusive"
+        return out
+    if np.ptp(logs) == 0:
+        out.ci_low = out.ci_high = out.geomean
+    else:
+        interval = ttest_1samp(logs, 0.0).confidence_interval(confidence_level=level)
+        out.ci_low, out.ci_high = float(np.exp(interval.low)), float(np.exp(interval.high))
+    if out.geomean > 1 + threshold and out.ci_low > 1:
+        out.change = "slower"
+        out.flags.append(f"all {out.cases} timed cases together: {out.geomean:.2f}x slower "
+                         f"(geometric mean, 95% CI {out.ci_low:.2f}-{out.ci_high:.2f})")
+    elif out.geomean < 1 / (1 + threshold) and out.ci_high < 1:
+        out.change = "faster"
+    elif 1 / (1 + threshold) < out.ci_low and out.ci_high < 1 + threshold:
+        out.change = "same"
+    else:
+        out.change = "inconclusive"
+    return out
+
+
+def _counters(base_row, new_row, columns: list[str]) -> dict[str, tuple]:
+    changed = {}
+    for col in columns:
+        a, b = base_row.get(col), new_row.get(col)
+        a_missing = a is None or (isinstance(a, float) and math.isnan(a))
+        b_missing = b is None or (isinstance(b, float) and math.isnan(b))
+        if a_missing and b_missing:
+            continue
+        if a_missing != b_missing or a != b:
+            changed[col[len("stat_"):]] = (None if a_missing else a, None if b_missing else b)
+    return changed
+
+
+def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05,
+                   seed: int = 0, history=None) -> list[CaseChange]:
+    """Every case present in either table, with its flags. ``history``: earlier runs' rows
+    (several ``run_id``) of the same machine, from which each case's own run-to-run noise is
+    measured (:func:`case_noise`)."""
+    rng = np.random.default_rng(seed)
+    stat_cols = counter_columns(set(base_df.columns) | set(new_df.columns))
+    base_groups = {k: g for k, g in base_df.groupby(KEY, sort=True)}
+    new_groups = {k: g for k, g in new_df.groupby(KEY, sort=True)}
+    changes = []
+    for key in sorted(set(base_groups) | set(new_groups), key=lambda k: (k[0], k[1], int(k[2]), int(k[3]))):
+        impl, dataset, n, s = key
+        change = CaseChange(str(impl), str(dataset), int(n), int(s))
+        b, m = base_groups.get(key), new_groups.get(key)
+        if b is not None:
+            change.base_status, change.base_verdict = _first(b, "status"), _first(b, "verdict")
+        if m is not None:
+            change.new_status, change.new_verdict = _first(m, "status"), _first(m, "verdict")
+        if m is None:
+            change.flags.append("missing in NEW")
+        if b is None or m is None:
+            changes.append(change)
+            continue
+        sb, sn = status_rank(change.base_status), status_rank(change.new_status)
+        if sb == 0 and sn != 0:
+            change.flags.append(f"status ok -> {change.new_status}")
+        elif sb is not None and sn is not None and sn > sb:
+            change.flags.append(f"status {change.base_status} -> {change.new_status}")
+        rb, rn = verdict_rank(change.base_verdict), verdict_rank(change.new_verdict)
+        if rb is not None and rn is not None and rn > rb:
+            change.flags.append(f"verdict {change.base_verdict} -> {change.new_verdict}")
+        tb = b.loc[b["status"] == "ok", "time_s"].dropna().to_numpy(float)
+        tn = m.loc[m["status"] == "ok", "time_s"].dropna().to_numpy(float)
+        if tb.size and tn.size:
+            _timing(change, tb, tn, threshold, alpha, rng)
+            if stat_cols:
+                base_row = b[b["status"] == "ok"].iloc[0].to_dict()
+                new_row = m[m["status"] == "ok"].iloc[0].to_dict()
+                change.counters = _counters(base_row, new_row, stat_cols)
+                if change.counters:
+                    change.flags.append("counters changed: " + ", ".join(
+                        f"{k} {_num(a)} -> {_num(c)}" for k, (a, c) in change.counters.items()))
+        changes.append(change)
+    band = noise_band(changes)
+    own = case_noise(history) if history is not None else {}
+    for change in changes:
+        key = (change.impl, change.dataset, change.n, change.seed)
+        width, source = band, "the spread of all cases' ratios"
+        if key in own and (width is None or NOISE_Z * own[key][0] > width):
+            width, source = NOISE_Z * own[key][0], f"this case's spread over {own[key][1]} earlier runs"
+        if change.change in ("slower", "faster") and width is not None and abs(math.log(change.ratio)) <= width:
+            change.change = "inconclusive"
+            change.why_inconclusive = (f"{change.ratio:.2f}x lies within the run-to-run noise band "
+                                       f"(x{math.exp(width):.2f} either way, from {source})")
+        if change.change == "slower":
+            change.flags.insert(0, f"{change.ratio:.2f}x slower (95% CI {change.ci_low:.2f}-{change.ci_high:.2f}, "
+                                   f"p={change.p_value:.2g})")
+    return changes
+
+
+#: Fewest cases timed on both sides from which the run-to-run noise is estimated.
+NOISE_MIN_CASES = 6
+
+#: A single case's change must exceed this many robust standard deviations of the run-to-run noise.
+NOISE_Z = 3.0
+
+
+#: Fewest earlier runs of a case from which its own run-to-run noise is measured.
+HISTORY_MIN_RUNS = 3
+
+
+def case_noise(history) -> dict[tuple, tuple[float, int]]:
+    """Each case's own run-to-run noise from earlier runs: {(impl, dataset, n, seed): (standard
+    deviation of the log of its per-run median times, runs)}, for cases with at least
+    :data:`HISTORY_MIN_RUNS` runs. Some cases vary far more than others between runs (large
+    memory-bound builds on a shared machine), which no single pair of runs can show."""
+    if history is None or history.empty or "run_id" not in history.columns:
+        return {}
+    ok = history[(history["status"] == "ok") & history["time_s"].notna()]
+    medians = ok.groupby(KEY + ["run_id"])["time_s"].median()
+    out = {}
+    for key, per_run in medians.groupby(level=[0, 1, 2, 3]):
+        if per_run.size >= HISTORY_MIN_RUNS and (per_run > 0).all():
+            out[(str(key[0]), str(key[1]), int(key[2]), int(key[3]))] = (float(np.log(per_run).std(ddof=1)),
+                                                                         int(per_run.size))
+    return out
+
+
+def noise_band(changes: Sequence[CaseChange]) -> Optional[float]:
+    """Half-width, in log ratio, of the run-to-run noise band; None with too few timed cases.
+
+    Repeats within one run share that run's background (other processes, frequency, cache
+    state), so the rank test on one case's repeats sees only part of the noise: on a shared
+    machine, a case of one run can be 1.5x slower than the same case of another run while each
+    run's repeats agree closely. The spread of the per-case ratios over all cases measures the
+    rest: its robust standard deviation (scaled median absolute deviation of the log ratios
+    around their median, which a uniform change leaves alone) times :data:`NOISE_Z`. A case's
+    change inside this band is inconclusive, however clear its own repeats are.
+    """
+    from scipy.stats import median_abs_deviation
+
+    logs = np.log([c.ratio for c in changes if c.ratio is not None and c.ratio > 0])
+    if logs.size < NOISE_MIN_CASES:
+        return None
+    return float(NOISE_Z * median_abs_deviation(logs, scale="normal"))
+
+
+def compare_runs(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05, seed: int = 0,
+                 history=None) -> RunComparison:
+    """Per-case changes and the combined verdict over every case timed on both sides."""
+    changes = compare_frames(base_df, new_df, threshold=threshold, alpha=alpha, seed=seed, history=history)
+    timed = [c for c in changes if c.ratio is not None]
+    return RunComparison(changes, overall_change(timed, threshold), threshold, alpha, noise_band(timed))
+
+
+def _first(group, column: str) -> Optional[str]:
+    if column not in group.columns:
+        return None
+    value = group[column].iloc[0]
+    return None if not isinstance(value, str) else value
+
+
+def _num(value) -> str:
+    if value is None:
+        return "none"
+    if isinstance(value, float) and value.is_integer():
+        return str(int(value))
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def load_side(text: str | Path):
+    """One side of a comparison: (results frame, metadata of its run or None) from a results
+    file or a run store reference ``DIR@REF``. ValueError in one line for anything else."""
+    from vorobench.harness import results, store
+
+    if store.is_reference(str(text)):
+        return store.load_reference(str(text))
+    frame = results.load_checked(text)
+    runs = results.read_metadata(text).get("runs", [])
+    return frame, (runs[-1] if runs else None)
+
+
+def compare_files(base: str | Path, new: str | Path, threshold: float = 0.10, alpha: float = 0.05,
+                  seed: int = 0) -> list[CaseChange]:
+    """:func:`compare_frames` on two results files or store references.
+
+    Raises ValueError naming the file when one is empty, has no rows or is not a results table.
+    """
+    return compare_frames(load_side(base)[0], load_side(new)[0], threshold=threshold, alpha=alpha, seed=seed)
+
+
+def _history(base: str, base_meta: Optional[dict], new_df):
+    """When BASE is a run of a store, the store's runs on BASE's machine, NEW's own run aside:
+    they measure each case's run-to-run noise."""
+    from vorobench.harness import store
+
+    parsed = store.split_reference(str(base))
+    if parsed is None or not base_meta or not base_meta.get("machine_id"):
+        return None
+    runs = store.Store(parsed[0]).runs(machine_id=base_meta["machine_id"])
+    new_ids = set(new_df["run_id"].astype(str)) if "run_id" in new_df.columns else set()
+    ids = [r for r in runs["run_id"] if r not in new_ids]
+    return store.Store(parsed[0]).results(ids) if len(ids) >= HISTORY_MIN_RUNS else None
+
+
+def _machine_warning(base_meta: Optional[dict], new_meta: Optional[dict]) -> Optional[str]:
+    def machine(meta):
+        if not meta:
+            return None
+        return meta.get("machine_id") or (meta.get("hostname"), meta.get("cpu"))
+
+    a, b = machine(base_meta), machine(new_meta)
+    if a and b and a != b:
+        def name(meta):
+            return f"{meta.get('hostname')} ({meta.get('cpu')})"
+        return (f"BASE ran on {name(base_meta)}, NEW on {name(new_meta)}: times are not comparable across "
+                "machines; counters and verdicts are.")
+    return None
+
+
+# ------------------------------------------------------------------------------ CLI
+
+#: The options of ``compare`` besides its two inputs (``continuous`` passes them on).
+OPTION_NAMES = ("threshold", "alpha", "seed", "only_changes", "json", "junit", "markdown")
+
+
+def add_arguments(p, positional: bool = True) -> None:
+    """``compare``'s arguments on ``p`` (a parser or an argument group); ``positional=False``
+    leaves out BASE and NEW, for a command that makes them itself."""
+    from vorobench.cli.args import fraction, non_negative_int, positive_float
+
+    if positional:
+        p.add_argument("base", help="baseline: a results file (.csv/.parquet) or a run store reference DIR@REF "
+                                    "(REF: latest, latest~K, a run id or a commit)")
+        p.add_argument("new", help="new results: a file or DIR@REF")
+    p.add_argument("--threshold", type=positive_float, default=0.10,
+                   help="flag slowdowns above this fraction, > 0 (default 0.10 = 10%%)")
+    p.add_argument("--alpha", type=fraction, default=0.05,
+                   help="significance level, between 0 and 1 (default 0.05)")
+    p.add_argument("--seed", type=non_negative_int, default=0, help="bootstrap seed (default 0)")
+    p.add_argument("--only-changes", action="store_true",
+                   help="show only flagged, changed or inconclusive cases")
+    p.add_argument("--json", default=None, help="also write every comparison to this JSON file")
+    p.add_argument("--junit", default=None, metavar="FILE",
+                   help="also write a JUnit XML file: one test case per compared case, plus the combined verdict")
+    p.add_argument("--markdown", default=None, metavar="FILE",
+                   help="also write a Markdown summary (for $GITHUB_STEP_SUMMARY or a pull-request comment)")
+
+
+def _fmt_s(x: Optional[float]) -> str:
+    if x is None:
+        return "-"
+    return f"{x * 1e3:.3g} ms" if x < 1 else f"{x:.3g} s"
+
+
+#: Lost cases listed by name; the rest are counted.
+_MISSING_LISTED = 5
+
+
+def _print_missing(console, missing: list[CaseChange]) -> None:
+    console.print(f"[bold red]NEW lacks {len(missing)} case(s) that BASE has[/bold red]:")
+    for c in missing[:_MISSING_LISTED]:
+        console.print(f"  {c.name}", markup=False, highlight=False)
+    if len(missing) > _MISSING_LISTED:
+        console.print(f"  and {len(missing) - _MISSING_LISTED} more")
+
+
+def _verdict_text(c: CaseChange) -> str:
+    if c.base_status is None:
+        return f"only in NEW ({c.new_status})"
+    if c.new_status is None:
+        return f"only in BASE ({c.base_status})"
+    if c.base_verdict == c.new_verdict:
+        return "not checked" if c.new_verdict == "skipped" and c.new_status == "ok" else str(
+            c.new_verdict or c.new_status)
+    return f"{c.base_verdict} -> {c.new_verdict}"
+
+
+def _overall_text(comparison: RunComparison) -> str:
+    o = comparison.overall
+    if o.geomean is None:
+        return "no case timed on both sides"
+    ci = f", 95% CI {o.ci_low:.3f}-{o.ci_high:.3f}" if o.ci_low is not None else ""
+    band = (f"; run-to-run noise band x{math.exp(comparison.noise):.2f} either way" if comparison.noise is not None
+            else f"; too few cases (< {NOISE_MIN_CASES}) to measure the run-to-run noise")
+    return f"geometric mean ratio {o.geomean:.3f} over {o.cases} case(s){ci}: {o.change or 'n/a'}{band}"
+
+
+def _print_table(console, comparison: RunComparison, title: str, only_changes: bool) -> None:
+    from rich.markup import escape
+    from rich.table import Table
+
+    table = Table(title=escape(title))
+    table.add_column("case", no_wrap=True)
+    for col in ("base", "new", "ratio", "95% CI", "p"):
+        table.add_column(col, justify="right", no_wrap=True)
+    table.add_column("timing")
+    table.add_column("verdict")
+    table.add_column("flags", overflow="fold")
+    shown = 0
+    for c in comparison.changes:
+        notable = c.flagged or c.change in ("slower", "faster", "inconclusive") or c.base_status is None \
+            or c.new_status is None
+        if only_changes and not notable:
+            continue
+        shown += 1
+        colour = {"slower": "red", "faster": "green", "inconclusive": "yellow"}.get(c.change, "")
+        ratio = f"{c.ratio:.3f}" if c.ratio is not None else "-"
+        timing = f"[{colour}]{c.change}[/{colour}]" if colour else c.change
+        ci = f"{c.ci_low:.2f}-{c.ci_high:.2f}" if c.ci_low is not None else "-"
+        p = f"{c.p_value:.3g}" if c.p_value is not None else "-"
+        flags = escape("; ".join(c.flags))
+        table.add_row(escape(f"{c.impl} {c.dataset} n={c.n} s={c.seed}"), _fmt_s(c.base_median_s),
+                      _fmt_s(c.new_median_s), ratio, ci, p, timing, escape(_verdict_text(c)),
+                      f"[bold red]{flags}[/bold red]" if flags else "")
+    if shown:
+        console.print(table)
+
+
+def run(args: argparse.Namespace) -> int:
+    from rich.console import Console
+    from rich.markup import escape
+
+    base_df, base_meta = load_side(args.base)
+    new_df, new_meta = load_side(args.new)
+    history = _history(args.base, base_meta, new_df)
+    comparison = compare_runs(base_df, new_df, threshold=args.threshold, alpha=args.alpha, seed=args.seed,
+                              history=history)
+    console = Console()
+    if not console.is_terminal:
+        console = Console(width=max(console.width, 140))     # logs (CI) are wide, keep rows on one line
+    warning = _machine_warning(base_meta, new_meta)
+    if warning:
+        console.print(f"[yellow]warning[/yellow]: {escape(warning)}")
+    title = getattr(args, "title", None) or f"{args.new} vs {args.base}"
+    _print_table(console, comparison, f"{title} (threshold {args.threshold:.0%})",
+                 args.only_changes)
+    if args.json:
+        Path(args.json).write_text(json.dumps({
+            "passed": comparison.passed, "threshold": args.threshold, "alpha": args.alpha,
+            "overall": asdict(comparison.overall),
+            "noise_band": None if comparison.noise is None else math.exp(comparison.noise),
+            "cases": [asdict(c) | {"flagged": c.flagged} for c in comparison.changes]},
+            indent=2, default=str) + "\n")
+    if args.junit or args.markdown:
+        from vorobench.harness import ci_outputs
+
+        if args.junit:
+            ci_outputs.write_compare_junit(comparison, args.junit, str(args.base), str(args.new))
+        if args.markdown:
+            ci_outputs.write_compare_markdown(comparison, args.markdown, str(args.base), str(args.new))
+    compared, flagged, missing = comparison.compared, comparison.flagged, comparison.missing
+    console.print(escape(_overall_text(comparison)))
+    inconclusive = comparison.inconclusive
+    if inconclusive:
+        console.print(f"[yellow]{len(inconclusive)} case(s) inconclusive[/yellow]: their timings cannot tell a "
+                      f"{args.threshold:.0%} change from noise (e.g. {escape(inconclusive[0].name)}: "
+                      f"{escape(inconclusive[0].why_inconclusive)}); more repeats (bench --repeat, --min-time) "
+                      "or a quieter machine would decide them")
+    if not compared:
+        console.print(f"[bold red]no case in common[/bold red]: {escape(str(args.new))} has none of the cases of "
+                      f"{escape(str(args.base))}")
+    for flag in comparison.overall.flags:
+        console.print(f"[bold red]flagged[/bold red]: {escape(flag)}")
+    if flagged:
+        console.print(f"[bold red]{len(flagged)} of {len(compared)} compared case(s) flagged[/bold red]")
+    if missing:
+        _print_missing(console, missing)
+    if not comparison.passed:
+        return 1
+    faster = sum(1 for c in comparison.changes if c.change == "faster")
+    console.print(f"[green]no regression[/green] in {len(compared)} compared case(s)"
+                  + (f"; {faster} clearly faster" if faster else ""))
+    return 0

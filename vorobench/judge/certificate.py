@@ -1,0 +1,663 @@
+"""Is a diagram the Voronoi diagram of its sites? Checks that trust no implementation.
+
+Each check looks at the diagram from a different side, so that a wrong diagram cannot pass
+by being wrong consistently:
+
+* ``structure``: the DCEL invariants (:meth:`Diagram.validate`).
+* ``vertices``: every vertex touches >= 3 cells, is equidistant from their sites, and no
+  site is strictly closer (k-d tree): the empty-circle property.
+* ``edges``: each finite end of an edge (a, b) is equidistant from a and b (the bisector),
+  and the edge runs the right way along perp(b - a): the other sites of its start vertex lie
+  strictly right of a->b and those of its end vertex strictly left (exact orient2d; this
+  also orients rays and zero-length edges, where coordinates cannot).
+* ``euler``: V - E + n == 1 and the edge graph plus the point at infinity is connected.
+* ``hull``: the unbounded cells are exactly the sites on the convex-hull boundary, collinear
+  boundary points included (monotone chain with exact orient2d).
+* ``probes``: random points of the bounding box, and every site, lie in the cell (polygon of
+  the diagram's own vertices) of their nearest site, and random points lie strictly inside no
+  cell of their next nearest sites (no cell claims a neighbour's territory).
+
+Any magnitude: the diagram is first scaled by a power of two (exact) so that its largest site
+coordinate lies in [0.5, 1) (:func:`vorobench.core.scaling.comfortable_shift`). There orient2d is
+exact and no distance, probe or tolerance underflows or overflows: at subnormal or 1e-200
+scale the orientation tests and probe sides used to underflow to 0, and n - 1 parallel lines
+for a grid were certified; at 1e300 squared distances overflowed. Coordinates rounded to
+subnormals (vertices of subnormal input) carry an absolute error of up to 2**-1075, allowed
+for in every tolerance (``_Context.normal_min``). Sites whose magnitudes span more than the exact
+range (1.0 with 1e-300) cannot be judged exactly: the structure check fails, saying so.
+Messages give coordinates in the diagram's own units.
+
+Geometric tolerances come from :mod:`vorobench.core.tolerances`. O(n log n).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import asdict, dataclass, field
+from typing import Any, Callable, Optional
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+from vorobench.core.diagram import Diagram
+from vorobench.core.incidence import vertex_site_lists
+from vorobench.core.predicates import orient2d, orient2d_many
+from vorobench.core.scaling import comfortable_shift, scale_points, smallest_normal
+from vorobench.core.sorting import argsort_keys, sorted_unique
+from vorobench.core.tolerances import (EQUIDISTANCE_REL_TOL, NEAR_DEGENERATE_REL_TOL, PROBE_REL_TOL, SHORT_EDGE_REL_TOL,
+                                  allowed_error, data_scale, length_tolerance)
+
+__all__ = ["certify", "Certificate", "Check", "CHECKS", "convex_hull_boundary", "convex_hull_polygon"]
+
+#: The checks, in the order they run.
+CHECKS = ("structure", "vertices", "edges", "euler", "hull", "probes")
+
+#: Default number of random probe points (every site is probed as well).
+DEFAULT_PROBES = 10_000
+
+_MAX_IDS = 10
+
+
+@dataclass
+class Check:
+    """Result of one check: whether it passed, what it found, and the first offending ids."""
+
+    name: str
+    ok: bool
+    detail: str
+    offending: list[int] = field(default_factory=list)
+    id_kind: str = ""
+    seconds: float = 0.0
+    #: Passed, or failed only on near-degenerate decisions that a floating-point library may
+    #: get wrong (see ``NEAR_DEGENERATE_REL_TOL``). None: same as ``ok``.
+    within_tolerance: Optional[bool] = None
+
+    def __post_init__(self) -> None:
+        if self.within_tolerance is None:
+            self.within_tolerance = self.ok
+
+    def __str__(self) -> str:
+        mark = "ok  " if self.ok else "tol " if self.within_tolerance else "FAIL"
+        ids = f" (first {self.id_kind} ids: {self.offending})" if self.offending else ""
+        return f"{mark} {self.name}: {self.detail}{ids}"
+
+
+@dataclass
+class Certificate:
+    """Result of :func:`certify`: ``ok`` when every check passed exactly.
+
+    ``ok_within_tolerance``: every check passed, or failed only on near-degenerate decisions
+    (the standard for floating-point libraries such as Qhull, never for exact code).
+    """
+
+    ok: bool
+    checks: list[Check]
+    counts: dict[str, int]
+
+    @property
+    def ok_within_tolerance(self) -> bool:
+        return all(c.within_tolerance for c in self.checks)
+
+    @property
+    def verdict(self) -> str:
+        """"certified", "within_tolerance" or "not_certified"."""
+        return "certified" if self.ok else "within_tolerance" if self.ok_within_tolerance else "not_certified"
+
+    def check(self, name: str) -> Check:
+        """The result of the check called ``name``."""
+        for c in self.checks:
+            if c.name == name:
+                return c
+        raise KeyError(f"no check {name!r}; checks: {', '.join(c.name for c in self.checks)}")
+
+    @property
+    def failed(self) -> list[str]:
+        """Names of the checks that failed."""
+        return [c.name for c in self.checks if not c.ok]
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-serialisable summary."""
+        return {"ok": self.ok, "ok_within_tolerance": self.ok_within_tolerance, "verdict": self.verdict,
+                "counts": dict(self.counts), "checks": [asdict(c) for c in self.checks]}
+
+    def __str__(self) -> str:
+        c = self.counts
+        head = "CERTIFIED" if self.ok else (
+            f"CERTIFIED WITHIN TOLERANCE (near-degenerate errors in {', '.join(self.failed)})"
+            if self.ok_within_tolerance else
+            f"NOT CERTIFIED ({', '.join(c.name for c in self.checks if not c.within_tolerance)} failed)")
+        lines = [f"certificate: {head}  [n={c.get('n')}, V={c.get('V')}, E={c.get('E')}]"]
+        lines += [f"  {check}" for check in self.checks]
+        return "\n".join(lines)
+
+
+def _ids(mask_or_ids: NDArray, limit: int = _MAX_IDS) -> list[int]:
+    arr = np.asarray(mask_or_ids)
+    idx = np.flatnonzero(arr) if arr.dtype == bool else arr
+    return [int(i) for i in idx[:limit]]
+
+
+# ---------------------------------------------------------------------------------- context
+@dataclass
+class _Context:
+    """Arrays shared by the checks, computed once."""
+
+    d: Diagram
+    sites: NDArray[np.float64]
+    xy: NDArray[np.float64]
+    origin: NDArray[np.int64]
+    twin: NDArray[np.int64]
+    site: NDArray[np.int64]
+    dest: NDArray[np.int64]
+    scale: float
+    n: int
+    V: int
+    H: int
+    seed: int
+    probes: int
+    #: the diagram is judged times 2**shift; ``normal_min``: the smallest normal float in those
+    #: units (coordinates below it were subnormals, rounded to absolute multiples of 2**-1074)
+    shift: int = 0
+    normal_min: float = 0.0
+    #: why the sites cannot be judged exactly at any scale, or None
+    range_problem: Optional[str] = None
+    structure_ok: bool = False
+    _tree: Any = None
+    _lists: Optional[tuple[NDArray[np.int64], NDArray[np.int64]]] = None
+
+    def unscaled(self, x: float) -> float:
+        """A length or coordinate back in the diagram's own units (for messages)."""
+        return math.ldexp(float(x), -self.shift)
+
+    def magnitude(self, mag: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Coordinate magnitudes for :func:`length_tolerance`, at least ``normal_min``: the ulps
+        of subnormal coordinates are the absolute 2**-1074, not relative."""
+        return np.maximum(mag, self.normal_min)
+
+    @property
+    def tree(self):
+        if self._tree is None:
+            from scipy.spatial import cKDTree
+
+            self._tree = cKDTree(self.sites, balanced_tree=False, compact_nodes=False)  # 3x faster build
+        return self._tree
+
+    @property
+    def vertex_sites(self) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+        if self._lists is None:
+            # Origins alone list every incidence when the structure is valid (origin[next] == dest).
+            dest = None if self.structure_ok else self.dest
+            self._lists = vertex_site_lists(self.site, self.origin, dest, self.V, self.n)
+        return self._lists
+
+
+def _usable(d: Diagram) -> Optional[str]:
+    """Why the index arrays cannot even be used for indexing, or None."""
+    H, V, n = d.n_half_edges, d.n_vertices, d.n_sites
+    if np.ndim(d.sites) != 2 or np.shape(d.sites)[1] != 2 or np.ndim(d.vertices) != 2 or np.shape(d.vertices)[1] != 2:
+        return "sites and vertices must be (k, 2) arrays"
+    for name in ("origin", "twin", "next", "site"):
+        arr = np.asarray(getattr(d, name))
+        if arr.shape != (H,) or arr.dtype.kind not in "iu":
+            return f"{name} is not an integer array of shape ({H},)"
+    if H and not (d.origin.min() >= -1 and d.origin.max() < V and d.twin.min() >= 0 and d.twin.max() < H
+                  and d.next.min() >= 0 and d.next.max() < H and d.site.min() >= 0 and d.site.max() < n):
+        return "an index is out of range"
+    return None
+
+
+# ---------------------------------------------------------------------------------- checks
+def _check_structure(ctx: _Context) -> Check:
+    try:
+        ctx.d.validate()
+    except Exception as exc:  # validate's message names the broken invariant and its ids
+        return Check("structure", False, f"{type(exc).__name__}: {exc}")
+    if ctx.range_problem:
+        return Check("structure", False, f"valid DCEL, but the sites cannot be judged exactly: {ctx.range_problem}")
+    return Check("structure", True, f"valid DCEL ({ctx.H} half-edges, {ctx.V} vertices)")
+
+
+@njit(cache=True)
+def _vertex_kernel(xy, sites, ptr, s, r_min, r_max, magnitude):
+    """Per vertex: smallest and largest distance to its sites, and the largest coordinate."""
+    for v in range(ptr.size - 1):
+        lo, hi = np.inf, 0.0
+        mag = max(abs(xy[v, 0]), abs(xy[v, 1]))
+        for j in range(ptr[v], ptr[v + 1]):
+            x = s[j]
+            d = np.hypot(xy[v, 0] - sites[x, 0], xy[v, 1] - sites[x, 1])
+            lo, hi = min(lo, d), max(hi, d)
+            mag = max(mag, abs(sites[x, 0]), abs(sites[x, 1]))
+        r_min[v], r_max[v], magnitude[v] = lo, hi, mag
+
+
+def _check_vertices(ctx: _Context) -> Check:
+    ptr, s = ctx.vertex_sites
+    deg = np.diff(ptr)
+    used = np.flatnonzero(deg > 0)
+    if used.size == 0:
+        return Check("vertices", True, "no vertices")
+    few = used[deg[used] < 3]
+    r_min, r_max, mag = np.empty(ctx.V), np.empty(ctx.V), np.empty(ctx.V)
+    _vertex_kernel(ctx.xy, ctx.sites, ptr, s, r_min, r_max, mag)
+    r_min, r_max, mag = r_min[used], r_max[used], ctx.magnitude(mag[used])
+    # Strict: relative to the vertex's own radius. Near-degenerate (a floating-point library
+    # merging nearly cocircular sites): relative to the data scale.
+    tol = length_tolerance(EQUIDISTANCE_REL_TOL, r_max, mag)
+    tol_near = length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(ctx.scale, r_max), mag)
+    unequal = ~(r_max - r_min <= tol)           # NaN coordinates count as violations
+    # Empty circle: no site strictly closer than the vertex's own (k-d tree nearest site).
+    nearest = np.full(used.size, np.nan)
+    finite = np.isfinite(ctx.xy[used]).all(axis=1)
+    nearest[finite] = ctx.tree.query(ctx.xy[used[finite]], workers=-1)[0]
+    closer = ~(nearest >= r_min - tol)
+    spread = (r_max - r_min) / np.maximum(r_max, 1e-300)
+    problems = []
+    if few.size:
+        problems.append(f"{few.size} vertices touch fewer than 3 cells")
+    if unequal.any():
+        k = int(np.argmax(spread))
+        problems.append(f"{int(unequal.sum())} vertices are not equidistant from their sites "
+                        f"(worst: vertex {int(used[k])}, distances {ctx.unscaled(r_min[k]):.6g} .. "
+                        f"{ctx.unscaled(r_max[k]):.6g})")
+    if closer.any():
+        problems.append(f"{int(closer.sum())} vertices have a site strictly closer than their own "
+                        f"(empty circle violated)")
+    if problems:
+        within = few.size == 0 and bool(((r_max - r_min <= tol_near) & (nearest >= r_min - tol_near)).all())
+        if within:
+            problems.append("all within the near-degenerate tolerance of the data scale")
+        bad = sorted_unique(np.concatenate([few, used[unequal], used[closer]]))
+        return Check("vertices", False, "; ".join(problems), _ids(bad), "vertex", within_tolerance=within)
+    return Check("vertices", True, f"{used.size} vertices: empty circles, distances agree to "
+                 f"{float(spread.max()):.2g} (relative)")
+
+
+@njit(cache=True)
+def _edge_kernel(sites, xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, magnitude):
+    """Per edge k (a's half-edge from vertex u to v, -1 = infinity):
+    wrong_way[k]: not oriented along perp(b - a): some other site of u is not strictly right of
+    a->b, or some other site of v not strictly left (exact); worst[k]: the largest distance of
+    such a site from the line ab (small = near-degenerate);
+    gap[k]: largest |d(w, a) - d(w, b)| over the finite ends w (0 on the bisector), with the
+    distance (radius) and coordinate magnitude to judge it by."""
+    for k in range(a.size):
+        aa, bb = a[k], b[k]
+        ax, ay, bx, by = sites[aa, 0], sites[aa, 1], sites[bb, 0], sites[bb, 1]
+        length = np.hypot(bx - ax, by - ay)
+        for w, want in ((u[k], -1), (v[k], 1)):
+            if w < 0:
+                continue
+            for j in range(ptr[w], ptr[w + 1]):
+                x = s[j]
+                if x != aa and x != bb and orient2d(ax, ay, bx, by, sites[x, 0], sites[x, 1]) != want:
+                    wrong_way[k] = True
+                    dist = abs((bx - ax) * (sites[x, 1] - ay) - (by - ay) * (sites[x, 0] - ax)) / length
+                    worst[k] = max(worst[k], dist)
+            px, py = xy[w, 0], xy[w, 1]
+            da, db = np.hypot(px - ax, py - ay), np.hypot(px - bx, py - by)
+            if not abs(da - db) <= gap[k]:          # NaN (a non-finite vertex) sticks
+                gap[k] = abs(da - db)
+                radius[k] = max(da, db)
+                magnitude[k] = max(abs(px), abs(py), abs(ax), abs(ay), abs(bx), abs(by))
+
+
+def _check_edges(ctx: _Context) -> Check:
+    if ctx.H == 0:
+        return Check("edges", True, "no edges")
+    e = np.flatnonzero(np.arange(ctx.H) < ctx.twin)
+    a, b = ctx.site[e], ctx.site[ctx.twin[e]]
+    u, v = ctx.origin[e], ctx.dest[e]
+    ptr, s = ctx.vertex_sites
+    wrong_way = np.zeros(e.size, dtype=bool)
+    worst, gap, radius, mag = (np.zeros(e.size) for _ in range(4))
+    _edge_kernel(ctx.sites, ctx.xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, mag)
+    mag = ctx.magnitude(mag)
+    off = ~(gap <= length_tolerance(EQUIDISTANCE_REL_TOL, radius, mag))     # NaN is off
+    off_far = ~(gap <= length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(ctx.scale, radius), mag))
+    problems = []
+    within = True
+    if wrong_way.any():
+        # Near-degenerate: the offending sites are almost on the line ab, or the edge is almost a point.
+        bad = np.flatnonzero(wrong_way)
+        tolerated = worst[bad] <= NEAR_DEGENERATE_REL_TOL * ctx.scale
+        fin = (u[bad] >= 0) & (v[bad] >= 0)
+        if fin.any():
+            length = np.hypot(*(ctx.xy[u[bad[fin]]] - ctx.xy[v[bad[fin]]]).T)
+            tolerated[fin] |= length < SHORT_EDGE_REL_TOL * ctx.scale
+        near = int(tolerated.sum())
+        problems.append(f"{bad.size} edges run the wrong way (or join vertices that do not "
+                        f"surround them)" + (f", {near} of them near-degenerate" if near else ""))
+        within = bool(tolerated.all())
+    if off.any():
+        problems.append(f"{int(off.sum())} edges have an end off their sites' bisector"
+                        + ("" if off_far.any() else " (within the near-degenerate tolerance of the data scale)"))
+        within = within and not off_far.any()
+    if problems:
+        return Check("edges", False, "; ".join(problems), _ids(e[wrong_way | off]), "half-edge", within_tolerance=within)
+    return Check("edges", True, f"{e.size} edges on their bisectors, oriented along perp(b - a)")
+
+
+def _check_euler(ctx: _Context) -> Check:
+    n, H = ctx.n, ctx.H
+    E = H // 2
+    used = np.zeros(ctx.V, dtype=bool)
+    used[ctx.origin[ctx.origin >= 0]] = True
+    V = int(used.sum())
+    if n == 0:
+        ok = V == 0 and E == 0
+        return Check("euler", ok, f"n = 0: V = {V}, E = {E}" + ("" if ok else " (expected none)"))
+    # Components of the edge graph with one extra node for the point at infinity.
+    inf = ctx.V
+    u = np.where(ctx.origin >= 0, ctx.origin, inf)
+    w = np.where(ctx.dest >= 0, ctx.dest, inf)
+    comps = _count_components(np.append(used, True), u, w)
+    value = V - E + n
+    ok = value == 1 and comps == 1
+    detail = f"V - E + n = {V} - {E} + {n} = {value}" + ("" if value == 1 else " (expected 1)")
+    detail += f"; {comps} connected component{'s' if comps != 1 else ''}" + ("" if comps == 1 else " (expected 1)")
+    return Check("euler", ok, detail)
+
+
+@njit(cache=True)
+def _count_components(used, u, w):
+    """Connected components among the ``used`` nodes of the graph with edges (u[k], w[k])
+    (union-find with path halving)."""
+    parent = np.arange(used.size)
+    for k in range(u.size):
+        a, b = u[k], w[k]
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        while parent[b] != b:
+            parent[b] = parent[parent[b]]
+            b = parent[b]
+        if a != b:
+            parent[a] = b
+    count = 0
+    for i in range(used.size):
+        if used[i] and parent[i] == i:
+            count += 1
+    return count
+
+
+@njit(cache=True)
+def _chain(xs, ys, order, out):
+    """Monotone chain over ``order`` (sorted lexicographically); pops only strict right turns,
+    so collinear points on the chain are kept. Writes the chain to ``out``, returns its length."""
+    k = 0
+    for i in order:
+        while k >= 2 and orient2d(xs[out[k - 2]], ys[out[k - 2]], xs[out[k - 1]], ys[out[k - 1]], xs[i], ys[i]) < 0:
+            k -= 1
+        out[k] = i
+        k += 1
+    return k
+
+
+def convex_hull_polygon(sites: NDArray[np.float64]) -> NDArray[np.int64]:
+    """Site ids around the convex hull, counter-clockwise, including collinear points on hull
+    edges (exact orient2d; distinct sites). For collinear sites: all of them, there and back."""
+    n = sites.shape[0]
+    if n <= 2:
+        return np.arange(n, dtype=np.int64)
+    xs, ys = np.ascontiguousarray(sites[:, 0]), np.ascontiguousarray(sites[:, 1])
+    cand = _hull_candidates(np.ascontiguousarray(sites, dtype=np.float64))
+    order = cand[np.lexsort((ys[cand], xs[cand]))]
+    out = np.empty(order.size, dtype=np.int64)
+    lower = out[:_chain(xs, ys, order, out)].copy()
+    upper = out[:_chain(xs, ys, order[::-1].copy(), out)].copy()
+    return np.concatenate([lower[:-1], upper[:-1]])
+
+
+def _hull_candidates(sites: NDArray[np.float64]) -> NDArray[np.int64]:
+    """Sites that may lie on the hull boundary: all but those strictly left of every edge of
+    the polygon of extreme sites in eight directions (counter-clockwise). A point strictly left
+    of every edge of a closed polygon of sites is wound around, so strictly inside the hull;
+    the test is exact (orient2d), the choice of extreme sites need not be."""
+    x, y = sites[:, 0], sites[:, 1]
+    extremes = [np.argmin(y), np.argmax(x - y), np.argmax(x), np.argmax(x + y),
+                np.argmax(y), np.argmax(y - x), np.argmin(x), np.argmin(x + y)]
+    ring = [int(i) for k, i in enumerate(extremes) if i != extremes[k - 1]]
+    everything = np.arange(sites.shape[0], dtype=np.int64)
+    if len(set(ring)) < 3:
+        return everything
+    inside = np.ones(sites.shape[0], dtype=bool)
+    for p, q in zip(ring, ring[1:] + ring[:1]):
+        inside &= orient2d_many(sites[p], sites[q], sites) > 0
+    return everything[~inside]
+
+
+def convex_hull_boundary(sites: NDArray[np.float64]) -> NDArray[np.int64]:
+    """Sorted ids of the sites on the convex-hull boundary, collinear boundary points included."""
+    return sorted_unique(convex_hull_polygon(sites))
+
+
+def _segment_distance(p: NDArray[np.float64], q0: NDArray[np.float64], q1: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Distance from points p (k, 2) to segments q0 -> q1 (each (k, 2), or broadcastable)."""
+    d = q1 - q0
+    t = np.clip(np.sum((p - q0) * d, axis=-1) / np.maximum(np.sum(d * d, axis=-1), 1e-300), 0.0, 1.0)
+    return np.hypot(*np.moveaxis(p - q0 - t[..., None] * d, -1, 0))
+
+
+def _check_hull(ctx: _Context) -> Check:
+    n = ctx.n
+    if n <= 1:
+        return Check("hull", True, f"n = {n}: nothing to check")
+    polygon = convex_hull_polygon(ctx.sites)
+    hull = np.zeros(n, dtype=bool)
+    hull[polygon] = True
+    unbounded = np.zeros(n, dtype=bool)
+    unbounded[ctx.site[(ctx.origin < 0) | (ctx.dest < 0)]] = True
+    missing = np.flatnonzero(hull & ~unbounded)
+    extra = np.flatnonzero(unbounded & ~hull)
+    if not (missing.size or extra.size):
+        return Check("hull", True, f"{int(hull.sum())} unbounded cells = sites on the convex-hull boundary")
+    # Near-degenerate: an interior site within tolerance of the hull boundary, or a hull site
+    # within tolerance of the segment joining its two hull neighbours.
+    limit = NEAR_DEGENERATE_REL_TOL * ctx.scale
+    within = True
+    q0, q1 = ctx.sites[polygon], ctx.sites[np.roll(polygon, -1)]
+    for chunk in np.array_split(extra, max(1, extra.size * polygon.size // 4_000_000)):
+        if chunk.size:
+            dist = _segment_distance(ctx.sites[chunk][:, None, :], q0[None], q1[None]).min(axis=1)
+            within &= bool((dist <= limit).all())
+    if missing.size:
+        pos = np.full(n, -1, dtype=np.int64)
+        pos[polygon] = np.arange(polygon.size)
+        k = pos[missing]
+        prev, nxt = polygon[(k - 1) % polygon.size], polygon[(k + 1) % polygon.size]
+        dist = _segment_distance(ctx.sites[missing], ctx.sites[prev], ctx.sites[nxt])
+        within &= bool((dist <= limit).all())
+    parts = []
+    if missing.size:
+        parts.append(f"{missing.size} hull sites have bounded cells")
+    if extra.size:
+        parts.append(f"{extra.size} interior sites have unbounded cells")
+    if within:
+        parts.append("all within tolerance of the hull boundary (near-degenerate)")
+    return Check("hull", False, "; ".join(parts), _ids(np.concatenate([missing, extra])), "site", within_tolerance=within)
+
+
+def _random_probes(ctx: _Context) -> NDArray[np.float64]:
+    """``ctx.probes`` uniform points in the sites' bounding box, widened by 5% of the scale."""
+    rng = np.random.default_rng(ctx.seed)
+    lo, hi = ctx.sites.min(axis=0), ctx.sites.max(axis=0)
+    pad = 0.05 * ctx.scale
+    return rng.uniform(lo - pad, hi + pad, size=(ctx.probes, 2))
+
+
+#: Besides its nearest site's cell, a random probe must not lie strictly inside the cells of
+#: its next nearest sites (a cell that claims a neighbour's territory).
+_PROBE_NEIGHBOURS = 3
+
+
+@njit(cache=True)
+def _probe_kernel(pts, cell, cptr, by_cell, sites, xy, site, twin, origin, scale, normal_min, rel_tol, outside,
+                  strictly_inside):
+    """Where probe pts[i] lies relative to the polygon of cell[i] as the diagram draws it: each
+    half-edge h bounds the cell by the line through its finite end (the diagram's own
+    vertex), or through the sites' midpoint for a full line, in direction perp(b - a), with
+    the cell on its left. outside[i]: beyond the tolerance outside some line;
+    strictly_inside[i]: inside every line by more than the tolerance."""
+    for i in range(pts.shape[0]):
+        c = cell[i]
+        px, py = pts[i, 0], pts[i, 1]
+        if cptr[c + 1] == cptr[c]:
+            outside[i] = True
+            continue
+        out, strictly_in = False, True
+        for j in range(cptr[c], cptr[c + 1]):
+            h = by_cell[j]
+            a, b = site[h], site[twin[h]]
+            dx, dy = -(sites[b, 1] - sites[a, 1]), sites[b, 0] - sites[a, 0]
+            w = origin[h] if origin[h] >= 0 else origin[twin[h]]
+            if w >= 0:
+                ax, ay = xy[w, 0], xy[w, 1]
+            else:
+                ax, ay = 0.5 * (sites[a, 0] + sites[b, 0]), 0.5 * (sites[a, 1] + sites[b, 1])
+            side = (dx * (py - ay) - dy * (px - ax)) / np.hypot(dx, dy)   # signed distance, + = left
+            radius = np.hypot(ax - sites[a, 0], ay - sites[a, 1])
+            tol = allowed_error(rel_tol, max(scale, radius), max(abs(px), abs(py), abs(ax), abs(ay), normal_min))
+            if not side >= -tol:                 # NaN counts as outside
+                out = True
+            if not side > tol:
+                strictly_in = False
+        outside[i], strictly_inside[i] = out, strictly_in
+
+
+@njit(cache=True)
+def _site_probe_kernel(sites, xy, site, twin, origin, scale, normal_min, rel_tol, outside):
+    """outside[i]: site i is outside the polygon of its own cell (same lines as
+    :func:`_probe_kernel`); one pass over the half-edges in order."""
+    for h in range(site.size):
+        a, b = site[h], site[twin[h]]
+        dx, dy = -(sites[b, 1] - sites[a, 1]), sites[b, 0] - sites[a, 0]
+        w = origin[h] if origin[h] >= 0 else origin[twin[h]]
+        if w >= 0:
+            ax, ay = xy[w, 0], xy[w, 1]
+        else:
+            ax, ay = 0.5 * (sites[a, 0] + sites[b, 0]), 0.5 * (sites[a, 1] + sites[b, 1])
+        px, py = sites[a, 0], sites[a, 1]
+        side = (dx * (py - ay) - dy * (px - ax)) / np.hypot(dx, dy)
+        radius = np.hypot(ax - px, ay - py)
+        tol = allowed_error(rel_tol, max(scale, radius), max(abs(px), abs(py), abs(ax), abs(ay), normal_min))
+        if not side >= -tol:
+            outside[a] = True
+
+
+def _check_probes(ctx: _Context) -> Check:
+    n = ctx.n
+    if n <= 1:
+        return Check("probes", True, f"n = {n}: one cell is the whole plane")
+    random = _random_probes(ctx)
+    k = min(n, 1 + _PROBE_NEIGHBOURS)
+    dist, near = ctx.tree.query(random, k=k, workers=-1)
+    dist = dist.reshape(random.shape[0], k)
+    near = near.reshape(random.shape[0], k).astype(np.int64)
+    # Sites as near as the nearest one, to float precision, are ties: the probe may be in any
+    # of their cells (on their common boundary, as far as floats can tell).
+    slack = length_tolerance(PROBE_REL_TOL, ctx.scale, ctx.magnitude(np.abs(random).max(1)))
+    tie = dist - dist[:, :1] <= slack[:, None]
+    # Rows: each random probe against its k nearest cells, through the half-edges of the
+    # cells touched (grouped by cell); then every site against its own cell (its nearest site
+    # is itself: sites are distinct) in one pass over all half-edges.
+    pts = np.repeat(random, k, axis=0)
+    cell = near.reshape(-1)
+    touched = np.zeros(n, dtype=bool)
+    touched[cell] = True
+    hs = np.flatnonzero(touched[ctx.site])
+    by_cell = hs[argsort_keys(ctx.site[hs])]
+    cptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(ctx.site[hs], minlength=n), out=cptr[1:])
+    outside = np.zeros(pts.shape[0], dtype=bool)
+    strictly_inside = np.zeros(pts.shape[0], dtype=bool)
+    xy = ctx.xy if ctx.V else np.zeros((1, 2))
+    _probe_kernel(pts, cell, cptr, by_cell, ctx.sites, xy, ctx.site, ctx.twin, ctx.origin,
+                  ctx.scale, ctx.normal_min, PROBE_REL_TOL, outside, strictly_inside)
+    site_outside = np.zeros(n, dtype=bool)
+    site_outside[np.bincount(ctx.site, minlength=n) == 0] = True          # a site without a cell
+    _site_probe_kernel(ctx.sites, xy, ctx.site, ctx.twin, ctx.origin, ctx.scale, ctx.normal_min, PROBE_REL_TOL,
+                       site_outside)
+    out_q = outside.reshape(-1, k)
+    in_q = strictly_inside.reshape(-1, k)
+    bad_own = np.flatnonzero(~(tie & ~out_q).any(axis=1))      # in no cell of a nearest site
+    claims = in_q & ~tie                                        # strictly inside a farther site's cell
+    bad_other = np.flatnonzero(claims.reshape(-1))
+    bad_sites = np.flatnonzero(site_outside)
+    if bad_own.size or bad_other.size or bad_sites.size:
+        parts, ids = [], []
+        if bad_sites.size:
+            parts.append(f"{bad_sites.size} sites lie outside their own cell")
+            ids += _ids(bad_sites)
+        if bad_own.size:
+            q = int(bad_own[0])
+            parts.append(f"{bad_own.size} of {ctx.probes} random probes lie outside the cell of their nearest "
+                         f"site (first: ({ctx.unscaled(random[q, 0]):.6g}, {ctx.unscaled(random[q, 1]):.6g}) "
+                         f"nearest to site {int(near[q, 0])})")
+            ids += _ids(near[bad_own, 0])
+        if bad_other.size:
+            q, j = divmod(int(bad_other[0]), k)
+            parts.append(f"{bad_other.size} times a cell claims a random probe nearer to another site (first: "
+                         f"({ctx.unscaled(random[q, 0]):.6g}, {ctx.unscaled(random[q, 1]):.6g}) inside cell "
+                         f"{int(near[q, j])}, nearest site "
+                         f"{int(near[q, 0])})")
+            ids += _ids(near.reshape(-1)[bad_other])
+        return Check("probes", False, "; ".join(parts), [int(i) for i in dict.fromkeys(ids)][:_MAX_IDS], "site")
+    return Check("probes", True, f"{ctx.probes} random probes lie in their nearest site's cell and no other of "
+                                 f"the {k} nearest; all {n} sites lie in their own cell")
+
+
+_RUNNERS: dict[str, Callable[[_Context], Check]] = {
+    "structure": _check_structure,
+    "vertices": _check_vertices,
+    "edges": _check_edges,
+    "euler": _check_euler,
+    "hull": _check_hull,
+    "probes": _check_probes,
+}
+
+
+# ---------------------------------------------------------------------------------- entry point
+def certify(diagram: Diagram, *, probes: int = DEFAULT_PROBES, seed: int = 0) -> Certificate:
+    """Run every check of this module on ``diagram``; never raises on a broken diagram.
+
+    ``probes``: number of random probe points (every site is probed too); ``seed`` seeds them.
+
+    >>> import impls, datasets_gen
+    >>> certify(impls.build("qhull", datasets_gen.generate("uniform", 100))).ok
+    True
+    """
+    d = diagram
+    counts = {"n": d.n_sites, "V": d.n_vertices, "E": d.n_edges}
+    problem = _usable(d)
+    if problem is not None:
+        checks = [Check("structure", False, problem)]
+        checks += [Check(name, False, "not run: the index arrays are unusable") for name in CHECKS[1:]]
+        return Certificate(False, checks, counts)
+    origin = np.asarray(d.origin, np.int64)
+    twin = np.asarray(d.twin, np.int64)
+    sites = np.ascontiguousarray(d.sites, dtype=np.float64)
+    xy = np.ascontiguousarray(d.vertices, dtype=np.float64)
+    # Judged at sites * 2**shift, largest coordinate in [0.5, 1): exact, no under/overflow.
+    shift, range_problem = comfortable_shift(sites[np.isfinite(sites).all(axis=1)])
+    if shift:
+        sites = scale_points(sites, shift)
+        with np.errstate(over="ignore", under="ignore"):
+            xy = scale_points(xy, shift)
+    ctx = _Context(d, sites, xy, origin, twin, np.asarray(d.site, np.int64), origin[twin], data_scale(sites),
+                   d.n_sites, d.n_vertices, d.n_half_edges, seed, int(probes), shift, smallest_normal(shift),
+                   range_problem)
+    checks = []
+    for name in CHECKS:
+        t0 = time.perf_counter_ns()
+        try:
+            check = _RUNNERS[name](ctx)
+        except Exception as exc:  # a check that cannot run on this diagram has failed
+            check = Check(name, False, f"could not run: {type(exc).__name__}: {exc}")
+        check.seconds = (time.perf_counter_ns() - t0) / 1e9
+        checks.append(check)
+        if name == "structure":
+            ctx.structure_ok = check.ok
+    return Certificate(all(c.ok for c in checks), checks, counts)

@@ -1,0 +1,498 @@
+"""Cross-validation of one case: build with an implementation, certify it, compare it with a
+reference that is certified too, and decide who is wrong.
+
+The engine is :class:`Judge` (and :func:`judge_case` for one case): it builds every
+implementation of a case in an isolated worker (:mod:`vorobench.judge.sandbox`) with a timeout and
+an optional memory limit, certifies each diagram there, certifies the reference once per case,
+and decides each verdict with :func:`decide`. ``vorobench validate``, ``vorobench fuzz``,
+witness shrinking and the CI tests go through it; the benchmark worker's check step uses
+:func:`decide` on the diagram it timed. Rules:
+
+* A failure of the implementation is its own verdict and nobody else's: ``crashed`` (an
+  exception, a signal such as SIGSEGV, or an exit with any status, 0 included), ``timeout``,
+  ``oom``, ``mutated_input`` (it changed the sites it was given). An implementation that
+  declares it cannot take the sites is ``unsupported``.
+* An implementation must certify: exactly if it is exact, within tolerance if it is a
+  floating-point library (``Implementation.exact`` is False, e.g. qhull).
+* Two exact implementations must agree ``exact``-ly; against a floating-point library,
+  ``within_tolerance`` is a pass.
+* The reference is not trusted: when the diagrams differ, the certificates decide. If the
+  implementation certifies exactly and the reference does not, the difference is the
+  reference's failure (a floating-point reference certified within tolerance is then
+  "within tolerance"; a reference that does not certify at all fails on its own row).
+"""
+
+from __future__ import annotations
+
+import atexit
+import multiprocessing as mp
+import time
+import traceback
+from dataclasses import dataclass, field
+from typing import Any, Optional, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from impls.base import InputMutated, UnsupportedInput
+from vorobench.judge.certificate import DEFAULT_PROBES, Certificate, certify
+from vorobench.judge.comparison import Comparison, compare
+from vorobench.core.diagram import Diagram
+from vorobench.core.prepare import prepare
+from vorobench.judge.outcomes import Verdict
+from vorobench.core.scaling import OutsideExactRange
+
+__all__ = ["CaseVerdict", "BuildResult", "CaseJudgement", "Judge", "judge_case", "build_only", "certify_result", "build_and_certify", "build_in_sandbox", "diagram_arrays", "diagram_from_arrays", "check_case",
+           "decide", "agree_exactly", "is_exact", "VERDICTS", "PASSING", "FAILURES", "DEFAULT_REFERENCE",
+           "DEFAULT_TIMEOUT", "shared_judge", "close_shared_judges"]
+
+DEFAULT_REFERENCE = "qhull"
+
+#: Seconds one implementation may take to build and certify one case in the judge.
+DEFAULT_TIMEOUT = 60.0
+
+#: Every verdict, from best to worst. "certified": no comparison was possible (this is the
+#: reference, or the reference crashed) but the implementation certifies.
+VERDICTS = tuple(v.value for v in Verdict
+                 if v not in (Verdict.NO_REFERENCE, Verdict.SKIPPED, Verdict.CHECK_ERROR))
+
+#: Verdicts that say the implementation produced no diagram it may be judged on.
+FAILURES = ("not_certified", "wrong_sites", "mutated_input", "oom", "timeout", "crashed")
+
+#: Verdicts that pass (``differs`` passes only when the reference is to blame: see ``passed``).
+PASSING = ("exact", "within_tolerance", "certified", "unsupported")
+
+
+@dataclass
+class BuildResult:
+    """A diagram built with crash capture, and its certificate."""
+
+    impl: str
+    exact: bool
+    diagram: Optional[Diagram] = None
+    certificate: Optional[Certificate] = None
+    error: str = ""
+    unsupported: str = ""
+    seconds: float = 0.0
+    #: The failure verdict when ``error`` is set: "crashed", "timeout", "oom" or "mutated_input".
+    failure: str = ""
+
+    @property
+    def crashed(self) -> bool:
+        return bool(self.error)
+
+    @property
+    def certified(self) -> Optional[bool]:
+        """Certified by this implementation's standard (exactly, or within tolerance for a
+        floating-point library); None if there is no diagram."""
+        if self.certificate is None:
+            return None
+        return self.certificate.ok if self.exact else self.certificate.ok_within_tolerance
+
+    @property
+    def certified_exactly(self) -> Optional[bool]:
+        return None if self.certificate is None else self.certificate.ok
+
+
+def build_only(impl_name: str, sites: np.ndarray) -> BuildResult:
+    """Build prepared ``sites`` with ``impl_name`` in this process; every failure is recorded in
+    the result, not raised. No certificate yet: that is the judge's, outside the implementation's
+    process."""
+    import impls
+
+    try:
+        impl = impls.get(impl_name)
+    except Exception as exc:  # unknown or broken plugin: recorded like a crash
+        return BuildResult(impl_name, True, error=f"{type(exc).__name__}: {exc}", failure="crashed")
+    result = BuildResult(impl_name, bool(impl.exact))
+    try:
+        reason = impl.unsupported_reason(sites)
+    except Exception as exc:  # a supports() that raises is the implementation's crash
+        result.error, result.failure = f"supports() raised {type(exc).__name__}: {exc}", "crashed"
+        return result
+    if reason:
+        result.unsupported = reason
+        return result
+    t0 = time.perf_counter_ns()
+    try:
+        result.diagram = impl.run(sites, None, check_supports=False)
+        if type(result.diagram) is not Diagram:
+            raise TypeError(f"build returned {type(result.diagram).__name__}, not a Diagram")
+    except InputMutated as exc:
+        result.diagram, result.error, result.failure = None, str(exc), "mutated_input"
+    except (UnsupportedInput, OutsideExactRange) as exc:   # refused on the scaled sites, or a vertex beyond floats
+        result.diagram, result.unsupported = None, str(exc)
+    except MemoryError as exc:
+        result.diagram, result.error, result.failure = None, f"MemoryError: {exc}", "oom"
+    except Exception as exc:  # any failure inside the implementation is its crash
+        frames = traceback.extract_tb(exc.__traceback__)
+        where = f" at {frames[-1].filename}:{frames[-1].lineno}" if frames else ""
+        result.diagram = None
+        result.error = f"{type(exc).__name__}: {exc}{where}"
+        result.failure = "crashed"
+    result.seconds = (time.perf_counter_ns() - t0) / 1e9
+    return result
+
+
+def certify_result(result: BuildResult, sites: np.ndarray, *, probes: int = DEFAULT_PROBES,
+                   seed: int = 0) -> BuildResult:
+    """Certify ``result``'s diagram, which must be the diagram of exactly ``sites``: a diagram
+    of other sites (moved, dropped, relabelled) is a failure, however well it certifies."""
+    d = result.diagram
+    if d is None:
+        return result
+    if not (d.sites.shape == sites.shape and np.array_equal(d.sites, sites)):
+        result.diagram, result.failure = None, "wrong_sites"
+        result.error = ("returned the diagram of other sites: "
+                        + (f"{d.sites.shape[0]} sites for the {sites.shape[0]} it was given"
+                           if d.sites.shape != sites.shape else "some of them moved"))
+        return result
+    try:
+        result.certificate = certify(d, probes=probes, seed=seed)
+    except Exception as exc:  # a diagram the certifier cannot even read certifies nothing
+        result.diagram, result.failure = None, "not_certified"
+        result.error = f"the certifier could not read the diagram: {type(exc).__name__}: {exc}"
+    return result
+
+
+def build_and_certify(impl_name: str, sites: ArrayLike, *, probes: int = DEFAULT_PROBES, seed: int = 0) -> BuildResult:
+    """Build ``sites`` with ``impl_name`` in this process and certify the result. Call it
+    directly only where a hard crash of the implementation may take the calling process
+    down; :class:`Judge` isolates the build."""
+    sites, _ = prepare(sites)
+    return certify_result(build_only(impl_name, sites), sites, probes=probes, seed=seed)
+
+
+_DIAGRAM_FIELDS = ("sites", "vertices", "origin", "twin", "next", "site")
+
+
+def diagram_arrays(d: Diagram) -> dict[str, np.ndarray]:
+    """The DCEL's arrays by field name: what a sandbox sends instead of an object."""
+    return {f: np.asarray(getattr(d, f)) for f in _DIAGRAM_FIELDS}
+
+
+def diagram_from_arrays(arrays: dict[str, np.ndarray]) -> Diagram:
+    """A :class:`Diagram` of the judge's own class from arrays a sandbox sent."""
+    return Diagram(*(arrays[f] for f in _DIAGRAM_FIELDS))
+
+
+def build_in_sandbox(impl_name: str, sites: np.ndarray) -> tuple[dict, dict]:
+    """Runs in a sandbox: :func:`build_only` as plain data and arrays (nothing to unpickle)."""
+    res = build_only(impl_name, sites)
+    data = {"exact": res.exact, "error": res.error, "unsupported": res.unsupported, "seconds": res.seconds,
+            "failure": res.failure, "has_diagram": res.diagram is not None}
+    arrays = diagram_arrays(res.diagram) if res.diagram is not None else None
+    return data, arrays
+
+
+def _result_from_sandbox(impl_name: str, data: dict, arrays: dict) -> BuildResult:
+    """A :class:`BuildResult` rebuilt in the judge from what a sandbox sent."""
+    res = BuildResult(impl_name, bool(data["exact"]), error=str(data["error"] or ""),
+                      unsupported=str(data["unsupported"] or ""), seconds=float(data["seconds"] or 0.0),
+                      failure=str(data["failure"] or ""))
+    if data["has_diagram"]:
+        try:
+            res.diagram = diagram_from_arrays(arrays)
+        except Exception as exc:  # arrays of the wrong kind or shape
+            res.error, res.failure = f"returned an unreadable diagram: {type(exc).__name__}: {exc}", "crashed"
+    return res
+
+
+@dataclass
+class CaseVerdict:
+    """The outcome of one implementation on one point set, judged against the reference."""
+
+    impl: str
+    reference: str
+    verdict: str
+    passed: bool
+    certified: Optional[bool]
+    reference_certified: Optional[bool]
+    message: str
+    #: Who is wrong: "impl", "reference", "unknown" (both certify, yet they differ) or "" (nobody).
+    blame: str = ""
+    n_sites: int = 0
+    seconds: float = 0.0
+    result: Optional[BuildResult] = field(default=None, repr=False)
+    reference_result: Optional[BuildResult] = field(default=None, repr=False)
+    comparison: Optional[Comparison] = field(default=None, repr=False)
+
+    def to_dict(self, *, details: bool = True) -> dict[str, Any]:
+        """JSON-serialisable summary; with ``details``, the certificates and comparison too."""
+        out: dict[str, Any] = {k: getattr(self, k) for k in (
+            "impl", "reference", "verdict", "passed", "certified", "reference_certified", "message", "blame",
+            "n_sites", "seconds")}
+        if details:
+            for key, res in (("certificate", self.result), ("reference_certificate", self.reference_result)):
+                if res is not None and res.certificate is not None:
+                    out[key] = res.certificate.to_dict()
+            if self.result is not None and self.result.error:
+                out["error"] = self.result.error
+            if self.comparison is not None:
+                comp = self.comparison.to_dict()
+                comp.pop("highlight_a", None)
+                comp.pop("highlight_b", None)
+                out["comparison"] = comp
+        return out
+
+
+def _failed_checks(res: BuildResult) -> str:
+    cert = res.certificate
+    if cert is None:
+        return ""
+    bad = [c for c in cert.checks if not (c.ok if res.exact else c.within_tolerance)]
+    return "; ".join(f"{c.name}: {c.detail}" for c in bad)
+
+
+def check_case(impl_name: str, sites: ArrayLike, reference_diagram: Optional[Diagram] = None,
+               reference_certificate: Optional[Certificate] = None, *, reference: str = DEFAULT_REFERENCE,
+               reference_result: Optional[BuildResult] = None, probes: int = DEFAULT_PROBES,
+               seed: int = 0, judge: Optional["Judge"] = None) -> CaseVerdict:
+    """Build, certify and compare ``impl_name`` on ``sites`` against ``reference``.
+
+    Builds go through ``judge`` (isolated workers) when given, else run in this process. The
+    reference is built and certified here unless given (as ``reference_result``, or as a
+    diagram with an optional certificate), so that a runner can reuse one reference for
+    several implementations.
+    """
+    t0 = time.perf_counter_ns()
+    sites, _ = prepare(sites)
+    judge = judge or Judge(isolate=False, reference=reference, probes=probes, seed=seed)
+    if impl_name == reference and reference_result is not None:
+        res = reference_result                    # the reference's own row: judged on its certificate
+    else:
+        res = judge.build(impl_name, sites)
+    if reference_result is None:
+        if reference_diagram is not None:
+            cert = reference_certificate or certify(reference_diagram, probes=probes, seed=seed)
+            reference_result = BuildResult(reference, is_exact(reference), reference_diagram, cert)
+        elif impl_name == reference:
+            reference_result = res
+        else:
+            reference_result = judge.build(reference, sites)
+    verdict = decide(impl_name, reference, res, reference_result)
+    verdict.n_sites = int(sites.shape[0])
+    verdict.seconds = (time.perf_counter_ns() - t0) / 1e9
+    return verdict
+
+
+def is_exact(name: str) -> bool:
+    """Whether implementation ``name`` declares exact decisions (an unknown one is judged strictly)."""
+    import impls
+
+    try:
+        return bool(impls.get(name).exact)
+    except Exception:  # an unknown reference is judged strictly
+        return True
+
+
+def decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) -> CaseVerdict:
+    """The verdict of ``res`` (``impl_name``'s build and certificate) against the reference's
+    ``ref``, by the rules of this module; ``res is ref`` judges the reference's own row."""
+    def make(verdict: str, passed: bool, message: str, blame: str = "", comparison: Optional[Comparison] = None):
+        return CaseVerdict(impl_name, reference, verdict, passed, res.certified, ref.certified, message, blame,
+                           result=res, reference_result=ref, comparison=comparison)
+
+    if res.unsupported:
+        return make("unsupported", True, f"{impl_name} does not support these sites: {res.unsupported}")
+    if res.crashed:
+        kind = res.failure or "crashed"
+        what = {"crashed": "crashed", "timeout": "timed out", "oom": "ran out of memory",
+                "mutated_input": "changed its input", "wrong_sites": "failed", "not_certified": "failed"}.get(kind, kind)
+        return make(kind, False, f"{impl_name} {what}: {res.error}", "impl")
+    standard = "exactly" if res.exact else "within tolerance (floating point)"
+    if not res.certified:
+        return make("not_certified", False, f"{impl_name} is not certified: {_failed_checks(res)}", "impl")
+    cert_note = "certified" if res.certificate.ok else "certified within tolerance (floating point)"
+    if res is ref or impl_name == reference:
+        return make("certified", True, f"{impl_name} (the reference) is {cert_note}")
+    if ref.diagram is None:
+        why = ref.error or ref.unsupported or "no diagram"
+        return make("certified", True, f"{impl_name} is {cert_note}; no comparison: reference {reference} "
+                                       f"has no diagram ({why})", "reference" if ref.crashed else "")
+    try:
+        comp = compare(ref.diagram, res.diagram, labels=(reference, impl_name))
+    except Exception as exc:  # a diagram the comparer cannot read is no pass
+        return make("differs", False, f"{impl_name} could not be compared with {reference}: "
+                                      f"{type(exc).__name__}: {exc}", "impl")
+    both_exact = res.exact and ref.exact
+    if comp.equal and (comp.verdict == "exact" or not both_exact):
+        note = "" if comp.verdict == "exact" else f" (within tolerance: {reference if not ref.exact else impl_name} " \
+                                                     f"is floating point; that is a pass)"
+        return make(comp.verdict, True, f"{impl_name} agrees with {reference}: {comp.verdict}{note}; {cert_note}",
+                    comparison=comp)
+    if comp.equal:  # two exact implementations agreeing only within tolerance
+        return make("differs", False, f"{impl_name} and {reference} are both exact but agree only within "
+                                      f"tolerance: exact implementations must agree exactly", "impl", comp)
+    impl_exactly = bool(res.certified_exactly)
+    ref_exactly = bool(ref.certified_exactly)
+    if impl_exactly and not ref_exactly:
+        if ref.certified:  # a floating-point reference, certified within tolerance only
+            return make("within_tolerance", True,
+                        f"{impl_name} differs from {reference}, but {impl_name} is certified exactly and "
+                        f"{reference} (floating point) only within tolerance ({_failed_near(ref)}): the difference "
+                        f"is the reference's rounding", comparison=comp)
+        return make("differs", True, f"{impl_name} differs from {reference}; {impl_name} is certified, "
+                                     f"{reference} is NOT: the reference is wrong ({_failed_checks(ref)})",
+                    "reference", comp)
+    who = f"{impl_name} certified {'exactly' if impl_exactly else standard}; " \
+          f"{reference} certified {'exactly' if ref_exactly else 'within tolerance' if ref.certified else 'NOT'}"
+    blame = "unknown" if impl_exactly and ref_exactly else "impl"
+    return make("differs", False, f"{impl_name} differs from {reference} ({comp.n_differences} differences; {who})",
+                blame, comp)
+
+
+def _failed_near(res: BuildResult) -> str:
+    cert = res.certificate
+    return ", ".join(f"{c.name}: {c.detail}" for c in cert.checks if not c.ok) if cert else ""
+
+
+def agree_exactly(first: BuildResult, second: BuildResult) -> CaseVerdict:
+    """Two exact implementations on the same sites must give the same diagram after exact
+    normalisation only (verdict ``exact``); anything else fails. Crashes and missing
+    diagrams are judged on their own rows, so they pass here."""
+    a, b = first.impl, second.impl
+    if first.diagram is None or second.diagram is None:
+        return CaseVerdict(b, a, "unsupported", True, second.certified, first.certified,
+                           f"no comparison of {a} and {b}: a diagram is missing", result=second, reference_result=first)
+    try:
+        comp = compare(first.diagram, second.diagram, labels=(a, b))
+    except Exception as exc:  # a diagram the comparer cannot read is no pass
+        return CaseVerdict(b, a, "differs", False, second.certified, first.certified,
+                           f"{a} and {b} could not be compared: {type(exc).__name__}: {exc}", "impl",
+                           result=second, reference_result=first)
+    if comp.equal and comp.verdict == "exact":
+        return CaseVerdict(b, a, "exact", True, second.certified, first.certified,
+                           f"exact implementations {a} and {b} agree exactly", result=second, reference_result=first,
+                           comparison=comp)
+    blame = "impl" if not second.certified else "reference" if not first.certified else "unknown"
+    return CaseVerdict(b, a, "differs", False, second.certified, first.certified,
+                       f"exact implementations {a} and {b} disagree ({comp.verdict}, {comp.n_differences} differences): "
+                       f"they must agree exactly", blame, result=second, reference_result=first, comparison=comp)
+
+
+# ---------------------------------------------------------------------------- the engine
+
+@dataclass
+class CaseJudgement:
+    """Every verdict of one case: ``rows`` holds (implementation, verdict, exact peer or None);
+    the reference's own row comes first."""
+
+    sites: np.ndarray
+    rows: list[tuple[str, CaseVerdict, Optional[str]]]
+
+    @property
+    def passed(self) -> bool:
+        return all(v.passed for _, v, _ in self.rows)
+
+
+class Judge:
+    """The judging engine: builds and certifies each implementation in an isolated sandbox
+    (timeout, memory limit, crash containment), the reference once per case, and decides.
+
+    ``isolate=False`` runs the builds in this process (for callers that are themselves a
+    disposable worker). Use as a context manager, or call :meth:`close`, to end the sandboxes.
+    """
+
+    def __init__(self, names: Sequence[str] = (), reference: str = DEFAULT_REFERENCE, *,
+                 probes: int = DEFAULT_PROBES, seed: int = 0, timeout: float = DEFAULT_TIMEOUT,
+                 warmup_timeout: Optional[float] = None, memory_limit_mb: Optional[float] = None,
+                 plugins: Sequence[str] = (), isolate: bool = True) -> None:
+        from vorobench.judge.sandbox import WARMUP_TIMEOUT
+
+        self.names = list(dict.fromkeys(names))
+        self.reference = reference
+        self.probes = probes
+        self.seed = seed
+        self.timeout = timeout
+        self.warmup_timeout = max(WARMUP_TIMEOUT if warmup_timeout is None else warmup_timeout, timeout)
+        self.memory_limit_mb = memory_limit_mb
+        self.plugins = tuple(plugins)
+        self.isolate = isolate
+        self._sandboxes: dict = {}
+
+    def __enter__(self) -> "Judge":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        for box in self._sandboxes.values():
+            box.close()
+        self._sandboxes.clear()
+
+    def build(self, name: str, sites: np.ndarray, *, probes: Optional[int] = None) -> BuildResult:
+        """``name``'s diagram of ``sites`` with its certificate; any failure is in the result."""
+        probes = self.probes if probes is None else probes
+        if not self.isolate:
+            return build_and_certify(name, sites, probes=probes, seed=self.seed)
+        from vorobench.judge.sandbox import Sandbox
+
+        box = self._sandboxes.get(name)
+        if box is None:
+            box = self._sandboxes[name] = Sandbox(name, plugins=self.plugins, memory_limit_mb=self.memory_limit_mb,
+                                                  warmup_timeout=self.warmup_timeout)
+        t0 = time.perf_counter_ns()
+        outcome = box.call(build_in_sandbox, name, sites, timeout=self.timeout, step="build")
+        if outcome.ok:
+            return certify_result(_result_from_sandbox(name, *outcome.value), sites, probes=probes, seed=self.seed)
+        failure = "crashed" if outcome.kind == "error" else outcome.kind
+        return BuildResult(name, is_exact(name), error=outcome.message, failure=failure,
+                           seconds=(time.perf_counter_ns() - t0) / 1e9)
+
+    def judge(self, sites: ArrayLike, names: Optional[Sequence[str]] = None) -> CaseJudgement:
+        """Every implementation on ``sites``: the reference's own row first, then each against
+        the reference, and each exact one also against the first exact one (exactly)."""
+        sites, _ = prepare(sites)
+        names = list(dict.fromkeys(names if names is not None else self.names))
+        reference = self.reference
+        t0 = time.perf_counter_ns()
+        ref = self.build(reference, sites)
+        rows: list[tuple[str, CaseVerdict, Optional[str]]] = []
+        anchor: Optional[BuildResult] = None
+        for name in [reference] + [n for n in names if n != reference]:
+            started = time.perf_counter_ns()
+            res = ref if name == reference else self.build(name, sites)
+            verdict = decide(name, reference, res, ref)
+            verdict.n_sites = int(sites.shape[0])
+            verdict.seconds = ((time.perf_counter_ns() - (t0 if name == reference else started)) / 1e9)
+            rows.append((name, verdict, None))
+            if res.exact and res.diagram is not None and name != reference:
+                if anchor is None:
+                    anchor = res
+                else:
+                    rows.append((name, agree_exactly(anchor, res), anchor.impl))
+        return CaseJudgement(sites, rows)
+
+
+def judge_case(sites: ArrayLike, names: Sequence[str], reference: str = DEFAULT_REFERENCE,
+               **options: Any) -> CaseJudgement:
+    """One case through a fresh :class:`Judge` (``options`` as for Judge), its sandboxes closed after."""
+    with Judge(names, reference, **options) as judge:
+        return judge.judge(sites)
+
+
+#: Judges kept for the life of this process (a pool worker judges many cases), one per setup.
+_SHARED: dict[tuple, Judge] = {}
+
+
+def shared_judge(names: Sequence[str], reference: str = DEFAULT_REFERENCE, **options: Any) -> Judge:
+    """A :class:`Judge` kept in this process for these names and options, so that its sandboxes
+    serve every case a worker gets. A daemonic process (a Dask worker) may not start processes:
+    there the builds run in the process itself, and the executor's retry-then-lost rule covers
+    a worker that dies."""
+    key = (tuple(names), reference, tuple(sorted(options.items())))
+    judge = _SHARED.get(key)
+    if judge is None:
+        options.setdefault("isolate", not mp.current_process().daemon)
+        judge = _SHARED[key] = Judge(names, reference, **options)
+    return judge
+
+
+@atexit.register
+def close_shared_judges() -> None:
+    """End the sandboxes of every shared judge."""
+    for judge in _SHARED.values():
+        judge.close()
+    _SHARED.clear()

@@ -1,0 +1,175 @@
+"""Witnesses: shrink a failing point set by delta debugging, save it with a command and a picture.
+
+``ddmin`` (Zeller and Hildebrandt's minimising delta debugging) drops chunks of points while
+the failure persists, then ever smaller chunks, until no single point can be dropped: a
+1-minimal witness, usually a handful of points. ``write_witness`` saves it as ``.npy``, a
+text file with the command that reproduces it, and a PNG overlaying the implementation's
+diagram on the reference's with the differing edges in red.
+"""
+
+from __future__ import annotations
+
+import shlex
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Optional
+
+import numpy as np
+from numpy.typing import NDArray
+
+from vorobench.judge.engine import CaseVerdict, Judge, agree_exactly, check_case
+
+__all__ = ["ddmin", "judge", "shrink_case", "write_witness", "Witness"]
+
+
+def ddmin(n: int, fails: Callable[[NDArray[np.int64]], bool], *, max_tests: int = 2000,
+          time_budget: float = 120.0) -> NDArray[np.int64]:
+    """Indices of a small subset of ``range(n)`` on which ``fails`` still holds (``fails`` must
+    hold on all of them). Each round splits the current set into ``k`` chunks and keeps one
+    chunk, or drops one chunk, if the failure persists; otherwise it doubles ``k``. Stops at
+    a 1-minimal set, after ``max_tests`` calls or after ``time_budget`` seconds."""
+    items = np.arange(n, dtype=np.int64)
+    k = 2
+    tests = 0
+    deadline = time.monotonic() + time_budget
+    cache: dict[bytes, bool] = {}
+
+    def test(subset: NDArray[np.int64]) -> bool:
+        nonlocal tests
+        key = subset.tobytes()
+        if key not in cache:
+            if tests >= max_tests or time.monotonic() >= deadline:
+                return False                          # out of budget: keep what we have
+            tests += 1
+            cache[key] = bool(fails(subset))
+        return cache[key]
+
+    while items.size >= 2 and tests < max_tests and time.monotonic() < deadline:
+        chunks = np.array_split(items, min(k, items.size))
+        reduced = False
+        for chunk in chunks:                          # one chunk alone still fails?
+            if chunk.size < items.size and test(chunk):
+                items, k, reduced = chunk, 2, True
+                break
+        if not reduced:
+            for i in range(len(chunks)):              # everything but one chunk still fails?
+                rest = np.concatenate([c for j, c in enumerate(chunks) if j != i])
+                if rest.size and test(rest):
+                    items, k, reduced = rest, max(k - 1, 2), True
+                    break
+        if not reduced:
+            if k >= items.size:
+                break
+            k = min(items.size, 2 * k)
+    return items
+
+
+def judge(impl: str, points: NDArray[np.float64], *, reference: str, exact_peer: Optional[str] = None,
+          probes: int = 2000, judge: Optional[Judge] = None) -> CaseVerdict:
+    """``impl`` on ``points``: against ``reference`` (:func:`check_case`), or, with
+    ``exact_peer``, exact agreement with that other exact implementation. Builds go through
+    ``judge`` (isolated workers: a crashing implementation can be shrunk) when given."""
+    engine = judge or Judge(reference=reference, isolate=False)
+    if exact_peer is None:
+        return check_case(impl, points, reference=reference, probes=probes, judge=engine)
+    return agree_exactly(engine.build(exact_peer, points, probes=probes), engine.build(impl, points, probes=probes))
+
+
+_judge = judge     # the module function, for callers whose parameter is also called ``judge``
+
+
+def shrink_case(impl: str, points: NDArray[np.float64], verdict: CaseVerdict, *, reference: str,
+                exact_peer: Optional[str] = None, probes: int = 2000, max_tests: int = 2000,
+                time_budget: float = 120.0, judge: Optional[Judge] = None) -> NDArray[np.float64]:
+    """The smallest subset of ``points`` found by :func:`ddmin` on which ``impl`` fails the same
+    way (same verdict and blame) against ``reference`` (or against ``exact_peer``)."""
+    want = (verdict.verdict, verdict.blame)
+
+    def fails(idx: NDArray[np.int64]) -> bool:
+        v = _judge(impl, points[idx], reference=reference, exact_peer=exact_peer, probes=probes, judge=judge)
+        return (v.verdict, v.blame) == want and not v.passed
+
+    keep = ddmin(points.shape[0], fails, max_tests=max_tests, time_budget=time_budget)
+    return points[np.sort(keep)]
+
+
+@dataclass
+class Witness:
+    """Files written for one failure."""
+
+    points: Path
+    command: Path
+    picture: Optional[Path]
+    n_points: int
+    verdict: CaseVerdict
+
+
+def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[np.float64], *, reference: str,
+                  exact_peer: Optional[str] = None, probes: int = 2000, judge: Optional[Judge] = None,
+                  verdict: Optional[CaseVerdict] = None) -> Witness:
+    """Save ``points`` as ``NAME.npy`` with ``NAME.txt`` (the command that reproduces the failure
+    and what it reports; ``verdict`` if given, else ``points`` judged again) and ``NAME.png`` (both diagrams, differing edges in red)."""
+    from vorobench.judge.plotting import save_overlay
+
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    npy = directory / f"{name}.npy"
+    np.save(npy, np.asarray(points, dtype=np.float64))
+    if verdict is None:     # given when judging again would only cost the same timeout twice
+        verdict = _judge(impl, points, reference=reference, exact_peer=exact_peer, probes=probes, judge=judge)
+    names = impl if exact_peer is None else f"{exact_peer},{impl}"
+    command = (f"vorobench validate --impls {shlex.quote(names)} --reference {shlex.quote(reference)} "
+               f"--points {shlex.quote(str(npy))}")
+    lines = [command, "", f"{points.shape[0]} points; verdict {verdict.verdict}: {verdict.message}"]
+    shown: list = []
+    for res in (verdict.result, verdict.reference_result):
+        if res is not None and res.certificate is not None and all(res is not r for r in shown):
+            shown.append(res)
+            lines += ["", f"{res.impl}:", str(res.certificate)]
+    if verdict.comparison is not None:
+        lines += ["", str(verdict.comparison)]
+    txt = directory / f"{name}.txt"
+    txt.write_text("\n".join(lines) + "\n")
+    picture: Optional[Path] = directory / f"{name}.png"
+    ref_d = verdict.reference_result.diagram if verdict.reference_result is not None else None
+    own_d = verdict.result.diagram if verdict.result is not None else None
+    if own_d is ref_d:
+        ref_d = None
+    if own_d is None and ref_d is None:            # crashed: draw the points at least
+        from vorobench.core.diagram import Diagram
+        from vorobench.core.prepare import prepare
+
+        own_d = Diagram.empty(prepare(points)[0])
+    comp = verdict.comparison
+    hl_ref = comp.highlight_a if comp is not None else _offending_half_edges(verdict.reference_result)
+    hl_own = comp.highlight_b if comp is not None else _offending_half_edges(verdict.result)
+    marks = _offending_sites(verdict.result) + _offending_sites(verdict.reference_result)
+    try:
+        other = exact_peer or reference
+        save_overlay(ref_d, own_d, picture, labels=(other, impl), highlight_first=hl_ref,
+                     highlight_second=hl_own, mark_sites=marks,
+                     title=f"{impl} vs {other}: {verdict.verdict} ({points.shape[0]} points)")
+    except Exception:  # nothing to draw (both crashed) or a drawing failure: the witness stands without it
+        picture = None
+    return Witness(npy, txt, picture, int(points.shape[0]), verdict)
+
+
+def _offending_half_edges(res) -> list[int]:
+    if res is None or res.certificate is None or res.diagram is None:
+        return []
+    out: list[int] = []
+    for c in res.certificate.checks:
+        if not c.ok and c.id_kind == "half-edge":
+            out += [h for h in c.offending if 0 <= h < res.diagram.n_half_edges]
+    return out
+
+
+def _offending_sites(res) -> list[int]:
+    if res is None or res.certificate is None or res.diagram is None:
+        return []
+    out: list[int] = []
+    for c in res.certificate.checks:
+        if not c.ok and c.id_kind == "site":
+            out += [i for i in c.offending if 0 <= i < res.diagram.n_sites]
+    return out
