@@ -24,6 +24,7 @@ import datasets_gen
 import impls
 from vorobench.core.prepare import prepare
 
+
 @functools.lru_cache(maxsize=None)
 def prepared_sites(dataset: str, n: int, seed: int = 0) -> np.ndarray:
     """Prepared sites of a dataset, generated once per session (shared: do not modify)."""

@@ -13,7 +13,6 @@ import importlib.util
 from importlib.metadata import entry_points
 from typing import Optional
 
-import numpy as np
 from numpy.typing import ArrayLike
 
 from impls.base import Implementation, InputMutated, UnsupportedInput

@@ -10,9 +10,9 @@ from typing import Callable, Iterator, Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from vorobench.core.counters import CounterError, check_counters
 from vorobench.core.diagram import Diagram
 from vorobench.core.scaling import exact_shift, scale_back_vertices, scale_points
-from vorobench.judge.outcomes import CounterError, check_counters
 
 __all__ = ["Implementation", "BuildFunction", "UnsupportedInput", "InputMutated", "CounterError", "record_timing"]
 

@@ -54,13 +54,20 @@ from numba import njit
 from numpy.typing import NDArray
 
 from impls.base import Implementation
-from vorobench.core.circumcentre import circumcentre
-from vorobench.core.spatial_order import HILBERT_BITS, hilbert_keys
 from vorobench.core.builder import assemble, collinear_diagram
+from vorobench.core.circumcentre import circumcentre
 from vorobench.core.diagram import Diagram
-from vorobench.core.predicates import (INCIRCLE_CALLS, INCIRCLE_EXACT, ORIENT_CALLS, ORIENT_EXACT, incircle_counted,
-                                  orient2d_counted, orient2d_many)
+from vorobench.core.hull import all_collinear
+from vorobench.core.predicates import (
+    INCIRCLE_CALLS,
+    INCIRCLE_EXACT,
+    ORIENT_CALLS,
+    ORIENT_EXACT,
+    incircle_counted,
+    orient2d_counted,
+)
 from vorobench.core.scaling import exact_range_sites
+from vorobench.core.spatial_order import HILBERT_BITS, hilbert_keys
 
 __all__ = ["build", "cells", "supports", "IMPLEMENTATION", "AT_INFINITY", "MAX_SITES"]
 
@@ -441,11 +448,6 @@ def _glue(sites, ptr, neighbours, unbounded):
     return vertices, edge_sites, edge_vertices, merged
 
 
-def _all_collinear(sites: NDArray[np.float64]) -> bool:
-    """Exact test: every site lies on the line through the first two."""
-    return sites.shape[0] <= 2 or not orient2d_many(sites[0], sites[1], sites[2:]).any()
-
-
 def supports(sites: NDArray[np.float64]) -> Optional[str]:
     """None if the sites can be processed, else why not: too many, or magnitudes that no
     power of two brings into the predicates' exact range (``run`` scales the rest)."""
@@ -466,7 +468,7 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
         raise ValueError(f"halfplane cannot build this diagram: {reason}")
     if n <= 1:
         return Diagram.empty(sites)
-    if _all_collinear(sites):
+    if all_collinear(sites):
         if stats is not None:
             stats.update(collinear=1)
         return collinear_diagram(sites)

@@ -34,18 +34,11 @@ from scipy.spatial import Delaunay, QhullError, Voronoi
 from impls.base import Implementation
 from vorobench.core.builder import assemble, collinear_diagram
 from vorobench.core.diagram import Diagram, InvalidDiagramError
+from vorobench.core.hull import all_collinear
 from vorobench.core.predicates import orient2d_many
 from vorobench.core.tolerances import RIDGE_DIRECTION_REL_TOL, data_scale
 
 __all__ = ["build", "IMPLEMENTATION"]
-
-
-def _all_collinear(sites: NDArray[np.float64]) -> bool:
-    """Exact test: every site lies on the line through the first two."""
-    if sites.shape[0] <= 2:
-        return True
-    signs = orient2d_many(sites[0], sites[1], sites[2:])
-    return not np.any(signs)
 
 
 def _third_sites(ridge_points: NDArray[np.int64], ridge_vertices: NDArray[np.int64]) -> NDArray[np.int64]:
@@ -87,7 +80,7 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     n = sites.shape[0]
     if n <= 1:
         return Diagram.empty(sites)
-    if _all_collinear(sites):
+    if all_collinear(sites):
         if stats is not None:
             stats.update(collinear=1)
         return collinear_diagram(sites)

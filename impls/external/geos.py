@@ -50,10 +50,9 @@ from numpy.typing import NDArray
 from impls.base import Implementation
 from impls.external.clock import BuildClock
 from impls.external.screen import circumcentres, smallest_incircle_margin, triangulation
-from vorobench.judge.certificate import convex_hull_boundary
 from vorobench.core.builder import assemble
 from vorobench.core.diagram import Diagram
-from vorobench.core.predicates import orient2d_many
+from vorobench.core.hull import all_collinear, convex_hull_boundary
 from vorobench.core.scaling import exact_range_sites
 from vorobench.core.sorting import argsort_keys, dense_rank
 
@@ -224,11 +223,6 @@ def diagram_from_cells(sites: NDArray[np.float64], polygons: NDArray[np.object_]
     return assemble(sites, vertices, np.stack([a, b], axis=1), edge_vertices)
 
 
-def _all_collinear(sites: NDArray[np.float64]) -> bool:
-    """Exact test: every site lies on the line through the first two (n >= 2)."""
-    return sites.shape[0] <= 2 or not np.any(orient2d_many(sites[0], sites[1], sites[2:]))
-
-
 def _fits_hull(diagram: Diagram, hull: NDArray[np.int64], collinear: bool) -> bool:
     """Whether the unbounded cells are exactly the hull sites and, unless the sites are
     collinear, no edge is a full line (both ends cut off: a vertex was lost)."""
@@ -274,7 +268,7 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     clock = BuildClock()
     points = shapely.multipoints(sites)
     hull = convex_hull_boundary(sites)
-    collinear = _all_collinear(sites)
+    collinear = all_collinear(sites)
     first: Optional[Diagram] = None
     first_error: Optional[Exception] = None
     diagram: Optional[Diagram] = None

@@ -49,8 +49,8 @@ from numpy.typing import NDArray
 from impls.base import Implementation
 from impls.external.clock import BuildClock
 from impls.external.screen import flattest_triangle, triangulation
-from vorobench.core.delaunay_dual import voronoi_dcel
 from vorobench.core.builder import collinear_diagram
+from vorobench.core.delaunay_dual import voronoi_dcel
 from vorobench.core.diagram import Diagram
 from vorobench.core.predicates import INCIRCLE_CALLS, INCIRCLE_EXACT
 from vorobench.core.scaling import exact_range_sites

@@ -27,9 +27,18 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from vorobench.core.predicates import (KEY_FOUND, KEY_NOT_SOUGHT, UNDECIDED, circle_event_key, circle_event_top,
-                                  circle_event_vs_site_exact, circle_events_order_exact, tops_dd_order,
-                                  tops_key_order, tops_order_filter)
+from vorobench.core.predicates import (
+    KEY_FOUND,
+    KEY_NOT_SOUGHT,
+    UNDECIDED,
+    circle_event_key,
+    circle_event_top,
+    circle_event_vs_site_exact,
+    circle_events_order_exact,
+    tops_dd_order,
+    tops_key_order,
+    tops_order_filter,
+)
 
 __all__ = [
     "A", "B", "C", "ARC", "POS", "SEQ", "KEY", "Y", "ERR", "VX", "VY", "Q", "ERRQ", "CY", "R2", "TH", "TL", "TERR",

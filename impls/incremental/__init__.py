@@ -31,13 +31,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from impls.base import Implementation
-from vorobench.core.delaunay_dual import voronoi_dcel
-from vorobench.core.spatial_order import brio_order
-
 from impls.incremental.triangulate import STAT_NAMES, triangulate
 from vorobench.core.builder import collinear_diagram
+from vorobench.core.delaunay_dual import voronoi_dcel
 from vorobench.core.diagram import Diagram
 from vorobench.core.predicates import INCIRCLE_CALLS, INCIRCLE_EXACT, ORIENT_CALLS, ORIENT_EXACT
+from vorobench.core.spatial_order import brio_order
 
 __all__ = ["build", "delaunay", "IMPLEMENTATION"]
 

@@ -8,9 +8,8 @@ tails, parabola, 1e9 offsets) the tolerances are looser. Exact agreement is test
 the exact implementations themselves.
 """
 
-from vorobench.judge.comparison import compare
-
 import impls
+from vorobench.judge.comparison import compare
 
 QHULL_REL_TOL = 1e-8
 QHULL_LOOSE = {"kuzmin", "parabola", "huge_offset"}

@@ -14,11 +14,11 @@ import pytest
 import datasets_gen
 import impls
 from impls.base import UnsupportedInput
+from vorobench.core.prepare import prepare
+from vorobench.harness.sysinfo import library_versions
 from vorobench.judge.certificate import certify
 from vorobench.judge.comparison import compare
 from vorobench.judge.engine import check_case
-from vorobench.core.prepare import prepare
-from vorobench.harness.sysinfo import library_versions
 
 pytest.importorskip("CGAL", reason="adapter 'cgal' needs the optional library 'cgal' (pip install vorobench[peers])")
 

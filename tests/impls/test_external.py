@@ -15,11 +15,11 @@ import pytest
 
 import datasets_gen
 import impls
+from vorobench.core.predicates import incircle_many
+from vorobench.core.prepare import prepare
 from vorobench.judge.certificate import certify
 from vorobench.judge.comparison import compare
 from vorobench.judge.engine import check_case
-from vorobench.core.predicates import incircle_many
-from vorobench.core.prepare import prepare
 
 WITNESSES = Path(__file__).parent / "witnesses"
 

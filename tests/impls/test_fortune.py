@@ -4,14 +4,15 @@ inputs, and the counts it reports."""
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from qhull_agreement import assert_agrees_with_qhull
 
 import datasets_gen
 import impls
-from qhull_agreement import assert_agrees_with_qhull
+from vorobench.core.prepare import prepare
 from vorobench.judge.certificate import certify
 from vorobench.judge.comparison import compare
-from vorobench.core.prepare import prepare
 
 FAMILIES = datasets_gen.available()
 CASES = [(n, seed) for n in (10, 100, 1000) for seed in (0, 1, 2)] + [(10000, 0)]

@@ -4,16 +4,17 @@ that stress its cell representation (unbounded cells, strips avoided, cocircular
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from qhull_agreement import assert_agrees_with_qhull
 
 import datasets_gen
 import impls
 from impls.halfplane import AT_INFINITY, cells
+from vorobench.core.prepare import prepare
 from vorobench.core.spatial_order import HILBERT_BITS, hilbert_keys
-from qhull_agreement import assert_agrees_with_qhull
 from vorobench.judge.certificate import certify
 from vorobench.judge.comparison import compare
-from vorobench.core.prepare import prepare
 
 FAMILIES = datasets_gen.available()
 CASES = [(n, seed) for n in (10, 100, 1000) for seed in (0, 1)]

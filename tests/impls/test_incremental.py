@@ -6,18 +6,19 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from qhull_agreement import assert_agrees_with_qhull as agrees_with_qhull
 
 import datasets_gen
 import impls
 from impls.incremental import delaunay
 from vorobench.core.circumcentre import circumcentre
-from vorobench.core.spatial_order import brio_order, hilbert_keys
-from qhull_agreement import assert_agrees_with_qhull as agrees_with_qhull
-from vorobench.judge.certificate import certify
-from vorobench.judge.comparison import compare
 from vorobench.core.predicates import incircle_many, orient2d_many
 from vorobench.core.prepare import prepare
+from vorobench.core.spatial_order import brio_order, hilbert_keys
+from vorobench.judge.certificate import certify
+from vorobench.judge.comparison import compare
 
 FAMILIES = datasets_gen.available()
 CASES = [(n, seed) for n in (10, 100, 1000) for seed in (0, 1)] + [(10000, 0)]

@@ -9,8 +9,9 @@ from scipy.spatial import ConvexHull
 import datasets_gen
 import impls
 from vorobench import Diagram
-from vorobench.judge.certificate import CHECKS, certify, convex_hull_boundary
 from vorobench.core.builder import assemble, collinear_diagram
+from vorobench.core.hull import convex_hull_boundary
+from vorobench.judge.certificate import CHECKS, certify
 
 SQUARE = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
 

@@ -4,8 +4,8 @@ import json
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from vorobench.harness.ci_outputs import write_markdown
 from vorobench.cli import main
+from vorobench.harness.ci_outputs import write_markdown
 
 DOUBLES = str(Path(__file__).with_name("doubles.py"))
 

@@ -8,8 +8,8 @@ import pytest
 import datasets_gen
 import impls
 from vorobench import Diagram
-from vorobench.judge.comparison import compare
 from vorobench.core.builder import assemble
+from vorobench.judge.comparison import compare
 from vorobench.judge.testing import assert_diagrams_equal
 
 SQUARE = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])

@@ -10,8 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from vorobench.harness import continuous
-from vorobench.cli import build_parser, main
+from vorobench.cli import build_parser, continuous, main
 
 PLUGIN = '''
 import time

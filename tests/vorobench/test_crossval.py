@@ -9,9 +9,9 @@ import datasets_gen
 import impls
 from impls.base import Implementation
 from impls.qhull import build as qhull_build
-from vorobench.judge.engine import BuildResult, agree_exactly, build_and_certify, check_case
 from vorobench.core.builder import assemble
 from vorobench.core.diagram import Diagram
+from vorobench.judge.engine import BuildResult, agree_exactly, check_case
 
 SQUARE = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
 

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from vorobench import Diagram, InvalidDiagramError
-from vorobench.core.clip import polygon_area
 from vorobench.core.builder import assemble, collinear_diagram
+from vorobench.core.clip import polygon_area
 
 
 def three_sites() -> Diagram:

@@ -11,10 +11,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from vorobench.harness import fuzz
 from vorobench.cli import main
-from vorobench.harness.fuzz import Budget, int_box, parse_budget, plan, run_campaign
 from vorobench.core.prepare import prepare
+from vorobench.harness import fuzz
+from vorobench.harness.fuzz import Budget, int_box, parse_budget, plan, run_campaign
 
 HERE = Path(__file__).parent
 DOUBLES = str(HERE / "doubles.py")

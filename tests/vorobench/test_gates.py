@@ -24,9 +24,9 @@ import pytest
 import datasets_gen
 import impls
 from impls.base import InputMutated, UnsupportedInput
+from impls.plugins import plugins_registered
 from vorobench.cli import main
 from vorobench.judge.engine import Judge
-from vorobench.harness.worker import plugins_registered
 
 HERE = Path(__file__).parent
 DOUBLES = str(HERE / "doubles.py")

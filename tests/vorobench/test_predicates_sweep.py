@@ -5,19 +5,23 @@ from fractions import Fraction as F
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from vorobench.core.predicates import (
+    KEY_ABSENT,
+    KEY_FOUND,
+    KEY_NOT_SOUGHT,
     UNDECIDED,
     breakpoint_side,
     breakpoint_side_exact,
     breakpoint_side_filter,
+    circle_event_key,
+    circle_event_top,
     circle_event_vs_site,
     circle_event_vs_site_exact,
     circle_events_order,
     circle_events_order_exact,
-    circle_event_key,
-    circle_event_top,
     circle_exact_key,
     circle_top,
     circle_top_relative,
@@ -28,7 +32,6 @@ from vorobench.core.predicates import (
     tops_key_order,
     tops_order_filter,
 )
-from vorobench.core.predicates import KEY_ABSENT, KEY_FOUND, KEY_NOT_SOUGHT
 
 _DIGITS = 400
 

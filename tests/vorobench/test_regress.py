@@ -9,8 +9,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from vorobench.harness import regress
 from vorobench.cli import main
+from vorobench.harness import regress
 
 DOUBLES = str(Path(__file__).with_name("doubles.py"))
 

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import pytest
 
-from vorobench.harness import regress
 from vorobench.cli import main
+from vorobench.harness import regress
 from vorobench.harness.results import ResultsFile
 
 

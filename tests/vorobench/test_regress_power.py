@@ -11,8 +11,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from vorobench.harness import regress
 from vorobench.cli import main
+from vorobench.harness import regress
 
 SIZES = (1000, 2000, 5000, 10000, 20000, 50000)
 IMPLS = ("a", "b")

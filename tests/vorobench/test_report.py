@@ -9,8 +9,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from vorobench.harness import analysis, results
 from vorobench.cli import main
+from vorobench.harness import analysis, results
 
 SIZES = [1000, 4000, 16000, 64000]
 

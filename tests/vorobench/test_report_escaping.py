@@ -15,8 +15,8 @@ from html.parser import HTMLParser
 import pytest
 from markdown_it import MarkdownIt
 
-from vorobench.harness import results
 from vorobench.cli import main
+from vorobench.harness import results
 from vorobench.harness.report import FIGURES
 
 SCRIPT = "<script>alert(1)</script>"

@@ -12,8 +12,8 @@ from html.parser import HTMLParser
 import numpy as np
 import pytest
 
-from vorobench.harness import figures, report, results
 from vorobench.cli import main
+from vorobench.harness import figures, report, results
 from vorobench.judge.outcomes import Verdict
 
 SIZES = [1000, 4000, 16000, 64000]

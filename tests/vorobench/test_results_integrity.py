@@ -16,8 +16,8 @@ import sys
 import pandas as pd
 import pytest
 
-from vorobench.harness import results
 from vorobench.cli import main
+from vorobench.harness import results
 from vorobench.harness.results import ResultsFile
 
 

@@ -12,8 +12,8 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from vorobench.harness import runner
 from vorobench.cli import main
+from vorobench.harness import runner
 from vorobench.harness.runner import Case, CaseOutcome, RunConfig
 
 DOUBLES = str(Path(__file__).with_name("doubles.py"))

@@ -9,30 +9,32 @@ import pandas as pd
 import pytest
 
 import impls
-from vorobench.judge import engine as crossval, outcomes as schema
+from impls.plugins import plugins_registered
+from vorobench.core import counters
 from vorobench.harness import results
 from vorobench.harness.runner import Case, RunConfig, run_case
-from vorobench.harness.worker import plugins_registered
+from vorobench.judge import engine as crossval
+from vorobench.judge import outcomes as schema
 
 DOUBLES = str(Path(__file__).with_name("doubles.py"))
 
 
 @pytest.mark.parametrize("stats", [{"events": 3}, {"flag": True}, {"n": np.int64(7)}, {"x": 4.0}, {}])
 def test_integers_are_counters(stats):
-    assert schema.check_counters(stats) == {k: int(v) for k, v in stats.items()}
+    assert counters.check_counters(stats) == {k: int(v) for k, v in stats.items()}
 
 
 @pytest.mark.parametrize("stats", [{"library_s": 0.01}, {"convert_s": 0}, {"elapsed": 3}, {"ratio": 0.5},
                                    {"name": "fast"}, {"build_time": 2}, {"t_ms": 1}])
 def test_times_and_non_integers_are_refused_as_counters(stats):
-    with pytest.raises(schema.CounterError, match="counters"):
-        schema.check_counters(stats)
+    with pytest.raises(counters.CounterError, match="counters"):
+        counters.check_counters(stats)
 
 
 def test_an_implementation_cannot_put_a_timing_into_its_counters():
     with plugins_registered([DOUBLES]):
         sites = np.random.default_rng(0).random((30, 2))
-        with pytest.raises(schema.CounterError, match="build_seconds"):
+        with pytest.raises(counters.CounterError, match="build_seconds"):
             impls.get("timing_in_counters").run(sites, {})
         timings: dict = {}
         stats: dict = {}

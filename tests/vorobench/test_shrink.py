@@ -7,8 +7,8 @@ import datasets_gen
 import impls
 from impls.base import Implementation
 from impls.qhull import build as qhull_build
-from vorobench.judge.engine import check_case
 from vorobench.core.diagram import Diagram
+from vorobench.judge.engine import check_case
 from vorobench.judge.shrink import ddmin, shrink_case, write_witness
 
 

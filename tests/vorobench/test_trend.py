@@ -13,8 +13,8 @@ import pandas as pd
 import pytest
 from plotly.offline import get_plotlyjs
 
-from vorobench.harness import trend
 from vorobench.cli import main
+from vorobench.harness import trend
 from vorobench.harness.store import Store
 
 FAST, SLOW = "aaaa1111", "bbbb2222"

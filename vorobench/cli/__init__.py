@@ -82,8 +82,8 @@ def _build_in_sandbox(name: str, sites):
     import numbers
 
     import impls
-    from vorobench.judge.engine import diagram_arrays
     from vorobench.core.diagram import Diagram
+    from vorobench.judge.engine import diagram_arrays
 
     impl = impls.get(name)
     reason = impl.unsupported_reason(sites)
@@ -103,9 +103,9 @@ def _build_in_sandbox(name: str, sites):
 def cmd_build(args: argparse.Namespace) -> int:
     """Build one diagram in an isolated worker, print its counts, optionally plot and save it."""
     import impls
+    from impls.plugins import plugins_registered
     from vorobench.core.prepare import prepare
     from vorobench.judge.sandbox import Sandbox
-    from vorobench.harness.worker import plugins_registered
 
     points, label = load_points(args.dataset, args.n, args.seed, args.points)
     sites, _ = prepare(points)
@@ -150,13 +150,13 @@ def cmd_build(args: argparse.Namespace) -> int:
 _EXTRA_COMMANDS: dict[str, tuple[str, str]] = {
     "validate": ("vorobench.cli.validate", "cross-validate implementations against a reference"),
     "bench": ("vorobench.cli.bench", "time implementations on datasets (worker per case)"),
-    "report": ("vorobench.harness.report", "figures + Markdown/HTML report from a results file"),
-    "compare": ("vorobench.harness.regress", "compare two result files and flag regressions"),
+    "report": ("vorobench.cli.report", "figures + Markdown/HTML report from a results file"),
+    "compare": ("vorobench.cli.compare", "compare two result files and flag regressions"),
     "history": ("vorobench.cli.history", "list the runs of a run store"),
-    "trend": ("vorobench.harness.trend", "HTML page of build times and counters across a run store's runs, change points marked"),
-    "continuous": ("vorobench.harness.continuous", "benchmark two git revisions in their own worktrees and compare them"),
-    "demo": ("vorobench.harness.demo", "the main job: default benchmark + cross-validation + report"),
-    "fuzz": ("vorobench.harness.fuzz", "seeded campaign of small random/degenerate cases, cross-validated on an executor"),
+    "trend": ("vorobench.cli.trend", "HTML page of build times and counters across a run store's runs, change points marked"),
+    "continuous": ("vorobench.cli.continuous", "benchmark two git revisions in their own worktrees and compare them"),
+    "demo": ("vorobench.cli.demo", "the main job: default benchmark + cross-validation + report"),
+    "fuzz": ("vorobench.cli.fuzz", "seeded campaign of small random/degenerate cases, cross-validated on an executor"),
 }
 
 

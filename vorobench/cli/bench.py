@@ -88,7 +88,7 @@ def execute(impl_names: Optional[Sequence[str]], datasets: Sequence[str], sizes:
             workers: int = 1) -> tuple[int, list]:
     """Run a benchmark into ``out``; returns (exit code, outcomes). Shared by bench and demo.
     ``executor``/``workers``: see :func:`vorobench.harness.runner.run_cases`."""
-    from vorobench.harness.worker import plugins_registered
+    from impls.plugins import plugins_registered
 
     # Plugins are registered here only for the run (workers register them again themselves).
     with plugins_registered(config.plugins):
@@ -99,9 +99,9 @@ def execute(impl_names: Optional[Sequence[str]], datasets: Sequence[str], sizes:
 def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool, overwrite: bool,
              progress: bool, verbose: bool, console, executor: Optional[str] = None,
              workers: int = 1) -> tuple[int, list]:
-    import impls
     from rich.console import Console
 
+    import impls
     from vorobench.harness import results, runner, sysinfo
 
     console = console or Console(stderr=True)
@@ -157,7 +157,8 @@ def _finish_metadata(out: Path, run_id: str, **fields) -> None:
 
 
 def config_from_args(args: argparse.Namespace):
-    from vorobench.harness.runner import RunConfig, default_start_method
+    from vorobench.harness.runner import RunConfig
+    from vorobench.judge.isolation import default_start_method
 
     if args.repeat < 1:
         raise ValueError("--repeat must be at least 1")
@@ -174,7 +175,6 @@ def config_from_args(args: argparse.Namespace):
 
 def run(args: argparse.Namespace) -> int:
     from vorobench.harness import results
-
     from vorobench.harness.executors import parse_spec
 
     config, out = config_from_args(args)

@@ -18,8 +18,14 @@ import numpy as np
 
 from vorobench.harness.atomic import replace_atomically
 from vorobench.judge.certificate import DEFAULT_PROBES
-from vorobench.judge.engine import (DEFAULT_REFERENCE, DEFAULT_TIMEOUT, VERDICTS, CaseVerdict, close_shared_judges,
-                                shared_judge)
+from vorobench.judge.engine import (
+    DEFAULT_REFERENCE,
+    DEFAULT_TIMEOUT,
+    VERDICTS,
+    CaseVerdict,
+    close_shared_judges,
+    shared_judge,
+)
 
 __all__ = ["add_arguments", "run"]
 
@@ -95,8 +101,7 @@ def _impl_names(args: argparse.Namespace) -> list[str]:
 def _judge_case(item: tuple) -> tuple[np.ndarray, list[tuple[str, CaseVerdict, Any]]]:
     """One case on any worker, through the judging engine: (sites, [(impl, verdict, peer)])."""
     import datasets_gen
-
-    from vorobench.harness.worker import plugins_registered
+    from impls.plugins import plugins_registered
 
     case, names, reference, options = item
     with plugins_registered(dict(options)["plugins"]):
@@ -116,20 +121,19 @@ def _worst(verdicts: list[str]) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from vorobench.harness.worker import plugins_registered
+    from impls.plugins import plugins_registered
 
     with plugins_registered(args.plugin):
         return _run(args)
 
 
 def _run(args: argparse.Namespace) -> int:
-    import impls
     from rich.console import Console
+    from rich.markup import escape
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
     from rich.table import Table
 
-    from rich.markup import escape
-
+    import impls
     from vorobench.harness.executors import parse_spec
     from vorobench.judge.shrink import shrink_case, write_witness
 

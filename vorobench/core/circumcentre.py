@@ -10,8 +10,16 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from vorobench.core.predicates import (ORIENT2D_EXPANSION_MAX, circumcentre_offsets_dd, diff_expansion, estimate,
-                                  expansion_diff, expansion_product, expansion_sum, orient2d_expansion)
+from vorobench.core.predicates import (
+    ORIENT2D_EXPANSION_MAX,
+    circumcentre_offsets_dd,
+    diff_expansion,
+    estimate,
+    expansion_diff,
+    expansion_product,
+    expansion_sum,
+    orient2d_expansion,
+)
 
 __all__ = ["circumcentre", "CANCELLATION_THRESHOLD"]
 

@@ -1,6 +1,6 @@
 """The array-based DCEL (half-edge structure) that every implementation returns.
 
-Conventions (see DESIGN.md): half-edge h has cell ``site[h]`` on its left, runs along the
+Conventions (docs/dcel.md): half-edge h has cell ``site[h]`` on its left, runs along the
 bisector of ``site[h]`` and ``site[twin[h]]`` in direction ``perp(b - a)``, starts at
 ``origin[h]`` (-1 = infinity), and ``next`` walks each cell counter-clockwise.
 """

@@ -22,11 +22,9 @@ one.
 
 from __future__ import annotations
 
-from typing import Optional
-
 import math
 import re
-from typing import Callable, Mapping, Union
+from typing import Callable, Mapping, Optional, Union
 
 import numpy as np
 import pandas as pd

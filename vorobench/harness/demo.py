@@ -1,24 +1,12 @@
-"""The main job: benchmark and cross-validate every own implementation, then write a report.
+"""The main job's plan: which implementations, datasets and sizes the demo runs.
 
-    python3 dev.py demo                   # = vorobench demo
-    vorobench demo --out reports/NAME     # results.csv, figures, README.md, report.html there
-
-Runs each own implementation, and the outside references of ``DEMO_REFERENCES`` that are
-installed (so every report shows where ours stand against C and C++ code), on a representative set of datasets
-(random, clustered, exactly degenerate, numerically hostile) at sizes spanning more than a
-decade, with certification and comparison against Qhull for every case, in a worker process
-per case. Sized to finish in a few minutes on a 2-core machine: a build whose time,
-extrapolated from the smaller sizes, would exceed the budget is skipped, so quadratic
-methods stop early instead of stalling the run.
-"""
+The command line is :mod:`vorobench.cli.demo`; its help text describes the behaviour."""
 
 from __future__ import annotations
 
-import argparse
-import datetime as _dt
 from pathlib import Path
 
-__all__ = ["add_arguments", "run", "own_implementations", "demo_implementations", "DEMO_DATASETS",
+__all__ = ["own_implementations", "demo_implementations", "DEMO_DATASETS",
            "DEMO_REFERENCES", "demo_sizes"]
 
 #: Representative datasets: generic, non-uniform, clustered, exact degeneracies, big offset.
@@ -60,66 +48,7 @@ def demo_sizes(n_impls: int) -> tuple[int, ...]:
     return _SIZES_ALONE if n_impls <= 1 else _SIZES
 
 
-def add_arguments(p: argparse.ArgumentParser) -> None:
-    from vorobench.cli import args as cli_args
-
-    p.add_argument("--out", default=None, help="report folder (default reports/<today's date>)")
-    p.add_argument("--impls", type=cli_args.names, default=None,
-                   help="implementations (default: all own ones + installed references)")
-    p.add_argument("--datasets", type=cli_args.names, default=None,
-                   help=f"datasets (default {','.join(DEMO_DATASETS)})")
-    p.add_argument("--sizes", type=cli_args.sizes, default=None,
-                   help="sizes (default 1k,3k,10k,30k; up to 300k when only qhull is available)")
-    p.add_argument("--repeat", type=cli_args.positive_int, default=5, help="timed builds per case, at least (default 5)")
-    p.add_argument("--min-time", type=cli_args.non_negative_float, default=0.3,
-                   help="repeat short builds until this many seconds are timed (default 0.3)")
-    p.add_argument("--budget", type=cli_args.positive_float, default=2.0,
-                   help="skip builds extrapolated to take longer than this many seconds (default 2)")
-    p.add_argument("--timeout", type=cli_args.positive_float, default=60.0,
-                   help="seconds per build and per check (default 60)")
-    p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
-                   help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
-    p.add_argument("--resume", action="store_true", help="continue an interrupted demo in the same folder")
-    p.add_argument("--title", default=None, help="report title")
-    p.add_argument("--quiet", action="store_true", help="no progress bar and no line per case")
-
-
-def run(args: argparse.Namespace) -> int:
-    import time
-
-    from rich.console import Console
-
-    from vorobench.cli.bench import execute
-    from vorobench.harness.report import write_report
-    from vorobench.harness.runner import RunConfig
-
-    console = Console(stderr=True)
-    names = args.impls or demo_implementations()
-    if not names:
-        raise ValueError("no implementation available")
-    datasets = args.datasets or list(DEMO_DATASETS)
-    sizes = args.sizes or list(demo_sizes(len(names)))
-    out = Path(args.out) if args.out else Path("reports") / f"{_dt.date.today():%Y-%m-%d}"
-    results_csv = out / "results.csv"
-    config = RunConfig(repeat=args.repeat, min_time=args.min_time, timeout=args.timeout,
-                       reference="qhull", check=True, plugins=tuple(args.plugin),
-                       reference_cache=str(out / ".reference"), budget=args.budget)
-    console.print(f"vorobench demo: {', '.join(names)} on {len(datasets)} datasets x sizes "
-                  f"{', '.join(map(str, sizes))}, {args.repeat} repeats, certified and compared with qhull")
-    started = time.perf_counter()
-    code, _ = execute(names, datasets, sizes, [0], results_csv, config, resume=args.resume,
-                      overwrite=not args.resume, progress=not args.quiet, verbose=not args.quiet,
-                      console=console)
-    if code != 0:
-        return code
-    rep = write_report(results_csv, out, title=args.title or f"demo {out.name}", reference="qhull")
-    _remove_reference_cache(out / ".reference")
-    minutes = (time.perf_counter() - started) / 60
-    print(f"Report ({minutes:.1f} min): {rep.markdown} (figures next to it; single-file HTML: {rep.html})")
-    return 0
-
-
-def _remove_reference_cache(folder: Path) -> None:
+def remove_reference_cache(folder: Path) -> None:
     """The cached reference diagrams are only needed during the run."""
     import shutil
 

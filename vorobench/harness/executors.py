@@ -17,6 +17,8 @@ from collections import deque
 from dataclasses import dataclass
 from typing import Any, Callable, Iterable, Iterator, Optional
 
+from vorobench.judge.isolation import default_start_method
+
 __all__ = ["LOCAL", "DASK_PREFIX", "make_executor", "describe", "parse_spec", "TaskResult", "run_tasks",
            "is_worker_death", "DaskMissing"]
 
@@ -123,8 +125,6 @@ def make_executor(spec: str = LOCAL, workers: int = 1) -> cf.Executor:
     if kind == LOCAL:
         if workers < 1:
             raise ValueError("--workers must be at least 1")
-        from vorobench.harness.runner import default_start_method
-
         # forkserver/spawn: a pool worker never inherits the parent's threads (progress bar, Dask).
         return cf.ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context(default_start_method()))
     return _DaskExecutor(_dask_client(address))

@@ -1,35 +1,11 @@
-"""Compare two benchmark runs case by case and as a whole; flag slowdowns, counter changes and lost correctness.
+"""Regression compare of two benchmark runs: per-case timings with a rank test and a bootstrap interval, a combined geometric-mean verdict, exact counters and verdicts.
 
-    vorobench compare BASE NEW [--threshold 0.10] [--junit FILE] [--markdown FILE]
-
-BASE and NEW are results files (.csv or .parquet) or runs of a run store (``DIR@latest``,
-``DIR@latest~1``, ``DIR@<run id>``, ``DIR@<commit>``; see :mod:`vorobench.harness.store`).
-
-Timings gate statistically, per case (implementation, dataset, n, seed) and over all cases:
-
-* **per case**: the ratio of median times NEW / BASE, a percentile bootstrap interval of it
-  (``scipy.stats.bootstrap``) and a one-sided Mann-Whitney U test (``scipy.stats.mannwhitneyu``).
-  A case is *slower* when the ratio exceeds 1 + threshold, its interval lies above 1 and the
-  rank test gives p < alpha; *faster* likewise; *same* when its interval lies within
-  1 ± threshold, which rules out a change of the threshold. Anything else is *inconclusive*:
-  its repeats can tell neither (too few of them for the rank test to reach alpha, or too much
-  noise), and the output says so instead of passing it silently.
-* **over all cases**: the geometric mean of the per-case ratios with a t interval of the mean
-  log ratio (``scipy.stats.ttest_1samp``). A uniform slowdown too small for any one case's
-  repeats is flagged here when the mean exceeds 1 + threshold and its interval lies above 1.
-
-Counters (``stat_*``, machine-independent integers) gate exactly: any change is flagged.
-So is a case that got a worse verdict or status, or that NEW lacks (a run that lost cases must
-not pass for having fewer to compare). Exit status 1 when anything is flagged, else 0; 2 when
-an input is not a results table with at least one case, or an option makes no sense.
-"""
+The command line is :mod:`vorobench.cli.compare`; its help text describes the behaviour."""
 
 from __future__ import annotations
 
-import argparse
-import json
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional, Sequence
 
@@ -37,7 +13,7 @@ import numpy as np
 
 from vorobench.judge.outcomes import counter_columns, status_rank, verdict_rank
 
-__all__ = ["add_arguments", "run", "CaseChange", "Overall", "RunComparison", "compare_frames", "compare_runs",
+__all__ = ["CaseChange", "Overall", "RunComparison", "compare_frames", "compare_runs",
            "compare_files", "load_side", "bootstrap_ratio_ci", "slowdown_p_value", "overall_change"]
 
 KEY = ["impl", "dataset", "n", "seed"]
@@ -374,7 +350,7 @@ def compare_files(base: str | Path, new: str | Path, threshold: float = 0.10, al
     return compare_frames(load_side(base)[0], load_side(new)[0], threshold=threshold, alpha=alpha, seed=seed)
 
 
-def _history(base: str, base_meta: Optional[dict], new_df):
+def store_history(base: str, base_meta: Optional[dict], new_df):
     """When BASE is a run of a store, the store's runs on BASE's machine, NEW's own run aside:
     they measure each case's run-to-run noise."""
     from vorobench.harness import store
@@ -388,7 +364,7 @@ def _history(base: str, base_meta: Optional[dict], new_df):
     return store.Store(parsed[0]).results(ids) if len(ids) >= HISTORY_MIN_RUNS else None
 
 
-def _machine_warning(base_meta: Optional[dict], new_meta: Optional[dict]) -> Optional[str]:
+def machine_warning(base_meta: Optional[dict], new_meta: Optional[dict]) -> Optional[str]:
     def machine(meta):
         if not meta:
             return None
@@ -401,159 +377,3 @@ def _machine_warning(base_meta: Optional[dict], new_meta: Optional[dict]) -> Opt
         return (f"BASE ran on {name(base_meta)}, NEW on {name(new_meta)}: times are not comparable across "
                 "machines; counters and verdicts are.")
     return None
-
-
-# ------------------------------------------------------------------------------ CLI
-
-#: The options of ``compare`` besides its two inputs (``continuous`` passes them on).
-OPTION_NAMES = ("threshold", "alpha", "seed", "only_changes", "json", "junit", "markdown")
-
-
-def add_arguments(p, positional: bool = True) -> None:
-    """``compare``'s arguments on ``p`` (a parser or an argument group); ``positional=False``
-    leaves out BASE and NEW, for a command that makes them itself."""
-    from vorobench.cli.args import fraction, non_negative_int, positive_float
-
-    if positional:
-        p.add_argument("base", help="baseline: a results file (.csv/.parquet) or a run store reference DIR@REF "
-                                    "(REF: latest, latest~K, a run id or a commit)")
-        p.add_argument("new", help="new results: a file or DIR@REF")
-    p.add_argument("--threshold", type=positive_float, default=0.10,
-                   help="flag slowdowns above this fraction, > 0 (default 0.10 = 10%%)")
-    p.add_argument("--alpha", type=fraction, default=0.05,
-                   help="significance level, between 0 and 1 (default 0.05)")
-    p.add_argument("--seed", type=non_negative_int, default=0, help="bootstrap seed (default 0)")
-    p.add_argument("--only-changes", action="store_true",
-                   help="show only flagged, changed or inconclusive cases")
-    p.add_argument("--json", default=None, help="also write every comparison to this JSON file")
-    p.add_argument("--junit", default=None, metavar="FILE",
-                   help="also write a JUnit XML file: one test case per compared case, plus the combined verdict")
-    p.add_argument("--markdown", default=None, metavar="FILE",
-                   help="also write a Markdown summary (for $GITHUB_STEP_SUMMARY or a pull-request comment)")
-
-
-def _fmt_s(x: Optional[float]) -> str:
-    if x is None:
-        return "-"
-    return f"{x * 1e3:.3g} ms" if x < 1 else f"{x:.3g} s"
-
-
-#: Lost cases listed by name; the rest are counted.
-_MISSING_LISTED = 5
-
-
-def _print_missing(console, missing: list[CaseChange]) -> None:
-    console.print(f"[bold red]NEW lacks {len(missing)} case(s) that BASE has[/bold red]:")
-    for c in missing[:_MISSING_LISTED]:
-        console.print(f"  {c.name}", markup=False, highlight=False)
-    if len(missing) > _MISSING_LISTED:
-        console.print(f"  and {len(missing) - _MISSING_LISTED} more")
-
-
-def _verdict_text(c: CaseChange) -> str:
-    if c.base_status is None:
-        return f"only in NEW ({c.new_status})"
-    if c.new_status is None:
-        return f"only in BASE ({c.base_status})"
-    if c.base_verdict == c.new_verdict:
-        return "not checked" if c.new_verdict == "skipped" and c.new_status == "ok" else str(
-            c.new_verdict or c.new_status)
-    return f"{c.base_verdict} -> {c.new_verdict}"
-
-
-def _overall_text(comparison: RunComparison) -> str:
-    o = comparison.overall
-    if o.geomean is None:
-        return "no case timed on both sides"
-    ci = f", 95% CI {o.ci_low:.3f}-{o.ci_high:.3f}" if o.ci_low is not None else ""
-    band = (f"; run-to-run noise band x{math.exp(comparison.noise):.2f} either way" if comparison.noise is not None
-            else f"; too few cases (< {NOISE_MIN_CASES}) to measure the run-to-run noise")
-    return f"geometric mean ratio {o.geomean:.3f} over {o.cases} case(s){ci}: {o.change or 'n/a'}{band}"
-
-
-def _print_table(console, comparison: RunComparison, title: str, only_changes: bool) -> None:
-    from rich.markup import escape
-    from rich.table import Table
-
-    table = Table(title=escape(title))
-    table.add_column("case", no_wrap=True)
-    for col in ("base", "new", "ratio", "95% CI", "p"):
-        table.add_column(col, justify="right", no_wrap=True)
-    table.add_column("timing")
-    table.add_column("verdict")
-    table.add_column("flags", overflow="fold")
-    shown = 0
-    for c in comparison.changes:
-        notable = c.flagged or c.change in ("slower", "faster", "inconclusive") or c.base_status is None \
-            or c.new_status is None
-        if only_changes and not notable:
-            continue
-        shown += 1
-        colour = {"slower": "red", "faster": "green", "inconclusive": "yellow"}.get(c.change, "")
-        ratio = f"{c.ratio:.3f}" if c.ratio is not None else "-"
-        timing = f"[{colour}]{c.change}[/{colour}]" if colour else c.change
-        ci = f"{c.ci_low:.2f}-{c.ci_high:.2f}" if c.ci_low is not None else "-"
-        p = f"{c.p_value:.3g}" if c.p_value is not None else "-"
-        flags = escape("; ".join(c.flags))
-        table.add_row(escape(f"{c.impl} {c.dataset} n={c.n} s={c.seed}"), _fmt_s(c.base_median_s),
-                      _fmt_s(c.new_median_s), ratio, ci, p, timing, escape(_verdict_text(c)),
-                      f"[bold red]{flags}[/bold red]" if flags else "")
-    if shown:
-        console.print(table)
-
-
-def run(args: argparse.Namespace) -> int:
-    from rich.console import Console
-    from rich.markup import escape
-
-    base_df, base_meta = load_side(args.base)
-    new_df, new_meta = load_side(args.new)
-    history = _history(args.base, base_meta, new_df)
-    comparison = compare_runs(base_df, new_df, threshold=args.threshold, alpha=args.alpha, seed=args.seed,
-                              history=history)
-    console = Console()
-    if not console.is_terminal:
-        console = Console(width=max(console.width, 140))     # logs (CI) are wide, keep rows on one line
-    warning = _machine_warning(base_meta, new_meta)
-    if warning:
-        console.print(f"[yellow]warning[/yellow]: {escape(warning)}")
-    title = getattr(args, "title", None) or f"{args.new} vs {args.base}"
-    _print_table(console, comparison, f"{title} (threshold {args.threshold:.0%})",
-                 args.only_changes)
-    if args.json:
-        Path(args.json).write_text(json.dumps({
-            "passed": comparison.passed, "threshold": args.threshold, "alpha": args.alpha,
-            "overall": asdict(comparison.overall),
-            "noise_band": None if comparison.noise is None else math.exp(comparison.noise),
-            "cases": [asdict(c) | {"flagged": c.flagged} for c in comparison.changes]},
-            indent=2, default=str) + "\n")
-    if args.junit or args.markdown:
-        from vorobench.harness import ci_outputs
-
-        if args.junit:
-            ci_outputs.write_compare_junit(comparison, args.junit, str(args.base), str(args.new))
-        if args.markdown:
-            ci_outputs.write_compare_markdown(comparison, args.markdown, str(args.base), str(args.new))
-    compared, flagged, missing = comparison.compared, comparison.flagged, comparison.missing
-    console.print(escape(_overall_text(comparison)))
-    inconclusive = comparison.inconclusive
-    if inconclusive:
-        console.print(f"[yellow]{len(inconclusive)} case(s) inconclusive[/yellow]: their timings cannot tell a "
-                      f"{args.threshold:.0%} change from noise (e.g. {escape(inconclusive[0].name)}: "
-                      f"{escape(inconclusive[0].why_inconclusive)}); more repeats (bench --repeat, --min-time) "
-                      "or a quieter machine would decide them")
-    if not compared:
-        console.print(f"[bold red]no case in common[/bold red]: {escape(str(args.new))} has none of the cases of "
-                      f"{escape(str(args.base))}")
-    for flag in comparison.overall.flags:
-        console.print(f"[bold red]flagged[/bold red]: {escape(flag)}")
-    if flagged:
-        console.print(f"[bold red]{len(flagged)} of {len(compared)} compared case(s) flagged[/bold red]")
-    if missing:
-        _print_missing(console, missing)
-    if not comparison.passed:
-        return 1
-    faster = sum(1 for c in comparison.changes if c.change == "faster")
-    console.print(f"[green]no regression[/green] in {len(compared)} compared case(s)"
-                  + (f"; {faster} clearly faster" if faster else ""))
-    return 0

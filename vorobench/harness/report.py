@@ -1,21 +1,9 @@
-"""Figures plus a Markdown report and a self-contained HTML page from a results file.
+"""Figures plus a Markdown report and a self-contained interactive HTML page from a results file.
 
-    vorobench report results/bench.csv -o reports/NAME
-
-writes ``README.md`` (Markdown; GitHub shows it for the folder), ``report.html`` (an
-interactive page in one file that works offline, with filters, hover details and every case's
-repeats), the PNG figures (only those with data) and a copy of the results with their metadata.
-Both pages open with the fits whose growth exceeds the declared complexity by more than 0.3 in
-the exponent (the rule: vorobench.harness.analysis).
-
-Everything taken from the results or their metadata (names, errors, host, argv) is data, not
-markup: it goes into the Markdown through :func:`_text` or :func:`_code`, and into the HTML
-escaped (vorobench.harness.report_html), so a ``<script>`` in an error message stays text.
-"""
+The command line is :mod:`vorobench.cli.report`; its help text describes the behaviour."""
 
 from __future__ import annotations
 
-import argparse
 import math
 import re
 import shlex
@@ -25,8 +13,9 @@ from pathlib import Path
 from typing import Optional
 
 from vorobench.harness.markdown_text import one_line, text
+from vorobench.harness.units import factor_text, percent_text, seconds_text, size_text
 
-__all__ = ["add_arguments", "run", "write_report", "Report", "reading", "busy_machine_note"]
+__all__ = ["write_report", "Report", "reading", "busy_machine_note"]
 
 FIGURES = {
     "time": "time_vs_n.png",
@@ -47,52 +36,7 @@ class Report:
     figures: dict[str, Path] = field(default_factory=dict)
 
 
-def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("results", help="results file from `vorobench bench` (.csv or .parquet)")
-    p.add_argument("-o", "--out", default=None, help="report folder (default reports/<results stem>)")
-    p.add_argument("--title", default=None, help="report title (default: the folder name)")
-    p.add_argument("--reference", default=None,
-                   help="implementation the speed ratios are relative to (default: the run's reference, else qhull)")
-
-
-def run(args: argparse.Namespace) -> int:
-    results = Path(args.results)
-    out = Path(args.out) if args.out else Path("reports") / results.stem
-    rep = write_report(results, out, title=args.title, reference=args.reference)
-    print(f"wrote {rep.markdown} and {rep.html} ({len(rep.figures)} figures)")
-    return 0
-
-
 # ------------------------------------------------------------------------------ formatting
-
-def _fmt_time(seconds: float) -> str:
-    if seconds is None or not math.isfinite(seconds):
-        return "-"
-    if seconds < 1e-3:
-        return f"{seconds * 1e6:.3g} µs"
-    if seconds < 1:
-        return f"{seconds * 1e3:.3g} ms"
-    return f"{seconds:.3g} s"
-
-
-def _fmt_factor(x: float) -> str:
-    """2.3, 15, 150: a ratio with two significant digits, never in exponent notation."""
-    return f"{x:.2g}" if x < 100 else f"{x:.0f}"
-
-
-def _pct(x: float) -> str:
-    """0.034 -> 3.4%, 0.25 -> 25%."""
-    return f"{x * 100:.2g}%" if abs(x) < 0.1 else f"{x * 100:.0f}%"
-
-
-def _fmt_n(n: float) -> str:
-    n = int(n)
-    if n >= 1_000_000:
-        return f"{n / 1e6:.3g}M"
-    if n >= 1000:
-        return f"{n / 1e3:.3g}k"
-    return str(n)
-
 
 _one_line, _text = one_line, text     # results text as Markdown (vorobench.harness.markdown_text)
 
@@ -150,8 +94,8 @@ def reading(cases, sizes, exponents, ratios, reference: str, check=None, repeats
         at = g[g["n"] == n_top].sort_values("time_s")
         best, second = at.iloc[0], at.iloc[1]
         wins.setdefault(best["impl"], []).append(
-            f"{_text(dataset)} ({_fmt_time(best['time_s'])} at n={_fmt_n(best['n_sites'])}, "
-            f"{_fmt_factor(second['time_s'] / best['time_s'])}x ahead of {_code(second['impl'])})")
+            f"{_text(dataset)} ({seconds_text(best['time_s'])} at n={size_text(best['n_sites'])}, "
+            f"{factor_text(second['time_s'] / best['time_s'])}x ahead of {_code(second['impl'])})")
     for impl, where in sorted(wins.items(), key=lambda kv: -len(kv[1])):
         points.append(f"**Fastest at the largest common size**: {_code(impl)} on {len(where)} dataset(s): "
                       + "; ".join(where) + ".")
@@ -165,15 +109,15 @@ def reading(cases, sizes, exponents, ratios, reference: str, check=None, repeats
             gm = float(np.exp(np.mean(np.log(g["ratio"]))))
             word = "slower" if gm > 1 else "faster"
             factor = gm if gm > 1 else 1 / gm
-            points.append(f"{_code(impl)} is {_fmt_factor(factor)}x {word} than {_code(reference)} (geometric mean of "
+            points.append(f"{_code(impl)} is {factor_text(factor)}x {word} than {_code(reference)} (geometric mean of "
                           f"time ratios over {len(g)} dataset/size pairs, range "
                           f"{g['ratio'].min():.2g}-{g['ratio'].max():.2g}).")
     # Noise: how far the repeats of one case lie apart.
     spreads = [(c["max_s"] - c["min_s"]) / c["median_s"] for c in (repeats or [])
                if len(c["times"]) >= 2 and c["median_s"]]
     if spreads:
-        points.append(f"**Noise**: the repeats of one case lie a median {_pct(float(np.median(spreads)))} apart "
-                      f"(spread = (slowest - fastest) / median; 90th percentile {_pct(float(np.quantile(spreads, 0.9)))}, "
+        points.append(f"**Noise**: the repeats of one case lie a median {percent_text(float(np.median(spreads)))} apart "
+                      f"(spread = (slowest - fastest) / median; 90th percentile {percent_text(float(np.quantile(spreads, 0.9)))}, "
                       f"over {len(spreads)} cases with two or more repeats). A smaller difference between two "
                       "implementations or two runs is within the noise.")
     # Growth, against the declared complexity.
@@ -190,7 +134,7 @@ def reading(cases, sizes, exponents, ratios, reference: str, check=None, repeats
         above, below = g[g["finding"] == "above"], g[g["finding"] == "below"]
         if not above.empty:
             text += (": **above it on " + ", ".join(
-                f"{_text(r.dataset)} (n^{r.exponent:.2f} over {_fmt_n(r.n_min)}-{_fmt_n(r.n_max)}, "
+                f"{_text(r.dataset)} (n^{r.exponent:.2f} over {size_text(r.n_min)}-{size_text(r.n_max)}, "
                 f"{int(r.points)} sizes)" for r in above.sort_values("excess", ascending=False).itertuples())
                 + "**")
             rest = len(g) - len(above)
@@ -220,7 +164,7 @@ def reading(cases, sizes, exponents, ratios, reference: str, check=None, repeats
     if bad.empty:
         points.append("**No failures**: no case crashed, hung, ran out of memory or was refuted.")
     else:
-        listed = [f"{_code(r.impl)} {_text(r.dataset)} n={_fmt_n(r.n)}: {_text(r.status)}"
+        listed = [f"{_code(r.impl)} {_text(r.dataset)} n={size_text(r.n)}: {_text(r.status)}"
                   + (f" / {_text(r.verdict)}" if r.status == "ok" else "") for r in bad.head(8).itertuples()]
         more = f" and {len(bad) - 8} more" if len(bad) > 8 else ""
         points.append(f"**{len(bad)} case(s) failed or were not verified**: " + "; ".join(listed) + more
@@ -365,7 +309,7 @@ def _skipped_md(cases) -> Optional[str]:
     first = skipped.sort_values("n").groupby(["impl", "dataset"], sort=True).first().reset_index()
     return ("Skipped (a smaller size timed out or ran out of memory, or the build time extrapolated "
             "from the smaller sizes exceeded the run's budget): "
-            + "; ".join(f"{_code(r.impl)} {_text(r.dataset)} from n={_fmt_n(r.n)}" for r in first.itertuples()) + ".")
+            + "; ".join(f"{_code(r.impl)} {_text(r.dataset)} from n={size_text(r.n)}" for r in first.itertuples()) + ".")
 
 
 def _warmup_md(cases) -> Optional[str]:
@@ -373,7 +317,7 @@ def _warmup_md(cases) -> Optional[str]:
     if warm.empty:
         return None
     return ("Warm-up per worker (JIT compilation or cache load, plus one small build), median: "
-            + ", ".join(f"{_code(k)} {_fmt_time(v)}" for k, v in warm.items()) + ".")
+            + ", ".join(f"{_code(k)} {seconds_text(v)}" for k, v in warm.items()) + ".")
 
 
 def _command(meta: dict) -> Optional[str]:
@@ -386,7 +330,7 @@ def _summary(d: _Data) -> tuple[str, str]:
     impl_names = sorted(d.df["impl"].unique())
     ns = sorted(d.df["n"].unique())
     head = f"{len(d.cases)} cases: {len(impl_names)} implementation(s) ("
-    tail = (f") x {len(d.order)} dataset(s) ({{datasets}}) x sizes {', '.join(_fmt_n(n) for n in ns)}; "
+    tail = (f") x {len(d.order)} dataset(s) ({{datasets}}) x sizes {', '.join(size_text(n) for n in ns)}; "
             f"{len(d.df)} result rows.")
     md = head + ", ".join(map(_text, impl_names)) + tail.replace("{datasets}", ", ".join(map(_text, d.order)))
     plain = head + ", ".join(map(str, impl_names)) + tail.replace("{datasets}", ", ".join(map(str, d.order)))
@@ -400,7 +344,7 @@ def _mismatch_md(d: _Data) -> list[str]:
     if bad.empty:
         return []
     rows = [[_code(r.impl), _text(r.dataset), f"**n^{r.exponent:.2f}**", f"{_text(r.declared)} = n^{r.declared_exponent:.2f}",
-             f"**{r.excess:+.2f}**", f"{_fmt_n(r.n_min)}-{_fmt_n(r.n_max)} ({int(r.points)} sizes, R² {r.r2:.3f})"]
+             f"**{r.excess:+.2f}**", f"{size_text(r.n_min)}-{size_text(r.n_max)} ({int(r.points)} sizes, R² {r.r2:.3f})"]
             for r in bad.itertuples()]
     return ["## Growth above the declared complexity", "",
             f"The fitted exponent exceeds the declared complexity's own exponent over the same sizes by more "
@@ -463,7 +407,7 @@ def _markdown(title, d: _Data, figs: dict, meta: dict, results_path) -> str:
         parts += ["(too few sizes to fit)", ""]
     else:
         rows = [[_code(r.impl), _text(r.dataset), f"{r.exponent:.2f}", f"{r.r2:.3f}",
-                 f"{_fmt_n(r.n_min)}-{_fmt_n(r.n_max)} ({r.points})", _text(r.declared or "?"),
+                 f"{size_text(r.n_min)}-{size_text(r.n_max)} ({r.points})", _text(r.declared or "?"),
                  f"{r.declared_exponent:.2f}" if math.isfinite(r.declared_exponent) else "-",
                  f"**{r.finding}**" if r.mismatch else r.finding]
                 for r in check.itertuples()]
@@ -481,7 +425,7 @@ def _markdown(title, d: _Data, figs: dict, meta: dict, results_path) -> str:
             rows.append([_text(dataset), _code(impl)] + [_fmt_time_spread(*by_n.get(n, (float("nan"),) * 3))
                                                           for n in cols])
         parts += ["The median, with the fastest and the slowest repeat as a percentage of it.", "",
-                  _md_table(["dataset", "impl"] + [f"n={_fmt_n(n)}" for n in cols], rows, "ll" + "r" * len(cols)), ""]
+                  _md_table(["dataset", "impl"] + [f"n={size_text(n)}" for n in cols], rows, "ll" + "r" * len(cols)), ""]
         warm = _warmup_md(cases)
         if warm:
             parts += [warm, ""]
@@ -491,7 +435,7 @@ def _markdown(title, d: _Data, figs: dict, meta: dict, results_path) -> str:
     if bad.empty:
         parts += ["None.", ""]
     else:
-        rows = [[_code(r.impl), _text(r.dataset), _fmt_n(r.n), _text(r.seed), _text(r.status),
+        rows = [[_code(r.impl), _text(r.dataset), size_text(r.n), _text(r.seed), _text(r.status),
                  _text(r.verdict if isinstance(r.verdict, str) else ""),
                  _text(r.phase if isinstance(r.phase, str) else ""),
                  _text((r.error if isinstance(r.error, str) else "")[:120])]
@@ -514,7 +458,7 @@ def _markdown(title, d: _Data, figs: dict, meta: dict, results_path) -> str:
 
 def _fmt_time_spread(median: float, lo: float, hi: float) -> str:
     """"41.3 ms (-2%/+9%)": the median and how far the fastest and slowest repeat lie from it."""
-    text = _fmt_time(median)
+    text = seconds_text(median)
     if not (math.isfinite(median) and math.isfinite(lo) and math.isfinite(hi)) or median <= 0:
         return text
     if hi - lo <= 0:

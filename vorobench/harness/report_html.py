@@ -24,6 +24,8 @@ from typing import Any, Optional, Sequence
 import numpy as np
 import pandas as pd
 
+from vorobench.harness.units import seconds_text, size_text
+
 __all__ = ["PageInput", "render", "plotly_styles", "VIEW_TITLES"]
 
 #: The figure views of the page, in page order, with their section titles.
@@ -127,15 +129,11 @@ class View:
 # ------------------------------------------------------------------------------ formatting
 
 def _fmt_time(seconds: object) -> str:
-    from vorobench.harness.report import _fmt_time as fmt
-
-    return fmt(float(seconds)) if _finite(seconds) else "-"
+    return seconds_text(float(seconds)) if _finite(seconds) else "-"
 
 
 def _fmt_n(n: object) -> str:
-    from vorobench.harness.report import _fmt_n as fmt
-
-    return fmt(n)
+    return size_text(n)
 
 
 def _tmpl(value: object) -> str:

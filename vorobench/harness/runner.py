@@ -28,6 +28,7 @@ from dataclasses import asdict, dataclass, field
 from typing import Callable, Iterable, Optional, Sequence
 
 from vorobench.harness.results import case_key
+from vorobench.judge.isolation import default_start_method
 from vorobench.judge.outcomes import Status, Verdict, status_rank, verdict_rank
 
 __all__ = ["Case", "RunConfig", "CaseOutcome", "plan_cases", "run_case", "run_case_in_process", "run_cases",
@@ -36,11 +37,6 @@ __all__ = ["Case", "RunConfig", "CaseOutcome", "plan_cases", "run_case", "run_ca
 #: Allowance for starting the worker, importing, and generating the input (not the impl's time).
 STARTUP_TIMEOUT = 180.0
 
-
-
-def default_start_method() -> str:
-    """"forkserver" where the platform has it (Linux, macOS), else "spawn"."""
-    return "forkserver" if "forkserver" in mp.get_all_start_methods() else "spawn"
 
 
 @dataclass(frozen=True)
@@ -190,8 +186,8 @@ def prepare_reference(case: Case, config: RunConfig) -> Optional[str]:
     # Not stored: build it here (a failure is then passed on to this case, never cached).
     try:
         import datasets_gen
-        from vorobench.judge.engine import shared_judge
         from vorobench.core.prepare import prepare
+        from vorobench.judge.engine import shared_judge
 
         sites, _ = prepare(datasets_gen.generate(case.dataset, case.n, seed=case.seed))
         judge = shared_judge([], config.reference, timeout=config.timeout, warmup_timeout=config.warmup_timeout,
@@ -206,8 +202,8 @@ def prepare_reference(case: Case, config: RunConfig) -> Optional[str]:
 
 def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], None]] = None) -> CaseOutcome:
     """Run one case in a fresh worker process and return its rows, whatever happens to it."""
-    from vorobench.judge import isolation
     from vorobench.harness.worker import worker_main
+    from vorobench.judge import isolation
 
     started = time.perf_counter()
     if on_step and config.check and config.reference and case.impl != config.reference:
@@ -432,8 +428,7 @@ def run_cases(cases: Sequence[Case], config: RunConfig, sink: Callable[[list[dic
     workers; everything already passed to ``sink`` is kept.
     """
     from rich.console import Console
-    from rich.progress import (BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn,
-                               TimeRemainingColumn)
+    from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
     console = console or Console(stderr=True)
     if config.check and config.reference and not config.reference_cache:

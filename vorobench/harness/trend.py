@@ -1,41 +1,16 @@
-"""Trends across the runs of a run store: every case's build time and counters, run after run,
-with the change points marked at their commit.
+"""Trends across the runs of a run store: every case's build time and counters, run after run, with change points found and a self-contained page drawn.
 
-    vorobench trend DIR -o trend.html [--json changes.json] [--machine PREFIX]
-        [--impls a,b] [--datasets x,y] [--threshold 0.10] [--alpha 0.05]
-
-DIR is a run store (``bench --store DIR``). The page (``-o``) is one self-contained HTML file
-(plotly.js inlined once; it works offline). It opens with a table of every change point, then
-has one figure per machine, implementation and dataset: the median build time of each case
-(one line per n and seed) over the runs in date order, with the min-max of the repeats as
-bars, and below it the counters that changed. The x axis names each run by vorobench's commit
-(``+``: the tree was dirty); hovering a point gives the date, run id, commit, median, min-max
-and repeats. ``--json FILE`` writes the change points for CI.
-
-Machines are kept apart: each machine fingerprint has its own section and its own sequence of
-runs, and no line joins runs of two machines (``--machine PREFIX`` keeps one).
-
-Change points (rules in :mod:`vorobench.harness.changepoints`): a time step is a split of the series
-of per-run medians found by binary segmentation of log time, kept only if the medians of the
-repeats on its two sides differ by more than ``--threshold`` (default 10 %) and a two-sided
-Mann-Whitney U test of those repeats gives p < ``--alpha`` (default 0.05). A counter
-(``stat_*``, exact) changes wherever its value differs from the previous run's. A change
-between two runs of the same clean commit (of vorobench and of the implementation's code, from
-the same module) is marked ``same_code``: the machine changed, not the code.
-The exit status is 0 whatever was found (``compare`` is the gate); 2 when DIR is not a run
-store, holds no run, or the filters leave nothing.
-"""
+The command line is :mod:`vorobench.cli.trend`; its help text describes the behaviour."""
 
 from __future__ import annotations
 
-import argparse
 import html
 import json
 import math
 from dataclasses import asdict, dataclass, field
 from typing import Any, Optional
 
-__all__ = ["add_arguments", "run", "Run", "Series", "Machine", "ChangePoint", "load", "detect", "render",
+__all__ = ["Run", "Series", "Machine", "ChangePoint", "load", "detect", "render",
            "trend_json"]
 
 KEY = ["impl", "dataset", "n", "seed"]
@@ -296,7 +271,7 @@ def trend_json(store_path: str, machines: list[Machine], points: list[ChangePoin
 # ------------------------------------------------------------------------------ the page
 
 
-def _fmt_s(x: float) -> str:
+def format_seconds(x: float) -> str:
     if x is None or not math.isfinite(x):
         return "-"
     if x < 1e-3:
@@ -348,7 +323,7 @@ def _figure(m: Machine, impl: str, dataset: str, series: list[Series]) -> tuple[
             run = m.runs[i]
             custom.append([_esc(run.when), _esc(run.run_id), _esc((run.commit or "no commit") + (" (dirty)" if run.dirty
                                                                                              else "")),
-                           _fmt_s(md), _fmt_s(a), _fmt_s(b), int(t.size), _impl_note(run, s.impl)])
+                           format_seconds(md), format_seconds(a), format_seconds(b), int(t.size), _impl_note(run, s.impl)])
         fig.add_trace(go.Scatter(
             x=s.timed, y=med, mode="lines+markers", name=label, legendgroup=label, line=dict(color=colour),
             error_y=dict(type="data", symmetric=False, array=hi - med, arrayminus=med - lo, thickness=1, width=3),
@@ -359,8 +334,8 @@ def _figure(m: Machine, impl: str, dataset: str, series: list[Series]) -> tuple[
         if s.steps:
             xs = [s.timed[st.index] for st in s.steps]
             ys = [med[st.index] for st in s.steps]
-            text = [f"<b>time step at {_esc(m.runs[x].label)}</b> ({label})<br>{_fmt_s(st.before)} \u2192 "
-                    f"{_fmt_s(st.after)}: {st.ratio:.2f}x ({_pct(st.ratio)}), p={st.p_value:.2g}"
+            text = [f"<b>time step at {_esc(m.runs[x].label)}</b> ({label})<br>{format_seconds(st.before)} \u2192 "
+                    f"{format_seconds(st.after)}: {st.ratio:.2f}x ({_pct(st.ratio)}), p={st.p_value:.2g}"
                     for x, st in zip(xs, s.steps)]
             fig.add_trace(go.Scatter(x=xs, y=ys, mode="markers", name=f"{label} step", legendgroup=label,
                                      showlegend=False, hovertext=text, hoverinfo="text",
@@ -396,7 +371,7 @@ def _figure(m: Machine, impl: str, dataset: str, series: list[Series]) -> tuple[
         tickvals = _time_ticks(low, high)
         axis = dict(range=[math.log10(low), math.log10(high)], autorange=False)
         if len(tickvals) >= 2:
-            axis.update(tickmode="array", tickvals=tickvals, ticktext=[_fmt_s(v) for v in tickvals])
+            axis.update(tickmode="array", tickvals=tickvals, ticktext=[format_seconds(v) for v in tickvals])
     fig.update_yaxes(type="log", title_text="build time: median, bars min-max", row=1, col=1, **axis)
     if rows == 2:
         fig.update_yaxes(title_text="counter / first value", tickformat=".4~f", row=2, col=1)
@@ -518,8 +493,8 @@ def _change_table(points: list[ChangePoint], anchors: dict[tuple, str], machines
         return (f'<tr class="{p.kind}">' + (f"<td>{_esc(p.machine_id)}</td>" if several else "")
                 + f'<td><a href="#{anchor}-title">{_esc(p.case)}</a></td>'
                 f'<td class="nowrap" title="runs {_esc(p.run_id_before)} &rarr; {_esc(p.run_id)}">'
-                f"{_esc(_label(p.commit_before, p.dirty_before, p.run_id_before))} &rarr; "
-                f"{_esc(_label(p.commit, p.dirty, p.run_id))}"
+                f"{_esc(run_label(p.commit_before, p.dirty_before, p.run_id_before))} &rarr; "
+                f"{_esc(run_label(p.commit, p.dirty, p.run_id))}"
                 + (' <span class="note" title="both runs were made of the same clean code: the machine changed">'
                    "(same code)</span>" if p.same_code else "") + "</td>")
 
@@ -538,7 +513,7 @@ def _change_table(points: list[ChangePoint], anchors: dict[tuple, str], machines
         out.append(f"<h3>Build time steps ({len(steps)})</h3>")
         out.append(head("before &rarr; after", "ratio", "change", "p", "date"))
         for p in steps:
-            out.append(start(p) + f'<td class="num">{_fmt_s(p.before)} &rarr; {_fmt_s(p.after)}</td>'
+            out.append(start(p) + f'<td class="num">{format_seconds(p.before)} &rarr; {format_seconds(p.after)}</td>'
                        f'<td class="num">{p.ratio:.2f}</td><td class="num"><span class="'
                        f'{"slower" if p.ratio > 1 else "faster"}">{_pct(p.ratio)}</span></td>'
                        f'<td class="num">{p.p_value:.2g}</td>' + date(p) + "</tr>")
@@ -559,7 +534,7 @@ def _change_table(points: list[ChangePoint], anchors: dict[tuple, str], machines
     return "\n".join(out)
 
 
-def _label(commit: Optional[str], dirty: bool, run_id: str) -> str:
+def run_label(commit: Optional[str], dirty: bool, run_id: str) -> str:
     return (commit[:7] + ("+" if dirty else "")) if commit else run_id
 
 
@@ -661,59 +636,3 @@ def render(store_path: str, machines: list[Machine], points: list[ChangePoint], 
             + head + _change_table(points, anchors, machines) + nav + "\n".join(sections)
             + f'<script type="application/json" id="trend-figures">{payload}</script>'
             + f"<script>{_JS}</script></body></html>\n")
-
-
-# ------------------------------------------------------------------------------ CLI
-
-
-def add_arguments(p: argparse.ArgumentParser) -> None:
-    from vorobench.cli.args import fraction, names, positive_float
-
-    p.add_argument("store", help="run store folder (filled by `vorobench bench --store DIR`)")
-    p.add_argument("-o", "--out", default=None, metavar="HTML", help="write the page here (self-contained HTML)")
-    p.add_argument("--json", default=None, metavar="FILE", help="write the change points here as JSON (for CI)")
-    p.add_argument("--machine", default=None, metavar="PREFIX",
-                   help="only the runs of the machine fingerprint starting with PREFIX")
-    p.add_argument("--impls", type=names, default=None, help="only these implementations (comma-separated)")
-    p.add_argument("--datasets", type=names, default=None, help="only these datasets (comma-separated)")
-    p.add_argument("--threshold", type=positive_float, default=0.10,
-                   help="smallest time step reported, as a fraction (default 0.10 = 10%%)")
-    p.add_argument("--alpha", type=fraction, default=0.05,
-                   help="significance level of the rank test of a time step (default 0.05)")
-
-
-def run(args: argparse.Namespace) -> int:
-    from vorobench.harness.atomic import replace_atomically
-    from vorobench.harness.store import Store
-
-    if not args.out and not args.json:
-        raise ValueError("nothing to write: give -o HTML for the page and/or --json FILE for the change points")
-    store = Store(args.store)
-    machines = load(store, machine=args.machine, impls=args.impls, datasets=args.datasets)
-    points = detect(machines, threshold=args.threshold, alpha=args.alpha)
-    runs = sum(len(m.runs) for m in machines)
-    series = sum(len(m.series) for m in machines)
-    n_time = sum(p.kind == "time" for p in points)
-    print(f"trend of {args.store}: {runs} runs on {len(machines)} machine(s), {series} series; "
-          f"{n_time} time step(s), {len(points) - n_time} counter change(s)")
-    shown = 0
-    for p in points:
-        if shown == 20:
-            print(f"  and {len(points) - shown} more")
-            break
-        shown += 1
-        where = f"{_label(p.commit_before, p.dirty_before, p.run_id_before)} -> {_label(p.commit, p.dirty, p.run_id)}"
-        if p.kind == "time":
-            print(f"  {p.machine_id} {p.case}: time {_fmt_s(p.before)} -> {_fmt_s(p.after)} ({p.ratio:.2f}x, "
-                  f"p={p.p_value:.2g}) at {where}" + (" (same code)" if p.same_code else ""))
-        else:
-            print(f"  {p.machine_id} {p.case}: {p.counter} {p.before} -> {p.after} at {where}")
-    if args.out:
-        page = render(str(args.store), machines, points, args.threshold, args.alpha)
-        replace_atomically(args.out, lambda f: f.write(page))
-        print(f"wrote {args.out}")
-    if args.json:
-        doc = trend_json(str(args.store), machines, points, args.threshold, args.alpha)
-        replace_atomically(args.json, lambda f: f.write(json.dumps(doc, indent=2, default=str) + "\n"))
-        print(f"wrote {args.json}")
-    return 0

@@ -16,24 +16,19 @@ than a scheduler time slice are repeated until ``min_time`` seconds are timed (a
 
 from __future__ import annotations
 
-import contextlib
 import gc
-import importlib
-import importlib.util
 import os
 import signal
-import sys
 import time
 import traceback
-import zlib
 from pathlib import Path
-from typing import Any, Callable, Iterator, Sequence
+from typing import Any, Callable
 
+from impls.plugins import load_plugin
+from vorobench.harness import peakmem
 from vorobench.judge import isolation
 
-from vorobench.harness import peakmem
-
-__all__ = ["worker_main", "run_and_report", "load_plugin", "plugins_registered", "check_against_reference",
+__all__ = ["worker_main", "run_and_report", "check_against_reference",
            "reference_path", "store_reference", "load_reference"]
 
 Send = Callable[[str, Any], None]
@@ -43,68 +38,6 @@ WARMUP_N = 64
 
 #: Most builds per case when short builds are repeated to fill ``min_time``.
 MAX_REPEAT = 25
-
-
-def load_plugin(spec: str) -> list[str]:
-    """Import a module (dotted name or ``.py`` path) and register its ``IMPLEMENTATIONS``.
-
-    A plugin module defines ``IMPLEMENTATIONS`` (a list of :class:`impls.Implementation`) or
-    ``IMPLEMENTATION``; nothing happens at its import time, the runner registers them here, in
-    the parent and in every worker. Returns the registered names.
-    """
-    import impls
-
-    try:
-        if spec.endswith(".py") or os.sep in spec:
-            path = Path(spec).resolve()
-            if not path.is_file():
-                raise FileNotFoundError(f"plugin file not found: {spec}")
-            name = f"vorobench_plugin_{zlib.crc32(str(path).encode()):08x}"
-            module = sys.modules.get(name)
-            if module is None:
-                module_spec = importlib.util.spec_from_file_location(name, path)
-                module = importlib.util.module_from_spec(module_spec)
-                sys.modules[name] = module
-                try:
-                    module_spec.loader.exec_module(module)
-                except BaseException:
-                    del sys.modules[name]
-                    raise
-        else:
-            module = importlib.import_module(spec)
-    except FileNotFoundError:
-        raise
-    except Exception as exc:  # a plugin that cannot load is a usage error, said in one line
-        raise ValueError(f"plugin {spec!r} could not be loaded: {type(exc).__name__}: {exc}") from None
-    found = list(getattr(module, "IMPLEMENTATIONS", []))
-    if hasattr(module, "IMPLEMENTATION"):
-        found.append(module.IMPLEMENTATION)
-    if not found:
-        raise ValueError(f"plugin {spec!r} defines neither IMPLEMENTATIONS nor IMPLEMENTATION")
-    wrong = [type(impl).__name__ for impl in found if not isinstance(impl, impls.Implementation)]
-    if wrong:
-        raise ValueError(f"plugin {spec!r}: IMPLEMENTATIONS must hold impls.Implementation objects, not {wrong[0]}")
-    for impl in found:
-        impls.register(impl)
-    return [impl.name for impl in found]
-
-
-@contextlib.contextmanager
-def plugins_registered(specs: Sequence[str]) -> Iterator[list[str]]:
-    """Register plugin implementations for the duration of a run in this process, then remove
-    them, so a test double never outlives the run that asked for it."""
-    import impls
-
-    before = set(impls.registered())          # a nested use leaves the outer registrations alone
-    names: list[str] = []
-    try:
-        for spec in specs:
-            names += load_plugin(spec)
-        yield names
-    finally:
-        for name in names:
-            if name not in before:
-                impls.unregister(name)
 
 
 def reference_path(cache_dir: str, reference: str, dataset: str, n: int, seed: int) -> Path:

@@ -42,8 +42,15 @@ from vorobench.core.incidence import vertex_site_lists
 from vorobench.core.predicates import incircle, orient2d
 from vorobench.core.scaling import comfortable_shift, scale_points, smallest_normal
 from vorobench.core.sorting import argsort_keys, dense_rank, is_member, sorted_unique
-from vorobench.core.tolerances import (COINCIDENCE_FILTER_REL_TOL, COINCIDENCE_FILTER_ULPS, SHORT_EDGE_REL_TOL,
-                                  VERTEX_MATCH_REL_TOL, allowed_error, circumcentre_tolerance, data_scale)
+from vorobench.core.tolerances import (
+    COINCIDENCE_FILTER_REL_TOL,
+    COINCIDENCE_FILTER_ULPS,
+    SHORT_EDGE_REL_TOL,
+    VERTEX_MATCH_REL_TOL,
+    allowed_error,
+    circumcentre_tolerance,
+    data_scale,
+)
 
 __all__ = ["compare", "Comparison", "Difference", "VERDICTS", "DIFFERENCE_KINDS"]
 
@@ -127,7 +134,7 @@ class Comparison:
         lines = [f"compare {a} vs {b}: {head}  [n={self.n_sites}; V={sa.get('V', '?')}/{sb.get('V', '?')}, "
                  f"E={sa.get('E', '?')}/{sb.get('E', '?')}]"]
         if self.sites_reordered:
-            lines.append(f"  sites are the same set in a different order (matched by sorting)")
+            lines.append("  sites are the same set in a different order (matched by sorting)")
         for name, msg in self.structure_errors.items():
             lines.append(f"  {name} is not a valid DCEL: {msg}")
         zl = {k: v for k, v in self.zero_length_edges.items() if v}

@@ -35,12 +35,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from impls.base import InputMutated, UnsupportedInput
-from vorobench.judge.certificate import DEFAULT_PROBES, Certificate, certify
-from vorobench.judge.comparison import Comparison, compare
 from vorobench.core.diagram import Diagram
 from vorobench.core.prepare import prepare
-from vorobench.judge.outcomes import Verdict
 from vorobench.core.scaling import OutsideExactRange
+from vorobench.judge.certificate import DEFAULT_PROBES, Certificate, certify
+from vorobench.judge.comparison import Comparison, compare
+from vorobench.judge.outcomes import Verdict
 
 __all__ = ["CaseVerdict", "BuildResult", "CaseJudgement", "Judge", "judge_case", "build_only", "certify_result", "build_and_certify", "build_in_sandbox", "diagram_arrays", "diagram_from_arrays", "check_case",
            "decide", "agree_exactly", "is_exact", "VERDICTS", "PASSING", "FAILURES", "DEFAULT_REFERENCE",

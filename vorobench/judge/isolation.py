@@ -14,6 +14,7 @@ like Ctrl-C does.
 from __future__ import annotations
 
 import ctypes
+import multiprocessing as mp
 import os
 import signal
 import subprocess
@@ -23,7 +24,7 @@ from pathlib import Path
 from typing import Optional
 
 __all__ = ["FORKSERVER_PRELOAD", "enter_worker", "watch", "release", "kill_worker", "limit_memory", "describe_death", "Terminated",
-           "install_termination_handler"]
+           "install_termination_handler", "default_start_method"]
 
 _PR_SET_PDEATHSIG = 1
 
@@ -154,3 +155,8 @@ def install_termination_handler() -> None:
 
     signal.signal(signal.SIGTERM, handler)
     signal.signal(signal.SIGHUP, handler)
+
+
+def default_start_method() -> str:
+    """"forkserver" where the platform has it (Linux, macOS), else "spawn"."""
+    return "forkserver" if "forkserver" in mp.get_all_start_methods() else "spawn"

@@ -9,17 +9,18 @@ Four kinds of column, told apart by name:
 * **measurements**: other machine-dependent numbers (memory, set-up and check seconds).
 * **identity and outcome**: the case key, status, verdict, messages.
 
-An implementation fills ``stats`` with counters only; :func:`check_counters` refuses anything
-else, and timings go through :func:`impls.base.record_timing` instead. ``Status`` and
+An implementation fills ``stats`` with counters only (the rule: :mod:`vorobench.core.counters`),
+and timings go through :func:`impls.base.record_timing` instead. ``Status`` and
 ``Verdict`` rank outcomes once for the runner, the report and the regression compare.
 """
 
 from __future__ import annotations
 
-import numbers
 import re
 from enum import Enum
-from typing import Any, Mapping, Optional
+from typing import Optional
+
+from vorobench.core.counters import DURATION_NAME
 
 __all__ = [
     "Status",
@@ -27,8 +28,6 @@ __all__ = [
     "VERDICT_RANK",
     "STATUS_RANK",
     "COUNTER_PREFIX",
-    "CounterError",
-    "check_counters",
     "counter_columns",
     "timing_columns",
     "timing_column",
@@ -123,34 +122,6 @@ def status_rank(status: object) -> Optional[int]:
     return STATUS_RANK.get(str(status), STATUS_RANK["error"])
 
 
-class CounterError(TypeError):
-    """An implementation put something other than a machine-independent integer into ``stats``."""
-
-
-#: Names that say "a duration": such a value is a timing whatever its type.
-_TIME_NAME = re.compile(r"(^|_)(s|ms|us|ns|sec|secs|seconds|time|elapsed|duration)$", re.IGNORECASE)
-
-
-def check_counters(stats: Mapping[str, Any], who: str = "the implementation") -> dict[str, int]:
-    """``stats`` as {name: int}, or :class:`CounterError` naming the first value that is not a
-    counter: a non-integer, or a name that says it is a duration (``library_s``)."""
-    out: dict[str, int] = {}
-    for key, value in stats.items():
-        name = str(key)
-        if _TIME_NAME.search(name):
-            raise CounterError(f"{who} put {name}={value!r} into its counters, but its name says it is a "
-                               "duration: counters are machine-independent integers; report times with "
-                               "impls.base.record_timing")
-        if isinstance(value, bool) or isinstance(value, numbers.Integral):
-            out[name] = int(value)
-        elif isinstance(value, numbers.Real) and float(value).is_integer():
-            out[name] = int(value)
-        else:
-            raise CounterError(f"{who} put {name}={value!r} into its counters: counters are machine-independent "
-                               "integers; report times with impls.base.record_timing")
-    return out
-
-
 def timing_column(phase: str) -> str:
     """The column of a part of the build time: ``library`` -> ``time_library_s``."""
     return f"time_{phase}_s"
@@ -174,7 +145,7 @@ def upgrade_legacy(df):
     renames = {}
     for column in counter_columns(df.columns):
         name = column[len(COUNTER_PREFIX):]
-        if _TIME_NAME.search(name):
+        if DURATION_NAME.search(name):
             phase = re.sub(r"_(s|ms|us|ns|sec|secs|seconds)$", "", name)
             target = timing_column(phase)
             if target not in df.columns:

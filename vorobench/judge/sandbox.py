@@ -67,7 +67,7 @@ def _serve(conn, parent: int, impl_blob: Optional[bytes], name: str, plugins: Se
     os.environ.update(environ)
     signal.signal(signal.SIGINT, signal.SIG_IGN)          # Ctrl-C is the judge's to handle
     import impls
-    from vorobench.harness.worker import load_plugin
+    from impls.plugins import load_plugin
 
     def send(kind: str, payload: Any = None, arrays: Optional[dict] = None) -> None:
         conn.send_bytes(encode(kind, payload, arrays))

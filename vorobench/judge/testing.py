@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from vorobench.judge.comparison import Comparison, compare
 from vorobench.core.diagram import Diagram
+from vorobench.judge.comparison import Comparison, compare
 
 __all__ = ["assert_diagrams_equal"]
 

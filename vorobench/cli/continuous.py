@@ -1,0 +1,136 @@
+"""Benchmark two revisions of a git repository and compare them, like ``asv continuous``.
+
+    vorobench continuous REV_A REV_B [--repo DIR] [--env shared|fresh] [bench options] [compare options]
+
+Each revision is checked out in its own git worktree (the repository's own checkout is never
+touched) and benchmarked by its own code with ``vorobench bench``, one revision after the
+other, into its own results file. Then ``vorobench compare`` judges REV_B against REV_A, with
+the same rules and exit status: 1 when REV_B regressed, 0 when not, 2 when a revision could not
+be benchmarked.
+
+Environments (``--env``):
+
+* ``shared`` (default): both revisions run on this interpreter and its installed libraries,
+  with the revision's worktree first on the import path. A change in the numbers is then a
+  change in the code, never in a library. Entry points of the revision are not installed: a
+  plugin repository names its module with ``--plugin``.
+* ``fresh``: a virtual environment per revision, with the revision installed by pip
+  (non-editable, dependencies included; for a repository that is not vorobench itself, this
+  vorobench is installed beside it). Kept in ``--env-dir`` and reused for the same commit.
+
+The repository may be vorobench itself (``continuous HEAD~1 HEAD``) or a plugin's. Runs are
+also filed in ``--store DIR`` when given, so ``vorobench history``/``trend`` see them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import tempfile
+from pathlib import Path
+
+from vorobench.harness.continuous import Worktree, bench_revision, fresh_environment, repository_root, resolve_revision
+
+__all__ = ["add_arguments", "run", "bench_arguments"]
+
+#: bench options that continuous sets itself for each revision.
+_OWN_OPTIONS = {"out", "resume", "overwrite"}
+#: bench options whose values are paths of the caller's, made absolute before a revision runs
+#: in its worktree.
+_PATH_OPTIONS = {"store"}
+
+
+def bench_arguments(args: argparse.Namespace) -> list[str]:
+    """The bench options of ``args`` that differ from bench's defaults, as command-line words
+    (paths of the caller's made absolute), for a revision's own ``vorobench bench``."""
+    from vorobench.cli import bench as bench_cmd
+
+    parser = argparse.ArgumentParser(add_help=False)
+    bench_cmd.add_arguments(parser)
+    words: list[str] = []
+    for action in parser._actions:
+        dest = action.dest
+        if dest in _OWN_OPTIONS or not action.option_strings or not hasattr(args, dest):
+            continue
+        value = getattr(args, dest)
+        if value == action.default or value is None:
+            continue
+        flag = action.option_strings[-1]
+        if isinstance(action, argparse._StoreTrueAction):
+            words.append(flag)
+        elif isinstance(action, argparse._AppendAction):
+            for item in value:
+                words += [flag, _caller_path(str(item))]
+        elif isinstance(value, (list, tuple)):
+            words += [flag, ",".join(_caller_path(str(v)) if str(v).startswith("file:") else str(v) for v in value)]
+        elif dest in _PATH_OPTIONS:
+            words += [flag, str(Path(value).resolve())]
+        else:
+            words += [flag, str(value)]
+    return words
+
+
+def _caller_path(text: str) -> str:
+    """A plugin or ``file:`` dataset that names a file of the caller's, made absolute (a module
+    name stays as it is)."""
+    prefix = "file:" if text.startswith("file:") else ""
+    path = Path(text[len(prefix):])
+    return prefix + str(path.resolve()) if path.exists() else text
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    from vorobench.cli import bench as bench_cmd
+    from vorobench.cli import compare as compare_cmd
+
+    p.add_argument("rev_a", metavar="REV_A", help="the baseline revision (a commit, branch, tag, HEAD~1...)")
+    p.add_argument("rev_b", metavar="REV_B", help="the revision judged against it")
+    p.add_argument("--repo", default=".", help="the git repository (default: the one holding the current folder)")
+    p.add_argument("--env", choices=("shared", "fresh"), default="shared",
+                   help="shared: this interpreter and its libraries, the revision's code first on the path "
+                        "(default); fresh: a virtual environment per revision with the revision installed")
+    p.add_argument("--env-dir", default=None, metavar="DIR",
+                   help="where --env fresh keeps its environments (default ~/.cache/vorobench/envs)")
+    p.add_argument("--results-dir", default=None, metavar="DIR",
+                   help="keep both results files here (default: a temporary folder, removed at the end)")
+    bench = p.add_argument_group("bench options (passed to each revision's vorobench bench)")
+    bench_cmd.add_arguments(bench)
+    compare = p.add_argument_group("compare options")
+    compare_cmd.add_arguments(compare, positional=False)
+
+
+def run(args: argparse.Namespace) -> int:
+    from rich.console import Console
+
+    from vorobench.cli import compare as compare_cmd
+
+    console = Console(stderr=True)
+    repo = repository_root(args.repo)
+    a, b = resolve_revision(repo, args.rev_a), resolve_revision(repo, args.rev_b)
+    words = bench_arguments(args)
+    env_dir = Path(args.env_dir).expanduser() if args.env_dir else Path.home() / ".cache" / "vorobench" / "envs"
+    keep = Path(args.results_dir).resolve() if args.results_dir else None
+    if keep is not None:
+        keep.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="vorobench-continuous-") as scratch:
+        results_dir = keep or Path(scratch)
+        outs = []
+        for side, revision in (("a", a), ("b", b)):
+            out = results_dir / f"{side}-{revision.short}.csv"
+            for stale in (out, out.with_suffix(".meta.json")):
+                stale.unlink(missing_ok=True)
+            with Worktree(repo, revision, Path(scratch)) as tree:
+                python = (str(fresh_environment(tree, revision, env_dir, console)) if args.env == "fresh"
+                          else sys.executable)
+                status = bench_revision(revision, tree, python, args.env, words, out, console)
+            if status != 0 or not out.exists():
+                console.print(f"[bold red]vorobench continuous[/bold red]: the benchmark of {revision.name} "
+                              f"({revision.short}) failed (exit status {status}); nothing compared")
+                return 2
+            outs.append(out)
+        compare_args = argparse.Namespace(**{k: getattr(args, k) for k in compare_cmd.OPTION_NAMES})
+        compare_args.base, compare_args.new = str(outs[0]), str(outs[1])
+        compare_args.title = f"{b.name} ({b.short}) vs {a.name} ({a.short})"
+        status = compare_cmd.run(compare_args)
+        if keep is not None:
+            console.print(f"results kept: {outs[0]} and {outs[1]}")
+        return status

@@ -1,0 +1,104 @@
+"""Fuzz campaign: many small random and degenerate cases, cross-validated on an executor.
+
+Case i of a campaign is (generator, n, seed), fixed by the campaign seed and i alone: the
+generators are the named datasets (fresh seeds, small sizes) and ``int_box``, points of a
+small integer box (duplicates and collinear triples everywhere) with lattice points of one
+circle mixed in (cocircular subsets). Each case is built by every implementation, certified
+and compared with the reference (:func:`vorobench.judge.engine.check_case`), exact
+implementations also with each other, as a task on the executor (``local`` or
+``dask://HOST:PORT``). Every checked case is appended to ``cases.jsonl`` in ``--out``, so a
+rerun skips it; every failure is shrunk to a witness (:mod:`vorobench.judge.shrink`) under
+``witnesses/``. ``--budget`` is a case count (``100000``) or a duration (``90s``, ``10m``, ``2h``).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from vorobench.harness.fuzz import INT_BOX, LOG_NAME, parse_budget, run_campaign, write_json
+
+__all__ = ["add_arguments", "run"]
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    from vorobench.cli import args as cli_args
+
+    p.add_argument("--impls", type=cli_args.names, default=None,
+                   help="comma-separated implementations (default: all available)")
+    p.add_argument("--generators", type=cli_args.names, default=None,
+                   help=f"comma-separated dataset generators and/or {INT_BOX} (default: all datasets and {INT_BOX})")
+    p.add_argument("--budget", type=parse_budget, default=parse_budget("1000"),
+                   help="cases in the campaign (100000) or time for this run (90s, 10m, 2h); default 1000")
+    p.add_argument("--min-n", type=cli_args.positive_int, default=3, help="smallest case size (default 3)")
+    p.add_argument("--max-n", type=cli_args.size, default=40, help="largest case size (default 40)")
+    p.add_argument("--seed", type=cli_args.non_negative_int, default=0,
+                   help="campaign seed: fixes the sequence of cases (default 0)")
+    p.add_argument("--reference", default="qhull", help="reference implementation (default qhull)")
+    p.add_argument("--probes", type=cli_args.non_negative_int, default=500,
+                   help="random probes per certificate (default 500)")
+    p.add_argument("--timeout", type=cli_args.positive_float, default=60.0,
+                   help="seconds each implementation may take to build and certify one case (default 60)")
+    p.add_argument("--memory-limit", type=cli_args.positive_float, default=None, metavar="MB",
+                   help="address space an implementation's worker may add (MemoryError instead of the OOM killer)")
+    p.add_argument("--executor", default="local", help="'local' (process pool here) or dask://HOST:PORT")
+    p.add_argument("--workers", type=cli_args.positive_int, default=1, help="local worker processes (default 1)")
+    p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
+                   help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
+    p.add_argument("--no-shrink", action="store_true", help="save failing cases unshrunk")
+    p.add_argument("--shrink-seconds", type=cli_args.non_negative_float, default=30.0,
+                   help="time budget per witness (default 30)")
+    p.add_argument("--out", default="reports/fuzz", help="campaign directory: cases.jsonl, witnesses/, summary.json "
+                                                         "(default reports/fuzz; rerun to resume)")
+
+
+def run(args: argparse.Namespace) -> int:
+    from rich.console import Console
+
+    import datasets_gen
+    import impls
+    from impls.plugins import plugins_registered
+    from vorobench.harness.executors import parse_spec
+    from vorobench.judge.engine import close_shared_judges
+
+    console = Console()
+    parse_spec(args.executor)
+    if not 1 <= args.min_n <= args.max_n:
+        raise ValueError("--min-n and --max-n: need 1 <= min-n <= max-n")
+    with plugins_registered(args.plugin):
+        names = list(args.impls) if args.impls else impls.available()
+        for name in names + [args.reference]:
+            impls.get(name)             # KeyError naming the available ones
+    generators = list(args.generators) if args.generators else datasets_gen.available() + [INT_BOX]
+    unknown = [g for g in generators if g != INT_BOX and g not in datasets_gen.available()]
+    if unknown:
+        raise ValueError(f"unknown generator(s) {', '.join(unknown)}; see `vorobench datasets` (or {INT_BOX})")
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    # Until this run ends, the summary says it did not pass: a killed run is no green gate.
+    write_json(out / "summary.json", {"passed": False, "complete": False,
+                                       "note": "fuzzing started and has not finished (or was killed)"})
+    console.print(f"fuzzing {', '.join(names)} against {args.reference} on {args.executor} "
+                  f"({args.workers} workers if local); budget {args.budget}; log {out / LOG_NAME}")
+    s = run_campaign(out, names, generators, args.budget, executor=args.executor, workers=args.workers,
+                     reference=args.reference, min_n=args.min_n, max_n=args.max_n, campaign_seed=args.seed,
+                     probes=args.probes, plugins=args.plugin, shrink=not args.no_shrink,
+                     shrink_seconds=args.shrink_seconds, console=console, timeout=args.timeout,
+                     memory_limit_mb=args.memory_limit)
+    # The gate covers the whole campaign: a failure logged by an earlier run still fails it.
+    bad = s.failed + s.failed_before + s.lost + s.errors
+    summary = {"passed": not bad, "complete": True, "checked": s.checked, "previously_checked": s.previously,
+               "failed": s.failed, "failed_before": s.failed_before, "lost": s.lost,
+               "errors": s.errors, "seconds": s.seconds, "cases_per_second": s.rate, "witnesses": s.witnesses,
+               "executor": args.executor, "workers": args.workers, "impls": names, "generators": generators}
+    write_json(out / "summary.json", summary)
+    close_shared_judges()
+    for w in s.witnesses:
+        console.print(f"  witness: {w['impl']} on {w['generator']} n={w['n']} seed={w['seed']}: "
+                      f"{w['n_points']} points -> {w['points']}")
+    console.print(f"{s.checked} cases checked in {s.seconds:.1f} s ({s.rate:.2f} cases/s; "
+                  f"{s.previously} done before); "
+                  + ("[green]all passed[/]" if not bad else
+                     f"[red]{s.failed} failed, {s.failed_before} failed in earlier runs, {s.lost} lost, "
+                     f"{s.errors} errors[/]"))
+    return 0 if not bad else 1
