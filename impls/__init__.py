@@ -20,26 +20,29 @@ from vorobench.core.diagram import Diagram
 from vorobench.core.prepare import prepare
 
 __all__ = ["Implementation", "UnsupportedInput", "InputMutated", "available", "get", "build", "register", "registered",
-           "unregister", "ENTRY_POINT_GROUP"]
+           "unregister", "of_kind", "ENTRY_POINT_GROUP", "DEFAULT_REFERENCE"]
 
 ENTRY_POINT_GROUP = "vorobench.impls"
 
-# Own implementations: name -> module defining IMPLEMENTATION (imported lazily: numba is slow
-# to import and compile, and `vorobench impls` should stay quick).
-_OWN = {
-    "fortune": "impls.fortune",
-    "halfplane": "impls.halfplane",
-    "incremental": "impls.incremental",
-    "qhull": "impls.qhull",
-}
-# Adapters to outside libraries: name -> (module, the library it needs).
-_EXTERNAL: dict[str, tuple[str, str]] = {
-    "triangle": ("impls.external.triangle_lib", "triangle"),
-    "triangle-sweep": ("impls.external.triangle_sweep", "triangle"),
-    "triangle-incremental": ("impls.external.triangle_incremental", "triangle"),
-    "boost": ("impls.external.boost", "pyvoronoi"),
-    "geos": ("impls.external.geos", "shapely"),
-    "cgal": ("impls.external.cgal", "CGAL"),
+#: The implementation a run judges the others against unless told otherwise: Qhull, the
+#: library most users already trust (it decides in floating point and is certified per case).
+DEFAULT_REFERENCE = "qhull"
+
+# Built-in implementations: name -> ("module:ATTRIBUTE" of its Implementation, the outside
+# library it needs or None). Modules are imported on first use (numba is slow to import and
+# compile, and `vorobench impls` should stay quick); an adapter is listed only when its
+# library is installed.
+_BUILTIN: dict[str, tuple[str, Optional[str]]] = {
+    "fortune": ("impls.fortune:IMPLEMENTATION", None),
+    "halfplane": ("impls.halfplane:IMPLEMENTATION", None),
+    "incremental": ("impls.incremental:IMPLEMENTATION", None),
+    "qhull": ("impls.qhull:IMPLEMENTATION", None),
+    "triangle": ("impls.external.triangle_lib:DIVIDE_AND_CONQUER", "triangle"),
+    "triangle-sweep": ("impls.external.triangle_lib:SWEEP", "triangle"),
+    "triangle-incremental": ("impls.external.triangle_lib:INCREMENTAL", "triangle"),
+    "cgal": ("impls.external.cgal:IMPLEMENTATION", "CGAL"),
+    "boost": ("impls.external.boost:IMPLEMENTATION", "pyvoronoi"),
+    "geos": ("impls.external.geos:IMPLEMENTATION", "shapely"),
 }
 
 _registered: dict[str, Implementation] = {}
@@ -53,14 +56,24 @@ def _module_exists(module: str) -> bool:
         return False
 
 
+def _runs_here(entry: tuple[str, Optional[str]]) -> bool:
+    target, library = entry
+    return (library is None or _module_exists(library)) and _module_exists(target.partition(":")[0])
+
+
 def _entry_point_impls() -> dict[str, object]:
     return {ep.name: ep for ep in entry_points(group=ENTRY_POINT_GROUP)}
 
 
+def _resolve(target: str) -> object:
+    """The object a ``module:attribute`` entry names."""
+    module, _, attribute = target.partition(":")
+    return getattr(importlib.import_module(module), attribute)
+
+
 def available() -> list[str]:
-    """Names of the implementations that can run here (own ones first, then outside ones)."""
-    names = [name for name, mod in _OWN.items() if _module_exists(mod)]
-    names += [name for name, (mod, lib) in _EXTERNAL.items() if _module_exists(lib) and _module_exists(mod)]
+    """Names of the implementations that can run here (built-in ones first, then plugins)."""
+    names = [name for name, entry in _BUILTIN.items() if _runs_here(entry)]
     names += [name for name in _entry_point_impls() if name not in names]
     names += [name for name in _registered if name not in names]
     return names
@@ -88,10 +101,9 @@ def get(name: str) -> Implementation:
         return _registered[name]
     if name in _loaded:
         return _loaded[name]
-    module = _OWN.get(name) or (_EXTERNAL[name][0] if name in _EXTERNAL else None)
-    impl: Optional[Implementation] = None
-    if module is not None and _module_exists(module):
-        impl = importlib.import_module(module).IMPLEMENTATION
+    impl: object = None
+    if name in _BUILTIN and _runs_here(_BUILTIN[name]):
+        impl = _resolve(_BUILTIN[name][0])
     else:
         ep = _entry_point_impls().get(name)
         if ep is not None:
@@ -103,6 +115,19 @@ def get(name: str) -> Implementation:
         raise TypeError(f"implementation {name!r} is a {type(impl).__name__}, not an Implementation")
     _loaded[name] = impl
     return impl
+
+
+def of_kind(kind: str) -> list[str]:
+    """The available implementations that declare ``kind`` ("own", "outside" or "plugin");
+    one that fails to load is left out."""
+    out = []
+    for name in available():
+        try:
+            if get(name).kind == kind:
+                out.append(name)
+        except Exception:  # a broken plugin is reported where it is used, not here
+            continue
+    return out
 
 
 def build(name: str, points: ArrayLike, stats: Optional[dict] = None) -> Diagram:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from contextlib import contextmanager
 from contextvars import ContextVar
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable, Iterator, Optional
 
 import numpy as np
@@ -14,13 +14,16 @@ from vorobench.core.counters import CounterError, check_counters
 from vorobench.core.diagram import Diagram
 from vorobench.core.scaling import exact_shift, scale_back_vertices, scale_points
 
-__all__ = ["Implementation", "BuildFunction", "UnsupportedInput", "InputMutated", "CounterError", "record_timing"]
+__all__ = ["Implementation", "KINDS", "BuildFunction", "UnsupportedInput", "InputMutated", "CounterError", "record_timing"]
 
 #: ``build(sites, stats)``: sites are prepared (distinct, finite float64); stats is a dict or
 #: None, for counters only (machine-independent integers); times go to :func:`record_timing`.
 BuildFunction = Callable[[NDArray[np.float64], Optional[dict]], Diagram]
 
 #: Where :func:`record_timing` adds seconds during a build (None: nobody asked for them).
+#: What an implementation may say it is (``Implementation.kind``).
+KINDS = ("own", "outside", "plugin")
+
 _PHASE_TIMES: ContextVar[Optional[dict]] = ContextVar("vorobench_phase_times", default=None)
 
 
@@ -54,7 +57,9 @@ class Implementation:
     """One Voronoi construction behind the common interface.
 
     ``exact``: every geometric decision is exact, so two exact implementations must agree
-    exactly (not merely within tolerance). ``warmup``: compiles JIT kernels so that timings
+    exactly (not merely within tolerance). ``kind`` says where it comes from: ``"own"``
+    (written in this project), ``"outside"`` (an adapter to an outside library) or
+    ``"plugin"`` (anything registered from elsewhere, the default). ``warmup``: compiles JIT kernels so that timings
     exclude compile time. ``supports``: returns None if it can take the sites, else the
     reason it cannot (the runner then skips the case instead of failing it).
 
@@ -70,7 +75,11 @@ class Implementation:
     origin: str = "vorobench"
     warmup: Optional[Callable[[], None]] = None
     supports: Optional[Callable[[NDArray[np.float64]], Optional[str]]] = None
-    tags: tuple[str, ...] = field(default_factory=tuple)
+    kind: str = "plugin"
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ValueError(f"implementation {self.name!r}: kind must be one of {', '.join(KINDS)}, not {self.kind!r}")
 
     def unsupported_reason(self, sites: NDArray[np.float64]) -> Optional[str]:
         """Why this implementation cannot take ``sites`` (None if it can)."""

@@ -500,4 +500,5 @@ IMPLEMENTATION = Implementation(
     exact=True,
     warmup=warmup,
     supports=supports,
+    kind="own",
 )

@@ -187,4 +187,5 @@ IMPLEMENTATION = Implementation(
     build=build,
     exact=False,
     origin="scipy/Qhull",
+    kind="own",
 )

@@ -19,7 +19,8 @@ from hypothesis import strategies as st
 import datasets_gen
 import impls
 from vorobench.core.prepare import prepare
-from vorobench.judge.engine import DEFAULT_REFERENCE, Judge, agree_exactly, decide
+from impls import DEFAULT_REFERENCE
+from vorobench.judge.engine import Judge, agree_exactly, decide
 
 SIZES = (0, 1, 2, 3, 10, 100, 1000)
 SEEDS = (0, 1)

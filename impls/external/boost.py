@@ -200,5 +200,5 @@ IMPLEMENTATION = Implementation(
     origin="Boost.Polygon voronoi (C++), Python package pyvoronoi",
     supports=supports,
     warmup=warmup,
-    tags=("external", "sweep"),
+    kind="outside",
 )

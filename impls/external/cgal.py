@@ -485,5 +485,5 @@ IMPLEMENTATION = Implementation(
     origin=f"CGAL {cgal_version()} (C++), Python package cgal",
     supports=supports,
     warmup=warmup,
-    tags=("external", "delaunay-dual"),
+    kind="outside",
 )

@@ -319,5 +319,5 @@ IMPLEMENTATION = Implementation(
     origin=f"GEOS {'.'.join(map(str, shapely.geos_version))} (C++), Python package shapely",
     supports=supports,
     warmup=warmup,
-    tags=("external", "delaunay-dual"),
+    kind="outside",
 )

@@ -215,7 +215,7 @@ DIVIDE_AND_CONQUER = Implementation(
     exact=True,
     origin=_ORIGIN,
     warmup=warmup,
-    tags=("external", "delaunay-dual"),
+    kind="outside",
 )
 SWEEP = Implementation(
     name="triangle-sweep",
@@ -226,7 +226,7 @@ SWEEP = Implementation(
     supports=sweep_supports,
     origin=_ORIGIN,
     warmup=warmup,
-    tags=("external", "delaunay-dual"),
+    kind="outside",
 )
 INCREMENTAL = Implementation(
     name="triangle-incremental",
@@ -236,6 +236,6 @@ INCREMENTAL = Implementation(
     exact=True,
     origin=_ORIGIN,
     warmup=warmup,
-    tags=("external", "delaunay-dual"),
+    kind="outside",
 )
 IMPLEMENTATION = DIVIDE_AND_CONQUER

@@ -141,5 +141,5 @@ IMPLEMENTATION = Implementation(
     build=build,
     exact=True,
     warmup=warmup,
-    tags=("sweep", "exact", "numba"),
+    kind="own",
 )

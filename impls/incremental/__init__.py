@@ -109,4 +109,5 @@ IMPLEMENTATION = Implementation(
     build=build,
     exact=True,
     warmup=warmup,
+    kind="own",
 )

@@ -180,7 +180,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub.add_parser("impls", help="list implementations").set_defaults(func=cmd_impls)
     sub.add_parser("datasets", help="list dataset families").set_defaults(func=cmd_datasets)
     p = sub.add_parser("build", help="build one diagram, print counts, plot/save it")
-    p.add_argument("--impl", default="qhull", help="implementation name (default qhull)")
+    p.add_argument("--impl", default=impls.DEFAULT_REFERENCE,
+                   help=f"implementation name (default {impls.DEFAULT_REFERENCE})")
     _add_dataset_args(p)
     p.add_argument("--plot", help="write a picture (PNG/SVG/PDF) of the diagram")
     p.add_argument("--save", help="save the diagram as .npz")

@@ -46,7 +46,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="results CSV (default results/bench-<date>.csv); metadata goes to <stem>.meta.json")
     p.add_argument("--resume", action="store_true", help="skip cases already in --out and append the rest")
     p.add_argument("--overwrite", action="store_true", help="replace an existing --out")
-    p.add_argument("--reference", default="qhull", help="reference implementation for the check (default qhull)")
+    p.add_argument("--reference", default=impls.DEFAULT_REFERENCE,
+                   help=f"reference implementation for the check (default {impls.DEFAULT_REFERENCE})")
     p.add_argument("--no-check", action="store_true", help="skip certification and comparison with the reference")
     p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
                    help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")

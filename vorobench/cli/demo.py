@@ -65,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out) if args.out else Path("reports") / f"{_dt.date.today():%Y-%m-%d}"
     results_csv = out / "results.csv"
     config = RunConfig(repeat=args.repeat, min_time=args.min_time, timeout=args.timeout,
-                       reference="qhull", check=True, plugins=tuple(args.plugin),
+                       reference=impls.DEFAULT_REFERENCE, check=True, plugins=tuple(args.plugin),
                        reference_cache=str(out / ".reference"), budget=args.budget)
     console.print(f"vorobench demo: {', '.join(names)} on {len(datasets)} datasets x sizes "
                   f"{', '.join(map(str, sizes))}, {args.repeat} repeats, certified and compared with qhull")
@@ -75,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
                       console=console)
     if code != 0:
         return code
-    rep = write_report(results_csv, out, title=args.title or f"demo {out.name}", reference="qhull")
+    rep = write_report(results_csv, out, title=args.title or f"demo {out.name}", reference=impls.DEFAULT_REFERENCE)
     remove_reference_cache(out / ".reference")
     minutes = (time.perf_counter() - started) / 60
     print(f"Report ({minutes:.1f} min): {rep.markdown} (figures next to it; single-file HTML: {rep.html})")

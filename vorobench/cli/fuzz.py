@@ -34,7 +34,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--max-n", type=cli_args.size, default=40, help="largest case size (default 40)")
     p.add_argument("--seed", type=cli_args.non_negative_int, default=0,
                    help="campaign seed: fixes the sequence of cases (default 0)")
-    p.add_argument("--reference", default="qhull", help="reference implementation (default qhull)")
+    p.add_argument("--reference", default=impls.DEFAULT_REFERENCE,
+                   help=f"reference implementation (default {impls.DEFAULT_REFERENCE})")
     p.add_argument("--probes", type=cli_args.non_negative_int, default=500,
                    help="random probes per certificate (default 500)")
     p.add_argument("--timeout", type=cli_args.positive_float, default=60.0,

@@ -18,8 +18,8 @@ import numpy as np
 
 from vorobench.harness.atomic import replace_atomically
 from vorobench.judge.certificate import DEFAULT_PROBES
+from impls import DEFAULT_REFERENCE
 from vorobench.judge.engine import (
-    DEFAULT_REFERENCE,
     DEFAULT_TIMEOUT,
     VERDICTS,
     CaseVerdict,

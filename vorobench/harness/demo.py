@@ -21,18 +21,8 @@ _SIZES_ALONE = (1_000, 3_000, 10_000, 30_000, 100_000, 300_000)
 
 
 def own_implementations() -> list[str]:
-    """Own implementations available here: ``impls.available()`` minus outside adapters/plugins."""
-    import impls
-
-    names = []
-    for name in impls.available():
-        try:
-            module = impls.get(name).build.__module__
-        except Exception:  # an implementation that fails to load is not ours to demo
-            continue
-        if module.startswith("impls.") and not module.startswith("impls.external"):
-            names.append(name)
-    return names
+    """The implementations written in this project (they declare ``kind="own"``)."""
+    return impls.of_kind("own")
 
 
 def demo_implementations() -> list[str]:

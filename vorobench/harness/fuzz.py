@@ -223,7 +223,7 @@ def _witness_stem(key: tuple[str, int, int], impl: str, peer: Optional[str]) -> 
 
 
 def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], budget: Budget, *,
-                 executor: str = "local", workers: int = 1, reference: str = "qhull", min_n: int = 3,
+                 executor: str = "local", workers: int = 1, reference: str = impls.DEFAULT_REFERENCE, min_n: int = 3,
                  max_n: int = 40, campaign_seed: int = 0, probes: int = 500, plugins: Sequence[str] = (),
                  shrink: bool = True, shrink_seconds: float = 30.0, console=None, timeout: float = 60.0,
                  memory_limit_mb: Optional[float] = None) -> CampaignSummary:

@@ -261,7 +261,7 @@ def write_report(results_path: str | Path, out: str | Path, title: Optional[str]
     meta = read_metadata(results_path)
     out.mkdir(parents=True, exist_ok=True)
     runs = meta.get("runs", [])
-    reference = str(reference or (runs[-1].get("reference") if runs else None) or "qhull")
+    reference = str(reference or (runs[-1].get("reference") if runs else None) or impls.DEFAULT_REFERENCE)
     title = title or out.name
 
     cases = analysis.case_table(df)

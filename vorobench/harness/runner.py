@@ -64,7 +64,7 @@ class RunConfig:
     min_time: float = 0.0               # repeat short builds until this many seconds are timed
     timeout: float = 60.0               # seconds per repeat and for the check
     warmup_timeout: float = 300.0       # seconds for the warm-up (JIT compilation included)
-    reference: Optional[str] = "qhull"
+    reference: Optional[str] = impls.DEFAULT_REFERENCE
     check: bool = True
     plugins: tuple[str, ...] = ()
     reference_cache: Optional[str] = None

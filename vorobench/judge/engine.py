@@ -34,6 +34,7 @@ from typing import Any, Optional, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
+from impls import DEFAULT_REFERENCE
 from impls.base import InputMutated, UnsupportedInput
 from vorobench.core.diagram import Diagram
 from vorobench.core.prepare import prepare
@@ -43,10 +44,9 @@ from vorobench.judge.comparison import Comparison, compare
 from vorobench.judge.outcomes import Verdict
 
 __all__ = ["CaseVerdict", "BuildResult", "CaseJudgement", "Judge", "judge_case", "build_only", "certify_result", "build_and_certify", "build_in_sandbox", "diagram_arrays", "diagram_from_arrays", "check_case",
-           "decide", "agree_exactly", "is_exact", "VERDICTS", "PASSING", "FAILURES", "DEFAULT_REFERENCE",
+           "decide", "agree_exactly", "is_exact", "VERDICTS", "PASSING", "FAILURES",
            "DEFAULT_TIMEOUT", "shared_judge", "close_shared_judges"]
 
-DEFAULT_REFERENCE = "qhull"
 
 #: Seconds one implementation may take to build and certify one case in the judge.
 DEFAULT_TIMEOUT = 60.0
