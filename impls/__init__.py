@@ -17,7 +17,6 @@ from numpy.typing import ArrayLike
 
 from impls.base import Implementation, InputMutated, UnsupportedInput
 from vorobench.core.diagram import Diagram
-from vorobench.core.prepare import prepare
 
 __all__ = ["Implementation", "UnsupportedInput", "InputMutated", "available", "get", "build", "register", "registered",
            "unregister", "of_kind", "ENTRY_POINT_GROUP", "DEFAULT_REFERENCE"]
@@ -136,6 +135,10 @@ def build(name: str, points: ArrayLike, stats: Optional[dict] = None) -> Diagram
     Raises :class:`UnsupportedInput` (a ``ValueError``) when the implementation declares it
     cannot take these points, and :class:`InputMutated` when it changed its input.
     """
+    # Imported here, not at the top: prepare compiles with numba, which adds 0.3 s to every
+    # import of the registry (measured); listing implementations does not need it.
+    from vorobench.core.prepare import prepare
+
     impl = get(name)
     sites, _ = prepare(points)
     return impl.run(sites, stats)

@@ -44,13 +44,13 @@ def _assert_same_as_incremental(sites: np.ndarray, what: str = "") -> None:
 def test_cgal_is_available_exact_and_external():
     assert "cgal" in impls.available()
     impl = impls.get("cgal")
-    assert impl.name == "cgal" and impl.exact and "external" in impl.tags
+    assert impl.name == "cgal" and impl.exact and impl.kind == "outside"
     assert impl.origin.startswith(f"CGAL {cgal.cgal_version()}")
-    assert impls._EXTERNAL["cgal"] == ("impls.external.cgal", "CGAL")
+    assert "cgal" in impls.of_kind("outside") and "cgal" not in impls.of_kind("own")
 
 
 def test_cgal_is_absent_without_its_library(monkeypatch):
-    monkeypatch.setitem(impls._EXTERNAL, "cgal", ("impls.external.cgal", "no_such_library_vorobench"))
+    monkeypatch.setitem(impls._BUILTIN, "cgal", ("impls.external.cgal:IMPLEMENTATION", "no_such_library_vorobench"))
     assert "cgal" not in impls.available()
 
 

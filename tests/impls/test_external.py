@@ -55,11 +55,11 @@ def _witness(name: str) -> np.ndarray:
 def test_adapters_are_available_with_their_library(adapter):
     assert adapter in impls.available()
     impl = impls.get(adapter)
-    assert impl.name == adapter and "external" in impl.tags
+    assert impl.name == adapter and impl.kind == "outside"
 
 
 def test_an_adapter_whose_library_is_missing_is_absent(monkeypatch):
-    monkeypatch.setitem(impls._EXTERNAL, "geos", ("impls.external.geos", "no_such_library_vorobench"))
+    monkeypatch.setitem(impls._BUILTIN, "geos", ("impls.external.geos:IMPLEMENTATION", "no_such_library_vorobench"))
     assert "geos" not in impls.available()
     assert "qhull" in impls.available()
 

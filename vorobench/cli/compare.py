@@ -31,17 +31,19 @@ import json
 import math
 from dataclasses import asdict
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
-from vorobench.harness.regress import (
-    NOISE_MIN_CASES,
-    CaseChange,
-    RunComparison,
-    compare_runs,
-    load_side,
-    machine_warning,
-    store_history,
-)
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from vorobench.cli.args import fraction, non_negative_int, positive_float
+
+if TYPE_CHECKING:  # annotations only: the module itself is loaded when the command runs
+    from vorobench.harness.regress import CaseChange, RunComparison
+
+# The harness and the judge are imported inside the functions that run the command, not here:
+# the parser imports every command module (start-up time, measured in vorobench.cli).
 
 __all__ = ["add_arguments", "run"]
 
@@ -53,8 +55,6 @@ OPTION_NAMES = ("threshold", "alpha", "seed", "only_changes", "json", "junit", "
 def add_arguments(p, positional: bool = True) -> None:
     """``compare``'s arguments on ``p`` (a parser or an argument group); ``positional=False``
     leaves out BASE and NEW, for a command that makes them itself."""
-    from vorobench.cli.args import fraction, non_negative_int, positive_float
-
     if positional:
         p.add_argument("base", help="baseline: a results file (.csv/.parquet) or a run store reference DIR@REF "
                                     "(REF: latest, latest~K, a run id or a commit)")
@@ -84,6 +84,7 @@ _MISSING_LISTED = 5
 
 
 def _print_missing(console, missing: list[CaseChange]) -> None:
+
     console.print(f"[bold red]NEW lacks {len(missing)} case(s) that BASE has[/bold red]:")
     for c in missing[:_MISSING_LISTED]:
         console.print(f"  {c.name}", markup=False, highlight=False)
@@ -92,6 +93,7 @@ def _print_missing(console, missing: list[CaseChange]) -> None:
 
 
 def _verdict_text(c: CaseChange) -> str:
+
     if c.base_status is None:
         return f"only in NEW ({c.new_status})"
     if c.new_status is None:
@@ -103,6 +105,8 @@ def _verdict_text(c: CaseChange) -> str:
 
 
 def _overall_text(comparison: RunComparison) -> str:
+    from vorobench.harness.regress import NOISE_MIN_CASES
+
     o = comparison.overall
     if o.geomean is None:
         return "no case timed on both sides"
@@ -113,8 +117,6 @@ def _overall_text(comparison: RunComparison) -> str:
 
 
 def _print_table(console, comparison: RunComparison, title: str, only_changes: bool) -> None:
-    from rich.markup import escape
-    from rich.table import Table
 
     table = Table(title=escape(title))
     table.add_column("case", no_wrap=True)
@@ -144,8 +146,7 @@ def _print_table(console, comparison: RunComparison, title: str, only_changes: b
 
 
 def run(args: argparse.Namespace) -> int:
-    from rich.console import Console
-    from rich.markup import escape
+    from vorobench.harness.regress import compare_runs, load_side, machine_warning, store_history
 
     base_df, base_meta = load_side(args.base)
     new_df, new_meta = load_side(args.new)

@@ -29,7 +29,14 @@ import sys
 import tempfile
 from pathlib import Path
 
+from rich.console import Console
+
+from vorobench.cli import bench as bench_cmd
+from vorobench.cli import compare as compare_cmd
 from vorobench.harness.continuous import Worktree, bench_revision, fresh_environment, repository_root, resolve_revision
+
+# The harness and the judge are imported inside the functions that run the command, not here:
+# the parser imports every command module (start-up time, measured in vorobench.cli).
 
 __all__ = ["add_arguments", "run", "bench_arguments"]
 
@@ -43,8 +50,6 @@ _PATH_OPTIONS = {"store"}
 def bench_arguments(args: argparse.Namespace) -> list[str]:
     """The bench options of ``args`` that differ from bench's defaults, as command-line words
     (paths of the caller's made absolute), for a revision's own ``vorobench bench``."""
-    from vorobench.cli import bench as bench_cmd
-
     parser = argparse.ArgumentParser(add_help=False)
     bench_cmd.add_arguments(parser)
     words: list[str] = []
@@ -79,9 +84,6 @@ def _caller_path(text: str) -> str:
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from vorobench.cli import bench as bench_cmd
-    from vorobench.cli import compare as compare_cmd
-
     p.add_argument("rev_a", metavar="REV_A", help="the baseline revision (a commit, branch, tag, HEAD~1...)")
     p.add_argument("rev_b", metavar="REV_B", help="the revision judged against it")
     p.add_argument("--repo", default=".", help="the git repository (default: the one holding the current folder)")
@@ -99,10 +101,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from rich.console import Console
-
-    from vorobench.cli import compare as compare_cmd
-
     console = Console(stderr=True)
     repo = repository_root(args.repo)
     a, b = resolve_revision(repo, args.rev_a), resolve_revision(repo, args.rev_b)

@@ -16,16 +16,23 @@ from __future__ import annotations
 
 import argparse
 import datetime as _dt
+import time
 from pathlib import Path
 
+from rich.console import Console
+
+import impls
+from vorobench.cli import args as cli_args
+from vorobench.cli.bench import execute
 from vorobench.harness.demo import DEMO_DATASETS, demo_implementations, demo_sizes, remove_reference_cache
+
+# The harness and the judge are imported inside the functions that run the command, not here:
+# the parser imports every command module (start-up time, measured in vorobench.cli).
 
 __all__ = ["add_arguments", "run"]
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from vorobench.cli import args as cli_args
-
     p.add_argument("--out", default=None, help="report folder (default reports/<today's date>)")
     p.add_argument("--impls", type=cli_args.names, default=None,
                    help="implementations (default: all own ones + installed references)")
@@ -48,11 +55,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    import time
-
-    from rich.console import Console
-
-    from vorobench.cli.bench import execute
     from vorobench.harness.report import write_report
     from vorobench.harness.runner import RunConfig
 

@@ -12,6 +12,9 @@ from __future__ import annotations
 import argparse
 import json
 
+# The harness and the judge are imported inside the functions that run the command, not here:
+# the parser imports every command module (start-up time, measured in vorobench.cli).
+
 __all__ = ["add_arguments", "run"]
 
 

@@ -18,7 +18,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from vorobench.harness.report import write_report
+# The harness and the judge are imported inside the functions that run the command, not here:
+# the parser imports every command module (start-up time, measured in vorobench.cli).
 
 __all__ = ["add_arguments", "run"]
 
@@ -32,6 +33,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from vorobench.harness.report import write_report
+
     results = Path(args.results)
     out = Path(args.out) if args.out else Path("reports") / results.stem
     rep = write_report(results, out, title=args.title, reference=args.reference)

@@ -31,14 +31,15 @@ from __future__ import annotations
 import argparse
 import json
 
-from vorobench.harness.trend import detect, format_seconds, load, render, run_label, trend_json
+from vorobench.cli.args import fraction, names, positive_float
+
+# The harness and the judge are imported inside the functions that run the command, not here:
+# the parser imports every command module (start-up time, measured in vorobench.cli).
 
 __all__ = ["add_arguments", "run"]
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from vorobench.cli.args import fraction, names, positive_float
-
     p.add_argument("store", help="run store folder (filled by `vorobench bench --store DIR`)")
     p.add_argument("-o", "--out", default=None, metavar="HTML", help="write the page here (self-contained HTML)")
     p.add_argument("--json", default=None, metavar="FILE", help="write the change points here as JSON (for CI)")
@@ -55,6 +56,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from vorobench.harness.atomic import replace_atomically
     from vorobench.harness.store import Store
+    from vorobench.harness.trend import detect, format_seconds, load, render, run_label, trend_json
 
     if not args.out and not args.json:
         raise ValueError("nothing to write: give -o HTML for the page and/or --json FILE for the change points")

@@ -12,20 +12,26 @@ from __future__ import annotations
 import argparse
 import json
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from rich.console import Console
+from rich.markup import escape
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
 
-from vorobench.harness.atomic import replace_atomically
-from vorobench.judge.certificate import DEFAULT_PROBES
+import datasets_gen
+import impls
 from impls import DEFAULT_REFERENCE
-from vorobench.judge.engine import (
-    DEFAULT_TIMEOUT,
-    VERDICTS,
-    CaseVerdict,
-    close_shared_judges,
-    shared_judge,
-)
+from impls.plugins import plugins_registered
+from vorobench.cli import args as cli_args
+from vorobench.judge.defaults import DEFAULT_PROBES, DEFAULT_TIMEOUT
+
+if TYPE_CHECKING:  # annotations only: the module itself is loaded when the command runs
+    from vorobench.judge.engine import CaseVerdict
+
+# The harness and the judge are imported inside the functions that run the command, not here:
+# the parser imports every command module (start-up time, measured in vorobench.cli).
 
 __all__ = ["add_arguments", "run"]
 
@@ -37,7 +43,6 @@ _SHORT = {"within_tolerance": "within tol", "not_certified": "NOT CERTIFIED", "d
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    from vorobench.cli import args as cli_args
 
     p.add_argument("--impls", type=cli_args.names, default=["all"],
                    help="comma-separated implementations (default: all available)")
@@ -72,8 +77,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def _cases(args: argparse.Namespace) -> list[dict[str, Any]]:
     """(label, dataset, n, seed, points) of every case."""
-    import datasets_gen
-
     if args.points:
         pts = datasets_gen.load(args.points)
         return [dict(dataset=Path(args.points).name, n=int(pts.shape[0]), seed=None, points=pts)]
@@ -87,8 +90,6 @@ def _cases(args: argparse.Namespace) -> list[dict[str, Any]]:
 
 
 def _impl_names(args: argparse.Namespace) -> list[str]:
-    import impls
-
     names = list(args.impls)
     if not names or names == ["all"]:
         names = impls.available()
@@ -100,8 +101,7 @@ def _impl_names(args: argparse.Namespace) -> list[str]:
 
 def _judge_case(item: tuple) -> tuple[np.ndarray, list[tuple[str, CaseVerdict, Any]]]:
     """One case on any worker, through the judging engine: (sites, [(impl, verdict, peer)])."""
-    import datasets_gen
-    from impls.plugins import plugins_registered
+    from vorobench.judge.engine import shared_judge
 
     case, names, reference, options = item
     with plugins_registered(dict(options)["plugins"]):
@@ -113,28 +113,25 @@ def _judge_case(item: tuple) -> tuple[np.ndarray, list[tuple[str, CaseVerdict, A
 
 def _write_json(path: Path, data: dict) -> None:
     """Write ``data`` atomically: a reader never sees half a summary."""
+    from vorobench.harness.atomic import replace_atomically
+
     replace_atomically(path, lambda f: json.dump(data, f, indent=1, default=_json_default))
 
 
 def _worst(verdicts: list[str]) -> str:
+    from vorobench.judge.engine import VERDICTS
+
     return max(verdicts, key=VERDICTS.index)
 
 
 def run(args: argparse.Namespace) -> int:
-    from impls.plugins import plugins_registered
-
     with plugins_registered(args.plugin):
         return _run(args)
 
 
 def _run(args: argparse.Namespace) -> int:
-    from rich.console import Console
-    from rich.markup import escape
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-    from rich.table import Table
-
-    import impls
     from vorobench.harness.executors import parse_spec
+    from vorobench.judge.engine import close_shared_judges, shared_judge
     from vorobench.judge.shrink import shrink_case, write_witness
 
     console = Console()

@@ -29,7 +29,7 @@ from typing import Callable, Mapping, Optional, Union
 import numpy as np
 import pandas as pd
 
-from vorobench.judge.outcomes import VERDICT_RANK, verdict_rank
+from vorobench.judge.outcomes import VERDICT_RANK, counter_columns, timing_columns, verdict_rank
 
 __all__ = [
     "VERDICT_RANK",
@@ -120,8 +120,6 @@ def case_repeats(df: pd.DataFrame) -> list[dict]:
     status, verdict and its detail, error, the successful repeats' build times (``times``, by
     repeat) and timings of parts (``phases``: column -> list aligned with ``times``), summary
     statistics of ``times``, and the counters (``stat_*``, the first value recorded, as ints)."""
-    from vorobench.judge.outcomes import counter_columns, timing_columns
-
     counters = counter_columns(df.columns)
     phases = [c for c in timing_columns(df.columns) if c != "time_s"]
     out = []

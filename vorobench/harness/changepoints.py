@@ -39,6 +39,7 @@ from dataclasses import dataclass
 from typing import Any, Optional, Sequence
 
 import numpy as np
+from scipy.stats import mannwhitneyu
 
 __all__ = ["TimeStep", "CounterStep", "time_steps", "counter_steps"]
 
@@ -68,8 +69,6 @@ class CounterStep:
 
 def _test(samples: Sequence[np.ndarray], lo: int, split: int, hi: int) -> tuple[float, float, float, float]:
     """(median before, median after, ratio, p) for runs [lo, split) against [split, hi)."""
-    from scipy.stats import mannwhitneyu
-
     left = np.concatenate(samples[lo:split])
     right = np.concatenate(samples[split:hi])
     before, after = float(np.median(left)), float(np.median(right))

@@ -4,7 +4,10 @@ The command line is :mod:`vorobench.cli.demo`; its help text describes the behav
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
+
+import impls
 
 __all__ = ["own_implementations", "demo_implementations", "DEMO_DATASETS",
            "DEMO_REFERENCES", "demo_sizes"]
@@ -27,8 +30,6 @@ def own_implementations() -> list[str]:
 
 def demo_implementations() -> list[str]:
     """Own implementations plus the installed outside references of ``DEMO_REFERENCES``."""
-    import impls
-
     available = impls.available()
     return own_implementations() + [name for name in DEMO_REFERENCES if name in available]
 
@@ -40,6 +41,4 @@ def demo_sizes(n_impls: int) -> tuple[int, ...]:
 
 def remove_reference_cache(folder: Path) -> None:
     """The cached reference diagrams are only needed during the run."""
-    import shutil
-
     shutil.rmtree(folder, ignore_errors=True)

@@ -51,6 +51,7 @@ def _reach_scheduler(address: str, timeout: float) -> None:
     """Ask the scheduler who it is, within ``timeout`` seconds in all; ValueError if it does not
     answer. (``distributed.Client`` bounds the TCP connection but can wait forever for a port
     that accepts and never speaks.)"""
+    # Dask is an optional extra (vorobench[dask]): imported only for a dask:// executor.
     import asyncio
 
     from distributed.comm import connect
@@ -74,6 +75,7 @@ def _reach_scheduler(address: str, timeout: float) -> None:
 
 def _dask_client(address: str):
     try:
+        # optional extra, as above
         from distributed import Client
     except ImportError as exc:
         raise DaskMissing("the dask executor needs dask.distributed: pip install vorobench[dask]") from exc

@@ -4,7 +4,6 @@ The command line is :mod:`vorobench.cli.fuzz`; its help text describes the behav
 
 from __future__ import annotations
 
-import argparse
 import json
 import multiprocessing as mp
 import socket
@@ -14,47 +13,25 @@ from pathlib import Path
 from typing import Any, Iterator, Optional, Sequence
 
 import numpy as np
+from rich.markup import escape
 
+import datasets_gen
+import impls
+from impls.plugins import plugins_registered
+from vorobench.core.prepare import prepare
 from vorobench.harness.atomic import replace_atomically
+from vorobench.harness.campaign import INT_BOX, LOG_NAME, Budget, parse_budget
+from vorobench.harness.executors import run_tasks
+from vorobench.judge.engine import shared_judge
+from vorobench.judge.shrink import judge, shrink_case, write_witness
 
 __all__ = ["Budget", "parse_budget", "FuzzCase", "plan", "generate", "check_fuzz_case",
            "shrink_failure", "run_campaign", "INT_BOX", "LOG_NAME"]
 
-INT_BOX = "int_box"
-LOG_NAME = "cases.jsonl"
 
 #: Lattice points on the circle of radius 5 (from 3-4-5 triangles): exactly cocircular.
 _CIRCLE5 = np.array([(5, 0), (4, 3), (3, 4), (0, 5), (-3, 4), (-4, 3), (-5, 0), (-4, -3), (-3, -4), (0, -5),
                      (3, -4), (4, -3)], dtype=np.float64)
-
-
-@dataclass(frozen=True)
-class Budget:
-    """How much to check: ``cases`` cases in all, or ``seconds`` of checking in this run."""
-
-    cases: Optional[int] = None
-    seconds: Optional[float] = None
-
-    def __str__(self) -> str:
-        return f"{self.cases} cases" if self.cases is not None else f"{self.seconds:g} s"
-
-
-def parse_budget(text: str) -> Budget:
-    """``100000`` -> 100000 cases; ``90s``, ``10m``, ``2h`` -> a duration."""
-    text = text.strip().lower()
-    units = {"s": 1.0, "m": 60.0, "h": 3600.0}
-    try:
-        if text and text[-1] in units:
-            seconds = float(text[:-1]) * units[text[-1]]
-            if not 0 < seconds < float("inf"):
-                raise ValueError
-            return Budget(seconds=seconds)
-        cases = int(float(text))
-        if cases < 1:
-            raise ValueError
-        return Budget(cases=cases)
-    except (ValueError, OverflowError):
-        raise argparse.ArgumentTypeError(f"budget {text!r}: a case count (100000) or a duration (90s, 10m, 2h)") from None
 
 
 @dataclass(frozen=True)
@@ -73,8 +50,6 @@ class FuzzCase:
 
     def judge(self):
         """This process's judge for the case's implementations and options."""
-        from vorobench.judge.engine import shared_judge
-
         return shared_judge(self.impls, self.reference, probes=self.probes, plugins=self.plugins,
                             timeout=self.timeout, memory_limit_mb=self.memory_limit_mb)
 
@@ -103,7 +78,6 @@ def generate(generator: str, n: int, seed: int) -> np.ndarray:
     """The points of a case."""
     if generator == INT_BOX:
         return int_box(n, seed)
-    import datasets_gen
 
     return datasets_gen.generate(generator, n, seed=seed)
 
@@ -126,8 +100,6 @@ def _verdict_record(v, peer: Optional[str]) -> dict[str, Any]:
 def check_fuzz_case(case: FuzzCase) -> dict[str, Any]:
     """Run on a worker: every implementation on the case's points, through the judging engine
     (isolated builds, the reference certified once); a JSON-ready record."""
-    from impls.plugins import plugins_registered
-
     t0 = time.perf_counter()
     with plugins_registered(case.plugins):
         points = generate(case.generator, case.n, case.seed)
@@ -151,10 +123,6 @@ class ShrinkTask:
 def shrink_failure(task: ShrinkTask) -> np.ndarray:
     """Run on a worker: the case's points shrunk by ddmin to a small set that still fails the
     same way (the points unshrunk if the failure does not reproduce in this process)."""
-    from impls.plugins import plugins_registered
-    from vorobench.core.prepare import prepare
-    from vorobench.judge.shrink import judge, shrink_case
-
     case = task.case
     with plugins_registered(case.plugins):
         sites, _ = prepare(generate(case.generator, case.n, case.seed))
@@ -229,12 +197,6 @@ def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], bud
                  memory_limit_mb: Optional[float] = None) -> CampaignSummary:
     """Check cases until the budget is spent, skipping those already in ``out/cases.jsonl``;
     then shrink every failure not yet witnessed. Returns what this run did."""
-    from rich.markup import escape
-
-    from impls.plugins import plugins_registered
-    from vorobench.harness.executors import run_tasks
-    from vorobench.judge.shrink import write_witness
-
     out.mkdir(parents=True, exist_ok=True)
     log_path = out / LOG_NAME
     earlier = _read_log(log_path)

@@ -10,7 +10,9 @@ from pathlib import Path
 from typing import Optional, Sequence
 
 import numpy as np
+from scipy.stats import bootstrap, mannwhitneyu, median_abs_deviation, ttest_1samp
 
+from vorobench.harness import results, store
 from vorobench.judge.outcomes import counter_columns, status_rank, verdict_rank
 
 __all__ = ["CaseChange", "Overall", "RunComparison", "compare_frames", "compare_runs",
@@ -101,8 +103,6 @@ class RunComparison:
 def bootstrap_ratio_ci(base: Sequence[float], new: Sequence[float], rng: np.random.Generator,
                        resamples: int = 2000, level: float = 0.95) -> tuple[float, float]:
     """Percentile bootstrap interval of median(new) / median(base), resampling each side."""
-    from scipy.stats import bootstrap
-
     def ratio(b, m, axis=-1):
         return np.median(m, axis=axis) / np.median(b, axis=axis)
 
@@ -113,8 +113,6 @@ def bootstrap_ratio_ci(base: Sequence[float], new: Sequence[float], rng: np.rand
 
 def slowdown_p_value(base: Sequence[float], new: Sequence[float]) -> Optional[float]:
     """One-sided Mann-Whitney U p-value for "NEW is slower than BASE" (None below 2 samples each)."""
-    from scipy.stats import mannwhitneyu
-
     if len(base) < 2 or len(new) < 2:
         return None
     return float(mannwhitneyu(new, base, alternative="greater").pvalue)
@@ -158,8 +156,6 @@ def _timing(change: CaseChange, base: np.ndarray, new: np.ndarray, threshold: fl
 def overall_change(changes: Sequence[CaseChange], threshold: float, level: float = 0.95) -> Overall:
     """Geometric mean of the per-case ratios and a t interval of the mean log ratio; flagged
     "slower" when the mean exceeds 1 + threshold and the interval lies above 1."""
-    from scipy.stats import ttest_1samp
-
     logs = np.log([c.ratio for c in changes if c.ratio is not None and c.ratio > 0])
     out = Overall(cases=int(logs.size))
     if not logs.size:
@@ -298,8 +294,6 @@ def noise_band(changes: Sequence[CaseChange]) -> Optional[float]:
     around their median, which a uniform change leaves alone) times :data:`NOISE_Z`. A case's
     change inside this band is inconclusive, however clear its own repeats are.
     """
-    from scipy.stats import median_abs_deviation
-
     logs = np.log([c.ratio for c in changes if c.ratio is not None and c.ratio > 0])
     if logs.size < NOISE_MIN_CASES:
         return None
@@ -332,8 +326,6 @@ def _num(value) -> str:
 def load_side(text: str | Path):
     """One side of a comparison: (results frame, metadata of its run or None) from a results
     file or a run store reference ``DIR@REF``. ValueError in one line for anything else."""
-    from vorobench.harness import results, store
-
     if store.is_reference(str(text)):
         return store.load_reference(str(text))
     frame = results.load_checked(text)
@@ -353,8 +345,6 @@ def compare_files(base: str | Path, new: str | Path, threshold: float = 0.10, al
 def store_history(base: str, base_meta: Optional[dict], new_df):
     """When BASE is a run of a store, the store's runs on BASE's machine, NEW's own run aside:
     they measure each case's run-to-run noise."""
-    from vorobench.harness import store
-
     parsed = store.split_reference(str(base))
     if parsed is None or not base_meta or not base_meta.get("machine_id"):
         return None

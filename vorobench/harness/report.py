@@ -12,7 +12,21 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional
 
+import numpy as np
+
+import impls
+from vorobench.harness import analysis, figures
+from vorobench.harness.analysis import (
+    FIT_MIN_SITES,
+    MISMATCH_TOLERANCE,
+    complexity_check,
+    complexity_mismatches,
+    failures,
+    mixed_hosts_note,
+)
 from vorobench.harness.markdown_text import one_line, text
+from vorobench.harness.report_html import PageInput, plotly_styles, render
+from vorobench.harness.results import load_checked, metadata_path, read_metadata
 from vorobench.harness.units import factor_text, percent_text, seconds_text, size_text
 
 __all__ = ["write_report", "Report", "reading", "busy_machine_note"]
@@ -61,8 +75,6 @@ def _md_table(header: list[str], rows: list[list[object]], align: Optional[str] 
 
 def _complexity(name: str) -> str:
     try:
-        import impls
-
         return impls.get(name).complexity
     except Exception:  # an implementation that is not installed here is still reported
         return "?"
@@ -75,10 +87,6 @@ def reading(cases, sizes, exponents, ratios, reference: str, check=None, repeats
     how things grow against their declared complexity, what failed. ``check`` is
     :func:`vorobench.harness.analysis.complexity_check` of ``exponents`` (computed when not given),
     ``repeats`` :func:`vorobench.harness.analysis.case_repeats` (no noise bullet without it)."""
-    import numpy as np
-
-    from vorobench.harness.analysis import MISMATCH_TOLERANCE, complexity_check, failures
-
     if check is None:
         check = complexity_check(exponents, _complexity)
 
@@ -101,8 +109,6 @@ def reading(cases, sizes, exponents, ratios, reference: str, check=None, repeats
                       + "; ".join(where) + ".")
     # Speed against the reference, geometric mean over datasets and sizes.
     if not ratios.empty:
-        from vorobench.harness.analysis import FIT_MIN_SITES
-
         for impl, g in ratios.groupby("impl", sort=True):
             big = g[g["n_sites"] >= FIT_MIN_SITES]
             g = big if not big.empty else g
@@ -253,9 +259,6 @@ def write_report(results_path: str | Path, out: str | Path, title: Optional[str]
     A figure with nothing to draw (no reference timed: no speed ratios; no memory measured) is
     not written, and a stale file of that name from an earlier report in ``out`` is removed.
     """
-    from vorobench.harness import analysis, figures
-    from vorobench.harness.results import load_checked, metadata_path, read_metadata
-
     results_path, out = Path(results_path), Path(out)
     df = load_checked(results_path)            # ValueError naming the file if it holds no results
     meta = read_metadata(results_path)
@@ -338,8 +341,6 @@ def _summary(d: _Data) -> tuple[str, str]:
 
 
 def _mismatch_md(d: _Data) -> list[str]:
-    from vorobench.harness.analysis import MISMATCH_TOLERANCE, complexity_mismatches
-
     bad = complexity_mismatches(d.check)
     if bad.empty:
         return []
@@ -354,8 +355,6 @@ def _mismatch_md(d: _Data) -> list[str]:
 
 
 def _markdown(title, d: _Data, figs: dict, meta: dict, results_path) -> str:
-    from vorobench.harness.analysis import MISMATCH_TOLERANCE, failures, mixed_hosts_note
-
     cases, sizes, check, reference = d.cases, d.sizes, d.check, d.reference
     parts = [f"# vorobench report: {_text(title)}", "", _summary(d)[0], "",
              "Interactive version (filters, hover details, per-case repeats): [`report.html`](report.html).", ""]
@@ -468,10 +467,6 @@ def _fmt_time_spread(median: float, lo: float, hi: float) -> str:
 
 def _html(title: str, d: _Data, figs: dict, meta: dict, copied: list[str]) -> str:
     """The interactive page (:mod:`vorobench.harness.report_html`)."""
-    from vorobench.harness import figures
-    from vorobench.harness.analysis import MISMATCH_TOLERANCE, failures, mixed_hosts_note
-    from vorobench.harness.report_html import PageInput, plotly_styles, render
-
     busy, hosts = busy_machine_note(meta), mixed_hosts_note(d.df)
     notes = ([busy] if busy else []) + ([_text(hosts)] if hosts else [])    # Markdown; the hosts come from the data
     files = {f"{FIGURES[k]}": FIGURES[k] for k in figs}

@@ -23,8 +23,17 @@ from typing import Any, Optional, Sequence
 
 import numpy as np
 import pandas as pd
+import plotly.graph_objects as go
+import plotly.io as pio
+from markdown_it import MarkdownIt
+from matplotlib.colors import to_hex
+from plotly.offline import get_plotlyjs
 
+from vorobench.harness.analysis import complexity_mismatches, worst_verdict
+from vorobench.harness.figures import VERDICT_COLOURS, has_data, text_colour, verdict_colour, verdict_label
+from vorobench.harness.markdown_text import one_line
 from vorobench.harness.units import seconds_text, size_text
+from vorobench.judge.outcomes import status_rank
 
 __all__ = ["PageInput", "render", "plotly_styles", "VIEW_TITLES"]
 
@@ -45,8 +54,6 @@ _SYMBOLS = {"o": "circle", "s": "square", "D": "diamond", "^": "triangle-up", "v
 
 def _esc(value: object) -> str:
     """Text from the results as HTML text, on one line."""
-    from vorobench.harness.markdown_text import one_line
-
     return html.escape(one_line(value), quote=True)
 
 
@@ -72,8 +79,6 @@ def _finite(x: object) -> bool:
 
 def plotly_styles(styles: dict) -> dict[str, dict[str, str]]:
     """The matplotlib styles of :func:`vorobench.harness.figures.impl_styles` as plotly colours and symbols."""
-    from matplotlib.colors import to_hex
-
     return {impl: {"color": to_hex(s["color"]), "symbol": _SYMBOLS.get(s["marker"], "circle")}
             for impl, s in styles.items()}
 
@@ -156,8 +161,6 @@ def _counters_html(counters: dict, limit: int = 10) -> str:
 
 def _figure(data: list, layout: dict) -> dict:
     """A plotly figure as plain JSON (lists, no typed arrays), template left to the page."""
-    import plotly.graph_objects as go
-
     fig = go.Figure(data=data, layout=layout)
     spec = json.loads(fig.to_json())
     spec["layout"].pop("template", None)
@@ -166,8 +169,6 @@ def _figure(data: list, layout: dict) -> dict:
 
 def _template() -> dict:
     """plotly's white template, once for the whole page (the figures leave theirs out)."""
-    import plotly.io as pio
-
     return json.loads(json.dumps(pio.templates["plotly_white"].to_plotly_json(), default=_plain))
 
 
@@ -194,8 +195,6 @@ class _Facts:
     counters and spread, and which case a click opens."""
 
     def __init__(self, cases: pd.DataFrame, repeats: list[dict]):
-        from vorobench.harness.analysis import worst_verdict
-
         self.index = {(c["impl"], c["dataset"], c["n"], c["seed"]): i for i, c in enumerate(repeats)}
         self.repeats = repeats
         self.by_size: dict[tuple, list[int]] = {}
@@ -229,8 +228,6 @@ def _metric_view(key: str, table: pd.DataFrame, column: str, ytitle: str, facts:
                  intro: str, fmt, band: Optional[tuple[str, str]] = None, hline: Optional[float] = None,
                  warnings: Optional[dict[str, str]] = None) -> View:
     """One panel per dataset: ``column`` against n for every implementation (None if no value)."""
-    from vorobench.harness.figures import has_data
-
     panels: list[Panel] = []
     if not has_data(table, column):
         return View(key, VIEW_TITLES[key], intro, panels)
@@ -463,8 +460,6 @@ def _growth_table(inp: PageInput) -> str:
 # ------------------------------------------------------------------------------ HTML parts
 
 def _attention(inp: PageInput) -> str:
-    from vorobench.harness.analysis import complexity_mismatches
-
     parts = []
     bad = complexity_mismatches(inp.check) if not inp.check.empty else inp.check
     if not bad.empty:
@@ -490,14 +485,10 @@ def _attention(inp: PageInput) -> str:
 
 
 def _md_inline(text: str) -> str:
-    from markdown_it import MarkdownIt
-
     return MarkdownIt("commonmark", {"html": False}).renderInline(text)
 
 
 def _md_list(items: list[str]) -> str:
-    from markdown_it import MarkdownIt
-
     return MarkdownIt("commonmark", {"html": False}).render("\n".join(f"* {i}" for i in items))
 
 
@@ -528,8 +519,6 @@ def _filters(inp: PageInput) -> str:
 
 
 def _verdict_legend(verdicts: Sequence[str]) -> str:
-    from vorobench.harness.figures import VERDICT_COLOURS, verdict_colour, verdict_label
-
     present = set(verdicts)
     shown = [v for v in VERDICT_COLOURS if v in present] + sorted(present - set(VERDICT_COLOURS))
     others = [v for v in VERDICT_COLOURS if v not in present]
@@ -543,8 +532,6 @@ def _verdict_legend(verdicts: Sequence[str]) -> str:
 
 
 def _correctness(inp: PageInput) -> str:
-    from vorobench.harness.figures import text_colour, verdict_colour, verdict_label
-
     m = inp.matrix
     if m.empty:
         return ""
@@ -576,9 +563,6 @@ def _correctness(inp: PageInput) -> str:
 
 
 def _case_rows(inp: PageInput) -> str:
-    from vorobench.harness.figures import verdict_colour
-    from vorobench.judge.outcomes import status_rank
-
     seeds = len({str(c["seed"]) for c in inp.repeats}) > 1          # one seed: no seed column
     rows = []
     for i, c in enumerate(inp.repeats):
@@ -903,8 +887,6 @@ _JS = r"""
 
 def render(inp: PageInput) -> str:
     """The whole page (see the module docstring)."""
-    from plotly.offline import get_plotlyjs
-
     all_views = views(inp)
     figures: dict[str, Any] = {}
     sections = []
@@ -976,8 +958,6 @@ def render(inp: PageInput) -> str:
 def _first_case(inp: PageInput) -> Optional[int]:
     """The case the drill-down opens with: the largest size of the worst complexity mismatch, else a failure,
     else none."""
-    from vorobench.harness.analysis import complexity_mismatches
-
     index = {(c["impl"], c["dataset"], c["n"]): i for i, c in reversed(list(enumerate(inp.repeats)))}
     if not inp.check.empty:
         bad = complexity_mismatches(inp.check)

@@ -24,6 +24,8 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import IO, Any, Iterable, Iterator, Optional
 
+import pandas as pd
+
 from vorobench.harness.atomic import replace_atomically
 from vorobench.judge.outcomes import Status, check_table, upgrade_legacy
 
@@ -277,8 +279,6 @@ def writer_lock(results_path: str | os.PathLike) -> Iterator[Path]:
 
 
 def _read(path: Path):
-    import pandas as pd
-
     if path.suffix == ".parquet":
         return pd.read_parquet(path)
     data = path.read_bytes()
@@ -287,8 +287,6 @@ def _read(path: Path):
 
 
 def _with_all_columns(df):
-    import pandas as pd
-
     df = upgrade_legacy(df)
     for column in COLUMNS:
         if column not in df.columns:
@@ -333,8 +331,6 @@ def load_checked(path: str | os.PathLike):
     Without it an empty, header-only or unrelated file reads as a table of zero cases (or of
     cases with no key), and a comparison or report of it "passes".
     """
-    import pandas as pd
-
     path = Path(path)
     if not path.exists():
         raise ValueError(f"{path}: no such file")

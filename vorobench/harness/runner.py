@@ -27,8 +27,18 @@ import time
 from dataclasses import asdict, dataclass, field
 from typing import Callable, Iterable, Optional, Sequence
 
+from rich.console import Console
+from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+import datasets_gen
+import impls
+from vorobench.core.prepare import prepare
+from vorobench.harness.executors import LOCAL, parse_spec, run_tasks
 from vorobench.harness.results import case_key
-from vorobench.judge.isolation import default_start_method
+from vorobench.harness.worker import MAX_REPEAT, reference_path, run_and_report, store_reference, worker_main
+from vorobench.judge import isolation
+from vorobench.judge.engine import shared_judge
+from vorobench.judge.isolation import FORKSERVER_PRELOAD, default_start_method
 from vorobench.judge.outcomes import Status, Verdict, status_rank, verdict_rank
 
 __all__ = ["Case", "RunConfig", "CaseOutcome", "plan_cases", "run_case", "run_case_in_process", "run_cases",
@@ -114,8 +124,6 @@ class CaseOutcome:
 def _distinct_sizes(dataset: str, sizes: Sequence[int]) -> list[int]:
     """The sizes that give different inputs: a dataset that caps its size (cocircular points
     on one circle) gives the same points for every larger n, so only the first is kept."""
-    import datasets_gen
-
     kept, seen = [], set()
     for n in sorted(set(sizes)):
         try:
@@ -142,12 +150,8 @@ def plan_cases(impls: Sequence[str], datasets: Sequence[str], sizes: Sequence[in
 def _context(method: str, impl: str):
     ctx = mp.get_context(method)
     if method == "forkserver":
-        from vorobench.judge.isolation import FORKSERVER_PRELOAD
-
         modules = list(FORKSERVER_PRELOAD)
         try:
-            import impls
-
             modules.append(impls.get(impl).build.__module__)
         except Exception:  # the worker reports an implementation that cannot load
             pass
@@ -175,7 +179,6 @@ def prepare_reference(case: Case, config: RunConfig) -> Optional[str]:
     Returns the cache folder, or None when the case is not checked against a reference."""
     if not (config.check and config.reference):
         return None
-    from vorobench.harness.worker import reference_path, store_reference
 
     cache = _reference_cache(config)
     if case.impl == config.reference:
@@ -185,10 +188,6 @@ def prepare_reference(case: Case, config: RunConfig) -> Optional[str]:
         return cache
     # Not stored: build it here (a failure is then passed on to this case, never cached).
     try:
-        import datasets_gen
-        from vorobench.core.prepare import prepare
-        from vorobench.judge.engine import shared_judge
-
         sites, _ = prepare(datasets_gen.generate(case.dataset, case.n, seed=case.seed))
         judge = shared_judge([], config.reference, timeout=config.timeout, warmup_timeout=config.warmup_timeout,
                              memory_limit_mb=config.memory_limit_mb, plugins=config.plugins)
@@ -202,9 +201,6 @@ def prepare_reference(case: Case, config: RunConfig) -> Optional[str]:
 
 def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], None]] = None) -> CaseOutcome:
     """Run one case in a fresh worker process and return its rows, whatever happens to it."""
-    from vorobench.harness.worker import worker_main
-    from vorobench.judge import isolation
-
     started = time.perf_counter()
     if on_step and config.check and config.reference and case.impl != config.reference:
         on_step(f"reference {config.reference}")
@@ -274,8 +270,6 @@ def run_case_in_process(case: Case, config: RunConfig) -> CaseOutcome:
     """Run one case in this process (a Dask worker: one case per worker thread, no per-step
     timeout, no memory cap). A hard crash takes this process down; the executor sees the
     worker die, and the parent retries the case or records it as lost."""
-    from vorobench.harness.worker import run_and_report
-
     started = time.perf_counter()
     info: dict = {}
     repeats: list[dict] = []
@@ -427,9 +421,6 @@ def run_cases(cases: Sequence[Case], config: RunConfig, sink: Callable[[list[dic
     the cases finished when a case is submitted). Ctrl-C stops after killing the running
     workers; everything already passed to ``sink`` is kept.
     """
-    from rich.console import Console
-    from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
-
     console = console or Console(stderr=True)
     if config.check and config.reference and not config.reference_cache:
         # The reference is judged once per input and shared through files: a folder for this run.
@@ -482,8 +473,6 @@ def _case_task(item: tuple[Case, RunConfig, bool]) -> CaseOutcome:
 def _run_on_executor(todo: Sequence[Case], config: RunConfig, history: dict,
                      finish: Callable[[CaseOutcome], None], executor: str, workers: int,
                      describe: Callable[[str], None]) -> None:
-    from vorobench.harness.executors import LOCAL, parse_spec, run_tasks
-
     in_process = parse_spec(executor)[0] != LOCAL
 
     def items():
@@ -499,8 +488,6 @@ def _run_on_executor(todo: Sequence[Case], config: RunConfig, history: dict,
     # enforces the timeouts; in a Dask worker the case as a whole gets their sum.
     limit = None
     if in_process:
-        from vorobench.harness.worker import MAX_REPEAT
-
         builds = max(config.repeat, MAX_REPEAT if config.min_time else 0)
         limit = config.allowance("generate") + config.allowance("warmup") + (builds + 1) * config.timeout
     for res in run_tasks(executor, workers, _case_task, items(), in_flight=None if in_process else workers,

@@ -30,6 +30,10 @@ from contextlib import closing
 from pathlib import Path
 from typing import Any, Optional
 
+import pandas as pd
+
+from vorobench.harness import results
+
 __all__ = ["Store", "FILE_NAME", "is_reference", "split_reference", "load_reference"]
 
 FILE_NAME = "runs.sqlite"
@@ -70,8 +74,6 @@ def _sql_type(dtype) -> str:
 
 def _plain(value: Any) -> Any:
     """A cell as SQLite takes it (numpy scalars to Python, NaN and NA to NULL)."""
-    import pandas as pd
-
     if value is None or value is pd.NA or value is pd.NaT:
         return None
     if hasattr(value, "item"):
@@ -114,8 +116,6 @@ class Store:
     def add_results(self, results_path: str | Path) -> list[str]:
         """File every run of a results file (rows + the runs in its ``.meta.json``) that the
         store does not hold yet; returns the run ids filed."""
-        from vorobench.harness import results
-
         frame = results.load_checked(results_path)
         runs = {str(r.get("run_id")): r for r in results.read_metadata(results_path).get("runs", [])}
         filed = []
@@ -159,8 +159,6 @@ class Store:
 
     def runs(self, machine_id: Optional[str] = None):
         """One row per run, oldest first (by date, then run id)."""
-        import pandas as pd
-
         with closing(self._connect()) as con:
             df = pd.read_sql("select * from runs order by date, run_id", con)
         if machine_id:
@@ -169,10 +167,6 @@ class Store:
 
     def results(self, run_ids=None):
         """The results rows of the given runs (all runs when None), typed like ``results.load``."""
-        import pandas as pd
-
-        from vorobench.harness import results
-
         with closing(self._connect()) as con:
             if run_ids is None:
                 df = pd.read_sql("select * from results", con)

@@ -13,6 +13,8 @@ from importlib import metadata
 from pathlib import Path
 from typing import Optional, Sequence
 
+import impls
+
 __all__ = ["cpu_model", "git_commit", "load_average", "package_versions", "library_versions", "machine_id",
            "code_provenance", "run_metadata"]
 
@@ -74,6 +76,7 @@ def library_versions() -> dict[str, Optional[str]]:
     }
     if versions.get("shapely"):
         try:
+            # an optional outside library: its version only where it is installed
             import shapely
 
             out["geos"] = str(shapely.geos_version_string)
@@ -81,6 +84,7 @@ def library_versions() -> dict[str, Optional[str]]:
             out["geos"] = "unknown"
     if versions.get("cgal"):
         try:
+            # an optional outside library, as above
             from CGAL.CGAL_Triangulation_2 import CGAL_VERSION_NR
 
             nr = int(CGAL_VERSION_NR)       # 1MMmmbiiii: major, minor, bug-fix release
@@ -110,8 +114,6 @@ def code_provenance(names: Sequence[str]) -> dict[str, dict[str, object]]:
     """Where each implementation's code comes from: its module, file, distribution and version,
     and the commit and dirty flag of the git tree holding its file (plugins under development
     are usually in one); None where a piece cannot be found."""
-    import impls
-
     try:
         owners = metadata.packages_distributions()
     except Exception:  # a broken installed distribution must not cost us the run

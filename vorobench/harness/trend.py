@@ -8,7 +8,17 @@ import html
 import json
 import math
 from dataclasses import asdict, dataclass, field
+from datetime import datetime, timezone
 from typing import Any, Optional
+
+import numpy as np
+import plotly.graph_objects as go
+from plotly.colors import qualitative
+from plotly.offline import get_plotlyjs
+from plotly.subplots import make_subplots
+
+from vorobench.harness.changepoints import counter_steps, time_steps
+from vorobench.judge.outcomes import counter_columns
 
 __all__ = ["Run", "Series", "Machine", "ChangePoint", "load", "detect", "render",
            "trend_json"]
@@ -122,8 +132,6 @@ def load(store, machine: Optional[str] = None, impls: Optional[list[str]] = None
     ValueError in one line when the store holds no run (of that machine) or the filters leave
     no result.
     """
-    from vorobench.judge.outcomes import counter_columns
-
     runs = store.runs(machine_id=machine)
     if runs.empty:
         raise ValueError(f"{store.path}: holds no run" + (f" of a machine {machine}*" if machine else "")
@@ -171,8 +179,6 @@ def _text(value) -> Optional[str]:
 
 def _series_of(rows, n_runs: int, counters: list[str]) -> list[Series]:
     """The series of one machine's rows (column ``_run``: the run's position), one per case, sorted."""
-    import numpy as np
-
     group = KEY + ["_run"]
     ok = rows[rows["status"] == "ok"]
     timed = ok[np.isfinite(ok["time_s"].to_numpy(float))].sort_values(group, kind="stable")
@@ -226,8 +232,6 @@ def _meta(text) -> dict:
 def detect(machines: list[Machine], threshold: float = 0.10, alpha: float = 0.05) -> list[ChangePoint]:
     """Find every series' change points (filling ``steps`` and ``counter_changes``); return
     them all, by machine, then case, then run."""
-    from vorobench.harness.changepoints import counter_steps, time_steps
-
     found = []
     for m in machines:
         for s in m.series:
@@ -300,11 +304,6 @@ def _impl_note(run: Run, impl: str) -> str:
 
 def _figure(m: Machine, impl: str, dataset: str, series: list[Series]) -> tuple[Any, int]:
     """The plotly figure of one implementation and dataset on one machine, and its height."""
-    import numpy as np
-    import plotly.graph_objects as go
-    from plotly.colors import qualitative
-    from plotly.subplots import make_subplots
-
     changed = [(s, name) for s in series for name in s.counter_changes]
     rows = 2 if changed else 1
     height = 660 if rows == 2 else 430
@@ -574,10 +573,6 @@ def _failures(m: Machine, series: list[Series]) -> str:
 def render(store_path: str, machines: list[Machine], points: list[ChangePoint], threshold: float,
            alpha: float) -> str:
     """The whole page (see the module docstring)."""
-    from datetime import datetime, timezone
-
-    from plotly.offline import get_plotlyjs
-
     figures: dict[str, Any] = {}
     template = None
     anchors: dict[tuple, str] = {}

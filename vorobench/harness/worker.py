@@ -18,15 +18,27 @@ from __future__ import annotations
 
 import gc
 import os
+import pickle
 import signal
 import time
 import traceback
 from pathlib import Path
 from typing import Any, Callable
 
+import numpy as np
+
+import datasets_gen
+import impls
+from impls.base import InputMutated
 from impls.plugins import load_plugin
+from vorobench.core.prepare import prepare
 from vorobench.harness import peakmem
+from vorobench.harness.atomic import replace_atomically
+from vorobench.judge import engine as crossval
 from vorobench.judge import isolation
+from vorobench.judge.certificate import certify
+from vorobench.judge.engine import diagram_arrays
+from vorobench.judge.outcomes import COUNTER_PREFIX, timing_column
 
 __all__ = ["worker_main", "run_and_report", "check_against_reference",
            "reference_path", "store_reference", "load_reference"]
@@ -48,20 +60,12 @@ def reference_path(cache_dir: str, reference: str, dataset: str, n: int, seed: i
 def store_reference(path: Path, result) -> None:
     """Write the reference's build and certificate atomically (a half-written file never looks
     complete; the temporary name is unpredictable)."""
-    import pickle
-
-    from vorobench.harness.atomic import replace_atomically
-
     replace_atomically(path, lambda f: pickle.dump(result, f, protocol=pickle.HIGHEST_PROTOCOL), binary=True)
 
 
 def load_reference(path: Path, sites):
     """The stored reference build of ``sites`` (a :class:`~vorobench.judge.engine.BuildResult`), or
     None when there is none or it belongs to other sites."""
-    import pickle
-
-    import numpy as np
-
     try:
         with open(path, "rb") as f:
             result = pickle.load(f)
@@ -74,10 +78,6 @@ def load_reference(path: Path, sites):
 
 
 def _same_diagram(a, b) -> bool:
-    import numpy as np
-
-    from vorobench.judge.engine import diagram_arrays
-
     return all(np.array_equal(x, y) for x, y in zip(diagram_arrays(a).values(), diagram_arrays(b).values()))
 
 
@@ -89,9 +89,6 @@ def check_against_reference(impl_name: str, diagram, reference: str, reference_r
     :func:`vorobench.judge.engine.decide`. The reference's own row reuses the stored certificate
     when it built the same diagram.
     """
-    from vorobench.judge import engine as crossval
-    from vorobench.judge.certificate import certify
-
     stored = reference_result
     if impl_name == reference and stored is not None and stored.diagram is not None \
             and _same_diagram(stored.diagram, diagram):
@@ -135,8 +132,6 @@ def _timed_build(impl, sites, stats, timings) -> tuple[object, int, float, float
 def _measured_columns(stats: dict, timings: dict) -> dict[str, float]:
     """The build's counters as ``stat_<name>`` columns (integers, checked by ``Implementation.run``)
     and the parts of its time as ``time_<phase>_s`` columns."""
-    from vorobench.judge.outcomes import COUNTER_PREFIX, timing_column
-
     return ({f"{COUNTER_PREFIX}{key}": int(value) for key, value in stats.items()}
             | {timing_column(phase): float(seconds) for phase, seconds in timings.items()})
 
@@ -147,9 +142,6 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
         os.environ.update(config["environ"])
     for spec in config.get("plugins", ()):
         load_plugin(spec)
-    import datasets_gen
-    import impls
-    from vorobench.core.prepare import prepare
 
     impl = impls.get(case["impl"])
     send("data", {"rss_base_mb": peakmem.current_rss_mb()})
@@ -216,8 +208,6 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
 
 def run_and_report(case: dict, config: dict, send: Send) -> None:
     """Run the case's steps in this process; every failure is sent as ``("failed", ...)``."""
-    from impls.base import InputMutated
-
     try:
         _run_steps(case, config, send)
     except InputMutated as exc:

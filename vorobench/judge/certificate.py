@@ -40,6 +40,7 @@ from typing import Any, Callable, Optional
 import numpy as np
 from numba import njit
 from numpy.typing import NDArray
+from scipy.spatial import cKDTree
 
 from vorobench.core.diagram import Diagram
 from vorobench.core.hull import convex_hull_polygon
@@ -56,14 +57,13 @@ from vorobench.core.tolerances import (
     data_scale,
     length_tolerance,
 )
+from vorobench.judge.defaults import DEFAULT_PROBES
 
 __all__ = ["certify", "Certificate", "Check", "CHECKS"]
 
 #: The checks, in the order they run.
 CHECKS = ("structure", "vertices", "edges", "euler", "hull", "probes")
 
-#: Default number of random probe points (every site is probed as well).
-DEFAULT_PROBES = 10_000
 
 _MAX_IDS = 10
 
@@ -187,8 +187,6 @@ class _Context:
     @property
     def tree(self):
         if self._tree is None:
-            from scipy.spatial import cKDTree
-
             self._tree = cKDTree(self.sites, balanced_tree=False, compact_nodes=False)  # 3x faster build
         return self._tree
 

@@ -36,6 +36,8 @@ from typing import Any, Optional
 import numpy as np
 from numba import njit
 from numpy.typing import NDArray
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 
 from vorobench.core.diagram import Diagram
 from vorobench.core.incidence import vertex_site_lists
@@ -319,8 +321,6 @@ def _merge_labels(V: int, u: NDArray[np.int64], v: NDArray[np.int64]) -> NDArray
     """Union-find of vertices joined by contracted edges (connected components), as labels."""
     if u.size == 0:
         return np.arange(V, dtype=np.int64)
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
 
     graph = coo_matrix((np.ones(u.size, dtype=np.int8), (u, v)), shape=(V, V))
     _, labels = connected_components(graph, directed=False)

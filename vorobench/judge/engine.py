@@ -34,6 +34,7 @@ from typing import Any, Optional, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
+import impls
 from impls import DEFAULT_REFERENCE
 from impls.base import InputMutated, UnsupportedInput
 from vorobench.core.diagram import Diagram
@@ -41,15 +42,15 @@ from vorobench.core.prepare import prepare
 from vorobench.core.scaling import OutsideExactRange
 from vorobench.judge.certificate import DEFAULT_PROBES, Certificate, certify
 from vorobench.judge.comparison import Comparison, compare
+from vorobench.judge.defaults import DEFAULT_TIMEOUT
 from vorobench.judge.outcomes import Verdict
+from vorobench.judge.sandbox import WARMUP_TIMEOUT, Sandbox
 
 __all__ = ["CaseVerdict", "BuildResult", "CaseJudgement", "Judge", "judge_case", "build_only", "certify_result", "build_and_certify", "build_in_sandbox", "diagram_arrays", "diagram_from_arrays", "check_case",
            "decide", "agree_exactly", "is_exact", "VERDICTS", "PASSING", "FAILURES",
            "DEFAULT_TIMEOUT", "shared_judge", "close_shared_judges"]
 
 
-#: Seconds one implementation may take to build and certify one case in the judge.
-DEFAULT_TIMEOUT = 60.0
 
 #: Every verdict, from best to worst. "certified": no comparison was possible (this is the
 #: reference, or the reference crashed) but the implementation certifies.
@@ -98,8 +99,6 @@ def build_only(impl_name: str, sites: np.ndarray) -> BuildResult:
     """Build prepared ``sites`` with ``impl_name`` in this process; every failure is recorded in
     the result, not raised. No certificate yet: that is the judge's, outside the implementation's
     process."""
-    import impls
-
     try:
         impl = impls.get(impl_name)
     except Exception as exc:  # unknown or broken plugin: recorded like a crash
@@ -278,8 +277,6 @@ def check_case(impl_name: str, sites: ArrayLike, reference_diagram: Optional[Dia
 
 def is_exact(name: str) -> bool:
     """Whether implementation ``name`` declares exact decisions (an unknown one is judged strictly)."""
-    import impls
-
     try:
         return bool(impls.get(name).exact)
     except Exception:  # an unknown reference is judged strictly
@@ -398,8 +395,6 @@ class Judge:
                  probes: int = DEFAULT_PROBES, seed: int = 0, timeout: float = DEFAULT_TIMEOUT,
                  warmup_timeout: Optional[float] = None, memory_limit_mb: Optional[float] = None,
                  plugins: Sequence[str] = (), isolate: bool = True) -> None:
-        from vorobench.judge.sandbox import WARMUP_TIMEOUT
-
         self.names = list(dict.fromkeys(names))
         self.reference = reference
         self.probes = probes
@@ -427,7 +422,6 @@ class Judge:
         probes = self.probes if probes is None else probes
         if not self.isolate:
             return build_and_certify(name, sites, probes=probes, seed=self.seed)
-        from vorobench.judge.sandbox import Sandbox
 
         box = self._sandboxes.get(name)
         if box is None:

@@ -67,6 +67,7 @@ def limit_memory(extra_mb: Optional[float]) -> None:
     runaway build raises MemoryError instead of waking the out-of-memory killer."""
     if not extra_mb:
         return
+    # POSIX only: imported where a memory limit is set, so the module loads everywhere
     import resource
 
     try:

@@ -20,6 +20,9 @@ import re
 from enum import Enum
 from typing import Optional
 
+import numpy as np
+import pandas as pd
+
 from vorobench.core.counters import DURATION_NAME
 
 __all__ = [
@@ -156,9 +159,6 @@ def upgrade_legacy(df):
 def check_table(df, source: str = "results") -> None:
     """Refuse a table whose counters are not integers (ValueError naming the first bad cell):
     such a column would make the regression compare flag noise, or miss a change."""
-    import numpy as np
-    import pandas as pd
-
     for column in counter_columns(df.columns):
         values = pd.to_numeric(df[column], errors="coerce")
         bad = (values.notna() & (values != np.round(values))) | (values.isna() & df[column].notna())

@@ -30,13 +30,13 @@ from typing import Any, Callable, Optional, Sequence
 
 import numpy as np
 
+import impls
+from impls.plugins import load_plugin
 from vorobench.judge import isolation
+from vorobench.judge.defaults import WARMUP_TIMEOUT
 
 __all__ = ["Sandbox", "Outcome", "WARMUP_TIMEOUT"]
 
-#: Default seconds for starting a sandbox and warming its implementation up (JIT compilation
-#: from a cold numba cache takes tens of seconds on a busy 2-core machine).
-WARMUP_TIMEOUT = 300.0
 
 
 
@@ -66,8 +66,6 @@ def _serve(conn, parent: int, impl_blob: Optional[bytes], name: str, plugins: Se
     os.environ.clear()                      # forked from the fork server: take the judge's environment
     os.environ.update(environ)
     signal.signal(signal.SIGINT, signal.SIG_IGN)          # Ctrl-C is the judge's to handle
-    import impls
-    from impls.plugins import load_plugin
 
     def send(kind: str, payload: Any = None, arrays: Optional[dict] = None) -> None:
         conn.send_bytes(encode(kind, payload, arrays))
@@ -146,8 +144,6 @@ class Sandbox:
     def _impl_blob(self) -> Optional[bytes]:
         """An implementation registered in this process (a test double, a plugin) is sent over by
         pickle (its functions by reference); None lets the sandbox look the name up itself."""
-        import impls
-
         if self.name not in impls.registered():
             return None
         try:

@@ -18,7 +18,10 @@ from typing import Callable, Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from vorobench.core.diagram import Diagram
+from vorobench.core.prepare import prepare
 from vorobench.judge.engine import CaseVerdict, Judge, agree_exactly, check_case
+from vorobench.judge.plotting import save_overlay
 
 __all__ = ["ddmin", "judge", "shrink_case", "write_witness", "Witness"]
 
@@ -110,8 +113,6 @@ def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[n
                   verdict: Optional[CaseVerdict] = None) -> Witness:
     """Save ``points`` as ``NAME.npy`` with ``NAME.txt`` (the command that reproduces the failure
     and what it reports; ``verdict`` if given, else ``points`` judged again) and ``NAME.png`` (both diagrams, differing edges in red)."""
-    from vorobench.judge.plotting import save_overlay
-
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     npy = directory / f"{name}.npy"
@@ -137,8 +138,6 @@ def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[n
     if own_d is ref_d:
         ref_d = None
     if own_d is None and ref_d is None:            # crashed: draw the points at least
-        from vorobench.core.diagram import Diagram
-        from vorobench.core.prepare import prepare
 
         own_d = Diagram.empty(prepare(points)[0])
     comp = verdict.comparison
