@@ -18,8 +18,8 @@ from hypothesis import strategies as st
 
 import datasets_gen
 import impls
-from vorobench.core.prepare import prepare
 from impls import DEFAULT_REFERENCE
+from vorobench.core.prepare import prepare
 from vorobench.judge.engine import Judge, agree_exactly, decide
 
 SIZES = (0, 1, 2, 3, 10, 100, 1000)
@@ -130,3 +130,22 @@ def test_implementation_on_generated_points(name, points):
     res = ref if name == DEFAULT_REFERENCE else JUDGE.build(name, sites, probes=1000)
     problems = _problems(name, res, ref, anchor)
     assert not problems, f"{name} on {sites.tolist()}:\n" + "\n".join(problems)
+
+
+#: Exact implementations that run in O(n log n) (declared): checked against each other at 10^4.
+FAST_EXACT = [name for name in EXACT if "n^2" not in impls.get(name).complexity.replace(" ", "")]
+
+
+@pytest.mark.parametrize("dataset", datasets_gen.available())
+def test_fast_exact_implementations_agree_at_ten_thousand_sites(dataset):
+    """One size up from the matrix, where a sweep's or a walk's scale bugs would show: every
+    fast exact implementation certifies and agrees exactly with the first of them."""
+    if len(FAST_EXACT) < 2:
+        pytest.skip("fewer than two fast exact implementations are registered")
+    sites, _ = prepare(datasets_gen.generate(dataset, 10_000, seed=0))
+    first = JUDGE.build(FAST_EXACT[0], sites, probes=1000)
+    for res in [first] + [JUDGE.build(name, sites, probes=1000) for name in FAST_EXACT[1:]]:
+        assert res.diagram is not None and res.certificate is not None and res.certificate.ok, \
+            f"{res.impl} on {dataset}: {res.error or res.certificate}"
+        agreement = agree_exactly(first, res)
+        assert agreement.passed, f"{res.impl} vs {first.impl} on {dataset}: {agreement.message}"

@@ -20,16 +20,16 @@ QHULL_LOOSE_COORD_TOL = 1e-1
 def assert_agrees_with_qhull(d, points, dataset=""):
     """compare() ``d`` with Qhull's diagram of ``points``: exact or within tolerance.
 
-    Not on near_grid: where Qhull's merged facets do not close into cells the adapter falls
+    Not for near_grid: where Qhull's merged facets do not close into cells the adapter falls
     back to a joggled triangulation whose far hull differs combinatorially (a finding, see
-    the README); there certify() and exact agreement between our implementations decide.
+    the README); the caller asks exact agreement between our implementations there instead,
+    and this helper refuses the dataset rather than pass it silently.
     """
     if dataset == "near_grid":
-        return True
+        raise ValueError("Qhull cannot be the judge on near_grid: compare with an exact implementation")
     reference = impls.build("qhull", points)
     if dataset in QHULL_LOOSE:
         result = compare(d, reference, rel_tol=QHULL_LOOSE_REL_TOL, coord_tol=QHULL_LOOSE_COORD_TOL)
     else:
         result = compare(d, reference, rel_tol=QHULL_REL_TOL)
     assert result.verdict in ("exact", "within_tolerance"), str(result)
-    return True

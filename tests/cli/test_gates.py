@@ -29,7 +29,8 @@ from vorobench.cli import main
 from vorobench.judge.engine import Judge
 
 HERE = Path(__file__).parent
-DOUBLES = str(HERE / "doubles.py")
+SUPPORT = HERE.parent / "support"
+DOUBLES = str(SUPPORT / "doubles.py")
 ROOT = HERE.parent.parent
 
 #: Each fault double and the verdict it must get, on its own row only.

@@ -16,7 +16,7 @@ from vorobench.cli import main
 from vorobench.harness import runner
 from vorobench.harness.runner import Case, CaseOutcome, RunConfig
 
-DOUBLES = str(Path(__file__).with_name("doubles.py"))
+DOUBLES = str(Path(__file__).resolve().parents[1] / "support" / "doubles.py")
 ROOT = Path(__file__).resolve().parents[2]
 
 

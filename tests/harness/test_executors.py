@@ -15,7 +15,8 @@ from vorobench.harness import executors
 from vorobench.harness.executors import DaskMissing, make_executor, parse_spec, run_tasks
 
 HERE = Path(__file__).parent
-PLUGIN = str(HERE / "executor_doubles.py")
+SUPPORT = HERE.parent / "support"
+PLUGIN = str(SUPPORT / "executor_doubles.py")
 
 
 def test_parse_spec():
@@ -61,17 +62,6 @@ def test_run_tasks_reports_a_raising_task_as_an_error_not_a_death():
 
 # ----------------------------------------------------------------------- with a Dask cluster
 
-@pytest.fixture(scope="module")
-def dask_address():
-    pytest.importorskip("distributed", reason="dask.distributed not installed (pip install vorobench[dask])")
-    import dask
-    from distributed import LocalCluster
-
-    # A task whose worker dies fails at once (the runner does its own single retry).
-    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):
-        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                          dashboard_address=None) as cluster:
-            yield cluster.scheduler_address.replace("tcp://", "dask://")
 
 
 def test_dask_executor_runs_tasks_on_the_cluster(dask_address):

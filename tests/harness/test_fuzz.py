@@ -17,8 +17,9 @@ from vorobench.harness import fuzz
 from vorobench.harness.fuzz import Budget, int_box, parse_budget, plan, run_campaign
 
 HERE = Path(__file__).parent
-DOUBLES = str(HERE / "doubles.py")
-DYING = str(HERE / "executor_doubles.py")
+SUPPORT = HERE.parent / "support"
+DOUBLES = str(SUPPORT / "doubles.py")
+DYING = str(SUPPORT / "executor_doubles.py")
 
 
 def test_parse_budget():
@@ -89,17 +90,6 @@ def test_cli_fuzz_reports_cases_per_second(tmp_path, capsys):
 
 # ----------------------------------------------------------------------- with a Dask cluster
 
-@pytest.fixture(scope="module")
-def dask_address():
-    pytest.importorskip("distributed", reason="dask.distributed not installed (pip install vorobench[dask])")
-    import dask
-    from distributed import LocalCluster
-
-    # Non-daemonic workers may start processes: the judge isolates each build there too.
-    with dask.config.set({"distributed.scheduler.allowed-failures": 0, "distributed.worker.daemon": False}):
-        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                          dashboard_address=None) as cluster:
-            yield cluster.scheduler_address.replace("tcp://", "dask://")
 
 
 def _campaign(out: Path, executor: str, workers: int) -> dict:

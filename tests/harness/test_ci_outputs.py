@@ -7,7 +7,7 @@ from pathlib import Path
 from vorobench.cli import main
 from vorobench.harness.ci_outputs import write_markdown
 
-DOUBLES = str(Path(__file__).with_name("doubles.py"))
+DOUBLES = str(Path(__file__).resolve().parents[1] / "support" / "doubles.py")
 
 
 def test_junit_and_markdown_list_every_case(tmp_path):

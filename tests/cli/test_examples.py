@@ -11,7 +11,7 @@ import pytest
 
 from vorobench.cli import build_parser
 
-WORKFLOW = Path(__file__).resolve().parents[1] / "examples" / "ci" / "vorobench.yml"
+WORKFLOW = Path(__file__).resolve().parents[2] / "examples" / "ci" / "vorobench.yml"
 
 
 def _commands(script: str) -> list[list[str]]:

@@ -16,7 +16,7 @@ from vorobench.harness.runner import Case, RunConfig, run_case
 from vorobench.judge import engine as crossval
 from vorobench.judge import outcomes as schema
 
-DOUBLES = str(Path(__file__).with_name("doubles.py"))
+DOUBLES = str(Path(__file__).resolve().parents[1] / "support" / "doubles.py")
 
 
 @pytest.mark.parametrize("stats", [{"events": 3}, {"flag": True}, {"n": np.int64(7)}, {"x": 4.0}, {}])

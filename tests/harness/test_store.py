@@ -13,7 +13,7 @@ import pytest
 from vorobench.cli import main
 from vorobench.harness.store import Store
 
-DOUBLES = str(Path(__file__).with_name("doubles.py"))
+DOUBLES = str(Path(__file__).resolve().parents[1] / "support" / "doubles.py")
 
 
 def _bench(folder: Path, name: str, store: Path, *extra: str) -> Path:

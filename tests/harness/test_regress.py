@@ -12,7 +12,7 @@ import pytest
 from vorobench.cli import main
 from vorobench.harness import regress
 
-DOUBLES = str(Path(__file__).with_name("doubles.py"))
+DOUBLES = str(Path(__file__).resolve().parents[1] / "support" / "doubles.py")
 
 
 def _bench(out: Path, monkeypatch, sleep: float, counter_scale: int = 1) -> Path:
