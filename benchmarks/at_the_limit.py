@@ -37,6 +37,7 @@ import datasets_gen
 import impls
 from vorobench.cli.args import sizes as parse_sizes
 from vorobench.core.prepare import prepare
+from vorobench.harness.analysis import loglog_fit
 
 #: (column, implementation, which time): "total" is the whole run, "library" the outside
 #: library's own call.
@@ -149,9 +150,7 @@ def _fit(points: list[tuple[int, float]]) -> Optional[float]:
     points = [(n, s) for n, s in points if n >= FIT_MIN_SITES and s and s > 0]
     if len({n for n, _ in points}) < 2:
         return None
-    x = np.log([n for n, _ in points])
-    y = np.log([s for _, s in points])
-    return float(np.polyfit(x, y, 1)[0])
+    return loglog_fit([n for n, _ in points], [s for _, s in points])[0]
 
 
 def table(records: list[dict]) -> str:

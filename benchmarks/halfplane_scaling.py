@@ -19,13 +19,14 @@ import numpy as np
 import datasets_gen
 import impls
 from vorobench.core.prepare import prepare
+from vorobench.harness.analysis import loglog_fit
 
 TARGET_N, TARGET_SECONDS = 20_000, 60.0
 
 
 def fitted_exponent(sizes, seconds) -> float:
     """Slope of the least-squares line through (log n, log t)."""
-    return float(np.polyfit(np.log(sizes), np.log(seconds), 1)[0])
+    return loglog_fit(sizes, seconds)[0]
 
 
 def main() -> int:

@@ -68,6 +68,7 @@ from vorobench.core.predicates import (
 )
 from vorobench.core.scaling import exact_range_sites
 from vorobench.core.spatial_order import HILBERT_BITS, hilbert_keys
+from vorobench.core.union_find import find
 
 __all__ = ["build", "cells", "supports", "IMPLEMENTATION", "AT_INFINITY", "MAX_SITES"]
 
@@ -320,16 +321,6 @@ def cells(sites, order, counters):
 
 
 @njit(cache=True)
-def _find(parent, x):
-    root = x
-    while parent[root] != root:
-        root = parent[root]
-    while parent[x] != root:
-        parent[x], x = root, parent[x]
-    return root
-
-
-@njit(cache=True)
 def _glue(sites, ptr, neighbours, unbounded):
     """Turn independent cells into one edge list: vertices identified by site triple, then
     merged along edges whose two cells name their ends differently (cocircular sites).
@@ -396,8 +387,8 @@ def _glue(sites, ptr, neighbours, unbounded):
             if (u < 0) != (v < 0):
                 raise RuntimeError("halfplane: an edge is a ray in one cell and bounded in the other")
             if u >= 0:
-                ru = _find(parent, u)
-                rv = _find(parent, v)
+                ru = find(parent, u)
+                rv = find(parent, v)
                 if ru != rv:
                     parent[max(ru, rv)] = min(ru, rv)
         edge_sites[e, 0] = owner[h1]
@@ -408,7 +399,7 @@ def _glue(sites, ptr, neighbours, unbounded):
     low = np.full((T, 3), n, dtype=np.int64)
     merged = 0
     for t in range(T):
-        r = _find(parent, t)
+        r = find(parent, t)
         if r != t:
             merged += 1
         key = keys[t]
@@ -442,7 +433,7 @@ def _glue(sites, ptr, neighbours, unbounded):
     for e in range(E):
         for side in range(2):
             t = edge_ends[e, side]
-            edge_vertices[e, side] = -1 if t < 0 else vid[_find(parent, t)]
+            edge_vertices[e, side] = -1 if t < 0 else vid[find(parent, t)]
         if edge_vertices[e, 0] >= 0 and edge_vertices[e, 0] == edge_vertices[e, 1]:
             raise RuntimeError("halfplane: an edge has both ends at the same vertex")
     return vertices, edge_sites, edge_vertices, merged

@@ -15,7 +15,8 @@ from numba import njit
 
 from impls.fortune import beach_line as bl
 from impls.fortune import event_queue as eq
-from vorobench.core.predicates import circle_top_relative, circle_top_to_y, circumcentre_accurate, orient2d_counted
+from vorobench.core.circumcentre import circumcentre
+from vorobench.core.predicates import circle_top_relative, circle_top_to_y, orient2d_counted
 
 __all__ = [
     "sweep", "COUNTER_NAMES", "N_COUNTERS",
@@ -38,7 +39,7 @@ COUNTER_NAMES = (
 )
 
 #: Relative error bound of a float circle top above which its float circumcentre is replaced
-#: by :func:`~vorobench.core.predicates.circumcentre_accurate` (nearly collinear triples).
+#: by :func:`~vorobench.core.circumcentre.circumcentre` (nearly collinear triples).
 ILL_CONDITIONED = 1e-12
 
 OK = 0
@@ -152,7 +153,7 @@ def sweep(sites, counters):
                 sa = ev_i[e, eq.A]
                 sb = ev_i[e, eq.B]
                 sc = ev_i[e, eq.C]
-                vx, vy = circumcentre_accurate(sites[sa, 0], sites[sa, 1], sites[sb, 0], sites[sb, 1],
+                vx, vy = circumcentre(sites[sa, 0], sites[sa, 1], sites[sb, 0], sites[sb, 1],
                                                sites[sc, 0], sites[sc, 1])
             vertices[v, 0] = vx
             vertices[v, 1] = vy

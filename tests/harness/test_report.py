@@ -11,6 +11,7 @@ import pytest
 
 from vorobench.cli import main
 from vorobench.harness import analysis, results
+from vorobench.judge import outcomes
 
 SIZES = [1000, 4000, 16000, 64000]
 
@@ -83,7 +84,7 @@ def test_verdict_ranking():
     assert analysis.worst_verdict(["exact", "within_tolerance", "exact"]) == "within_tolerance"
     assert analysis.worst_verdict(["exact", "crashed", "differs"]) == "crashed"
     assert analysis.worst_verdict(["skipped", "unsupported"]) == "skipped"
-    assert analysis.verdict_rank("not_certified") > analysis.verdict_rank("differs")
+    assert outcomes.verdict_rank("not_certified") > outcomes.verdict_rank("differs")
 
 
 def test_report_writes_figures_markdown_and_self_contained_html(results_csv, tmp_path):

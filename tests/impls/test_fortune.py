@@ -15,7 +15,6 @@ from vorobench.judge.certificate import certify
 from vorobench.judge.comparison import compare
 
 
-
 def fortune(points, stats=None):
     return impls.build("fortune", points, stats).validate()
 

@@ -16,8 +16,6 @@ from vorobench.judge.certificate import certify
 from vorobench.judge.comparison import compare
 
 
-
-
 def _small_integer_sets(max_size=40):
     return st.integers(1, 6).flatmap(lambda box: st.lists(
         st.tuples(st.integers(0, box), st.integers(0, box)), min_size=0, max_size=max_size))

@@ -21,7 +21,6 @@ from vorobench.judge.certificate import certify
 from vorobench.judge.comparison import compare
 
 
-
 def _assert_delaunay(sites):
     """Exact brute-force certificate of :func:`delaunay`: CCW finite triangles with empty
     circumcircles that tile the convex hull (2n - h - 2 triangles)."""

@@ -16,18 +16,9 @@ from numba import njit
 
 from vorobench.core.circumcentre import circumcentre
 from vorobench.core.predicates import incircle_counted
+from vorobench.core.union_find import find
 
 __all__ = ["voronoi_vertices", "voronoi_edges", "voronoi_dcel"]
-
-
-@njit(cache=True)
-def _find(parent, t):
-    root = t
-    while parent[root] != root:
-        root = parent[root]
-    while parent[t] != root:
-        parent[t], t = root, parent[t]
-    return root
 
 
 @njit(cache=True)
@@ -148,8 +139,8 @@ def _merged_vertices(pts, ids, tri, opp, ntri, counters):
         c = tri[3 * t + 2]
         if incircle_counted(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1],
                             pts[d, 0], pts[d, 1], counters) == 0:
-            r1 = _find(parent, t)
-            r2 = _find(parent, t2)
+            r1 = find(parent, t)
+            r2 = find(parent, t2)
             if r1 != r2:
                 parent[max(r1, r2)] = min(r1, r2)
                 merged += 1
@@ -158,12 +149,12 @@ def _merged_vertices(pts, ids, tri, opp, ntri, counters):
     for t in range(ntri):
         if ghost[t]:
             continue
-        r = _find(parent, t) if merged else t
+        r = find(parent, t) if merged else t
         if r == t:
             _sort3_by_id(low, t, tri[3 * t], tri[3 * t + 1], tri[3 * t + 2], ids)
     if merged:
         for t in range(ntri):
-            r = _find(parent, t)
+            r = find(parent, t)
             if ghost[t] or r == t:
                 continue
             for k in range(3):
@@ -185,7 +176,7 @@ def _merged_vertices(pts, ids, tri, opp, ntri, counters):
     if merged:
         for t in range(ntri):
             if not ghost[t]:
-                vid[t] = vid[_find(parent, t)]
+                vid[t] = vid[find(parent, t)]
     return vid, vertices, merged
 
 

@@ -29,12 +29,11 @@ from typing import Callable, Mapping, Optional, Union
 import numpy as np
 import pandas as pd
 
-from vorobench.judge.outcomes import VERDICT_RANK, counter_columns, timing_columns, verdict_rank
+from vorobench.judge.outcomes import counter_columns, timing_columns, verdict_rank
 
 __all__ = [
-    "VERDICT_RANK",
     "mixed_hosts_note",
-    "verdict_rank",
+    "loglog_fit",
     "worst_verdict",
     "case_table",
     "size_table",
@@ -160,6 +159,15 @@ def case_repeats(df: pd.DataFrame) -> list[dict]:
     return out
 
 
+def loglog_fit(sizes, seconds) -> tuple[float, float]:
+    """(slope, intercept) of the least-squares line through (log n, log t): the slope is the
+    fitted growth exponent (t ~ n**slope). The one fit of the project: reports, the runner's
+    budget extrapolation and the benchmark scripts use it."""
+    x, y = np.log(np.asarray(sizes, dtype=float)), np.log(np.asarray(seconds, dtype=float))
+    slope, intercept = np.polyfit(x, y, 1)
+    return float(slope), float(intercept)
+
+
 def fit_exponents(sizes: pd.DataFrame, min_sites: int = FIT_MIN_SITES) -> pd.DataFrame:
     """Slope of log(time) against log(n) per (impl, dataset), with R^2 and the n range used.
 
@@ -174,7 +182,7 @@ def fit_exponents(sizes: pd.DataFrame, min_sites: int = FIT_MIN_SITES) -> pd.Dat
         if g["n_sites"].nunique() < 2:
             continue
         x, y = np.log(g["n_sites"].to_numpy(float)), np.log(g["time_s"].to_numpy(float))
-        slope, intercept = np.polyfit(x, y, 1)
+        slope, intercept = loglog_fit(g["n_sites"], g["time_s"])
         resid = y - (slope * x + intercept)
         total = float(np.sum((y - y.mean()) ** 2))
         r2 = 1.0 - float(np.sum(resid ** 2)) / total if total > 0 else float("nan")

@@ -33,6 +33,7 @@ from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeEl
 import datasets_gen
 import impls
 from vorobench.core.prepare import prepare
+from vorobench.harness.analysis import loglog_fit
 from vorobench.harness.executors import LOCAL, parse_spec, run_tasks
 from vorobench.harness.results import case_key
 from vorobench.harness.worker import MAX_REPEAT, reference_path, run_and_report, store_reference, worker_main
@@ -341,10 +342,7 @@ def _growth_exponent(timed: list[tuple[int, float]]) -> float:
     timed = timed[-3:]
     if len({n for n, _ in timed}) < 2:
         return 1.0
-    x = [math.log(n) for n, _ in timed]
-    y = [math.log(t) for _, t in timed]
-    mx, my = sum(x) / len(x), sum(y) / len(y)
-    slope = sum((a - mx) * (b - my) for a, b in zip(x, y)) / sum((a - mx) ** 2 for a in x)
+    slope, _ = loglog_fit([n for n, _ in timed], [t for _, t in timed])
     return min(3.0, max(1.0, slope))
 
 
