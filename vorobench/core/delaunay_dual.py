@@ -26,15 +26,22 @@ def _is_ghost(tri, t, inf):
     return tri[3 * t] == inf or tri[3 * t + 1] == inf or tri[3 * t + 2] == inf
 
 
-@njit(cache=True)
-def _sort3_by_id(low, r, a, b, c, ids):
-    """low[r] = points a, b, c ordered by site id."""
+@njit(cache=True, inline='always')
+def _by_id(ids, a, b, c):
+    """Points a, b, c ordered by site id."""
     if ids[a] > ids[b]:
         a, b = b, a
     if ids[b] > ids[c]:
         b, c = c, b
     if ids[a] > ids[b]:
         a, b = b, a
+    return a, b, c
+
+
+@njit(cache=True)
+def _sort3_by_id(low, r, a, b, c, ids):
+    """low[r] = points a, b, c ordered by site id."""
+    a, b, c = _by_id(ids, a, b, c)
     low[r, 0] = a
     low[r, 1] = b
     low[r, 2] = c
@@ -59,12 +66,7 @@ def _insert_by_id(low, r, s, ids):
 @njit(cache=True)
 def _circumcentre_of(pts, ids, a, b, c):
     # the circumcentre computed from a, b, c in increasing site id (the rule of the module)
-    if ids[a] > ids[b]:
-        a, b = b, a
-    if ids[b] > ids[c]:
-        b, c = c, b
-    if ids[a] > ids[b]:
-        a, b = b, a
+    a, b, c = _by_id(ids, a, b, c)
     return circumcentre(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1])
 
 

@@ -91,11 +91,10 @@ def _circle_parts_in_floats(ax, ay, bx, by, cx, cy):
     return True, 2.0 * d, ny, s
 
 
-@njit(cache=True)
-def _circle_parts_dd(ax, ay, bx, by, cx, cy):
-    # (ok, e, nys, s) of _circle_parts in double-double, each as (hi, lo, err) with a
-    # propagated absolute error bound; ok False when the sign of the orientation is not
-    # certain (nearly collinear: the expansions are needed)
+@njit(cache=True, inline='always')
+def _numerators_dd(ax, ay, bx, by, cx, cy):
+    # D = orient of (b - a, c - a) and the centre's numerators Nx, Ny (centre = a + N / (2 D)),
+    # each in double-double as (hi, lo, err) with its propagated absolute error bound
     bxh, bxl = two_diff(bx, ax)
     byh, byl = two_diff(by, ay)
     cxh, cxl = two_diff(cx, ax)
@@ -115,6 +114,15 @@ def _circle_parts_dd(ax, ay, bx, by, cx, cy):
     p8h, p8l, p8e = _ddv_mul(bxh, bxl, 0.0, c2h, c2l, c2e)
     p9h, p9l, p9e = _ddv_mul(cxh, cxl, 0.0, b2h, b2l, b2e)
     nyh, nyl, nye = _ddv_add(p8h, p8l, p8e, -p9h, -p9l, p9e)
+    return dh, dl, de, nxh, nxl, nxe, nyh, nyl, nye
+
+
+@njit(cache=True)
+def _circle_parts_dd(ax, ay, bx, by, cx, cy):
+    # (ok, e, nys, s) of _circle_parts in double-double, each as (hi, lo, err) with a
+    # propagated absolute error bound; ok False when the sign of the orientation is not
+    # certain (nearly collinear: the expansions are needed)
+    dh, dl, de, nxh, nxl, nxe, nyh, nyl, nye = _numerators_dd(ax, ay, bx, by, cx, cy)
     q0h, q0l, q0e = _ddv_mul(nxh, nxl, nxe, nxh, nxl, nxe)
     q1h, q1l, q1e = _ddv_mul(nyh, nyl, nye, nyh, nyl, nye)
     sh, sl, se = _ddv_add(q0h, q0l, q0e, q1h, q1l, q1e)
@@ -136,25 +144,7 @@ def circumcentre_offsets_dd(ax, ay, bx, by, cx, cy):
     and determinant in double-double with propagated error bounds; ``ok`` is False when
     those bounds are not below 2**-70 of the values (then the caller needs expansions).
     Allocates nothing: the fast path for ill-conditioned (sliver) triangles."""
-    bxh, bxl = two_diff(bx, ax)
-    byh, byl = two_diff(by, ay)
-    cxh, cxl = two_diff(cx, ax)
-    cyh, cyl = two_diff(cy, ay)
-    p0h, p0l, p0e = _ddv_mul(bxh, bxl, 0.0, cyh, cyl, 0.0)
-    p1h, p1l, p1e = _ddv_mul(byh, byl, 0.0, cxh, cxl, 0.0)
-    dh, dl, de = _ddv_add(p0h, p0l, p0e, -p1h, -p1l, p1e)
-    p2h, p2l, p2e = _ddv_mul(bxh, bxl, 0.0, bxh, bxl, 0.0)
-    p3h, p3l, p3e = _ddv_mul(byh, byl, 0.0, byh, byl, 0.0)
-    b2h, b2l, b2e = _ddv_add(p2h, p2l, p2e, p3h, p3l, p3e)
-    p4h, p4l, p4e = _ddv_mul(cxh, cxl, 0.0, cxh, cxl, 0.0)
-    p5h, p5l, p5e = _ddv_mul(cyh, cyl, 0.0, cyh, cyl, 0.0)
-    c2h, c2l, c2e = _ddv_add(p4h, p4l, p4e, p5h, p5l, p5e)
-    p6h, p6l, p6e = _ddv_mul(cyh, cyl, 0.0, b2h, b2l, b2e)
-    p7h, p7l, p7e = _ddv_mul(byh, byl, 0.0, c2h, c2l, c2e)
-    nxh, nxl, nxe = _ddv_add(p6h, p6l, p6e, -p7h, -p7l, p7e)
-    p8h, p8l, p8e = _ddv_mul(bxh, bxl, 0.0, c2h, c2l, c2e)
-    p9h, p9l, p9e = _ddv_mul(cxh, cxl, 0.0, b2h, b2l, b2e)
-    nyh, nyl, nye = _ddv_add(p8h, p8l, p8e, -p9h, -p9l, p9e)
+    dh, dl, de, nxh, nxl, nxe, nyh, nyl, nye = _numerators_dd(ax, ay, bx, by, cx, cy)
     limit = 2.0 ** -70 / _DD_SAFETY
     if not (de < limit * abs(dh) and nxe <= limit * abs(nxh) and nye <= limit * abs(nyh)
             and math.isfinite(dh + nxh + nyh)):
