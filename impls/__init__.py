@@ -13,6 +13,7 @@ import importlib.util
 from importlib.metadata import entry_points
 from typing import Optional
 
+import numpy as np
 from numpy.typing import ArrayLike
 
 from impls.base import Implementation, InputMutated, UnsupportedInput
@@ -132,13 +133,19 @@ def of_kind(kind: str) -> list[str]:
 def build(name: str, points: ArrayLike, stats: Optional[dict] = None) -> Diagram:
     """Prepare ``points`` and build their Voronoi diagram with implementation ``name``.
 
-    Raises :class:`UnsupportedInput` (a ``ValueError``) when the implementation declares it
-    cannot take these points, and :class:`InputMutated` when it changed its input.
+    Duplicate rows share one site; the diagram remembers the rows, so its scipy-style
+    ``points`` and ``point_region`` have one entry per row. Raises :class:`UnsupportedInput`
+    (a ``ValueError``) when the implementation declares it cannot take these points, and
+    :class:`InputMutated` when it changed its input.
     """
     # Imported here, not at the top: prepare compiles with numba, which adds 0.3 s to every
     # import of the registry (measured); listing implementations does not need it.
     from vorobench.core.prepare import prepare
 
     impl = get(name)
-    sites, _ = prepare(points)
-    return impl.run(sites, stats)
+    sites, inverse = prepare(points)
+    diagram = impl.run(sites, stats)
+    if inverse.size == sites.shape[0]:
+        return diagram                  # no duplicates: the sites are the input rows
+    rows = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    return diagram.with_input(rows, inverse)

@@ -18,9 +18,10 @@ Degenerate cases:
 * Large offsets: sites are translated so that their bounding box is centred at the origin
   before Qhull runs, and vertices translated back. Without this, 2,000 uniform points offset
   by 1e6 give 62 vertices instead of about 3,980, silently (advice of scipy's maintainers).
-Orientation: each ridge is oriented combinatorially, not from float coordinates: a vertex's
-third site r (other than the ridge's sites p, q) lies right of p->q exactly when the vertex
-is where p's half-edge starts (exact orient2d), so tiny ridges cannot be flipped by rounding.
+Orientation: each ridge is oriented combinatorially by the builder's
+:func:`~vorobench.core.builder.orient_ridges` (a vertex's third site lies right of p->q
+exactly when the vertex is where p's half-edge starts), so tiny ridges cannot be flipped by
+rounding.
 """
 
 from __future__ import annotations
@@ -32,42 +33,12 @@ from numpy.typing import NDArray
 from scipy.spatial import Delaunay, QhullError, Voronoi
 
 from impls.base import Implementation
-from vorobench.core.builder import assemble, collinear_diagram
+from vorobench.core.builder import assemble, collinear_diagram, orient_ridges
 from vorobench.core.diagram import Diagram, InvalidDiagramError
 from vorobench.core.hull import all_collinear
 from vorobench.core.predicates import orient2d_many
-from vorobench.core.tolerances import RIDGE_DIRECTION_REL_TOL, data_scale
 
 __all__ = ["build", "IMPLEMENTATION"]
-
-
-def _third_sites(ridge_points: NDArray[np.int64], ridge_vertices: NDArray[np.int64]) -> NDArray[np.int64]:
-    """For each finite ridge end, a site of that vertex other than the ridge's two sites.
-
-    Any other ridge meeting at the same vertex separates a different pair of the vertex's
-    sites, so one of its two sites is the third site we need.
-    """
-    E = ridge_points.shape[0]
-    v = ridge_vertices.reshape(-1)                     # incidence k = 2 * ridge + end
-    finite = np.flatnonzero(v >= 0)
-    order = finite[np.argsort(v[finite], kind="stable")]
-    sorted_v = v[order]
-    # Pair each incidence with its neighbour in vertex order (the previous one for the last).
-    partner = np.empty_like(order)
-    partner[:-1] = order[1:]
-    partner[-1:] = order[-2:-1] if order.size > 1 else order[-1:]
-    last = np.ones(order.size, dtype=bool)
-    last[:-1] = sorted_v[1:] != sorted_v[:-1]
-    partner[last] = np.concatenate([order[:1], order[:-1]])[last]
-    if np.any(v[partner] != sorted_v):
-        bad = int(sorted_v[np.flatnonzero(v[partner] != sorted_v)[0]])
-        raise RuntimeError(f"Qhull vertex {bad} lies on a single ridge")
-    ridge, other = order // 2, partner // 2
-    p, q = ridge_points[ridge, 0], ridge_points[ridge, 1]
-    r0, r1 = ridge_points[other, 0], ridge_points[other, 1]
-    third = np.full(2 * E, -1, dtype=np.int64)
-    third[order] = np.where((r0 != p) & (r0 != q), r0, r1)
-    return third.reshape(E, 2)
 
 
 def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
@@ -150,34 +121,10 @@ def _build_from_qhull(sites: NDArray[np.float64], stats: Optional[dict], options
     rv = np.asarray(vor.ridge_vertices, dtype=np.int64).reshape(-1, 2)
     keep = rv[:, 0] != rv[:, 1]                    # a ridge collapsed to one vertex is no edge
     rp, rv = rp[keep], rv[keep]
-    third = _third_sites(rp, rv)
-    p, q = rp[:, 0], rp[:, 1]
-    side = np.zeros(rv.shape, dtype=np.int8)       # orient2d(p, q, third site of each end)
-    for end in (0, 1):
-        ok = rv[:, end] >= 0
-        side[ok, end] = orient2d_many(sites[p[ok]], sites[q[ok]], sites[third[ok, end]])
-    # p's half-edge runs in direction perp(q - p), to the left of p->q: it starts at the vertex
-    # whose third site is on the right (negative) and ends at the one whose third site is on the left.
-    end0_is_start = np.where(rv[:, 0] >= 0, side[:, 0] < 0, side[:, 1] > 0)
-    if np.any((rv >= 0) & (side == 0)):
-        raise RuntimeError("Qhull returned a vertex collinear with one of its ridges")
-    # Qhull may merge nearly collinear hull sites into one non-convex facet, where the third
-    # site can lie on the wrong side; a ridge long enough for its float direction to be
-    # unambiguous is oriented by that direction instead.
-    both = np.flatnonzero((rv[:, 0] >= 0) & (rv[:, 1] >= 0))
-    v0, v1 = vertices[rv[both, 0]], vertices[rv[both, 1]]
-    step = v1 - v0
-    pq = sites[q[both]] - sites[p[both]]
-    along = step[:, 1] * pq[:, 0] - step[:, 0] * pq[:, 1]        # step . perp(q - p)
-    length = np.hypot(step[:, 0], step[:, 1])
-    magnitude = np.maximum(np.abs(v0).max(axis=1), np.abs(v1).max(axis=1)) + data_scale(sites)
-    clear = (length > RIDGE_DIRECTION_REL_TOL * magnitude) & (np.abs(along) > 0.5 * length * np.hypot(pq[:, 0], pq[:, 1]))
-    end0_is_start[both[clear]] = along[clear] > 0
-    start = np.where(end0_is_start, rv[:, 0], rv[:, 1])
-    end = np.where(end0_is_start, rv[:, 1], rv[:, 0])
+    ends = orient_ridges(sites, vertices, rp, rv)
     if stats is not None:
         stats.update(qhull_vertices=int(vertices.shape[0]), qhull_ridges=int(rp.shape[0]))
-    return assemble(sites, vertices, rp, np.stack([start, end], axis=1))
+    return assemble(sites, vertices, rp, ends)
 
 
 IMPLEMENTATION = Implementation(

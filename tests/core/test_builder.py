@@ -1,5 +1,7 @@
 """The shared builder and Diagram.validate(): hand-made diagrams and each broken invariant."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -75,8 +77,7 @@ def _broken(field, fn):
     d = three_sites()
     arr = getattr(d, field).copy()
     fn(arr)
-    setattr(d, field, arr)
-    return d
+    return replace(d, **{field: arr})
 
 
 @pytest.mark.parametrize(
@@ -101,18 +102,18 @@ def test_validate_catches_next_leaving_the_cell():
     nxt = d.next.copy()
     h0, h1 = 0, 2  # half-edges of different cells
     nxt[[h0, h1]] = nxt[[h1, h0]]
-    d.next = nxt
+    d = replace(d, next=nxt)
     with pytest.raises(InvalidDiagramError, match="leaves the cell|starts at"):
         d.validate()
 
 
 def test_validate_catches_missing_cell_and_unused_vertex():
     d = three_sites()
-    d.sites = np.vstack([d.sites, [[9.0, 9.0]]])
+    d = replace(d, sites=np.vstack([d.sites, [[9.0, 9.0]]]))
     with pytest.raises(InvalidDiagramError, match="site 3 has no cell"):
         d.validate()
     d = three_sites()
-    d.vertices = np.vstack([d.vertices, [[5.0, 5.0]]])
+    d = replace(d, vertices=np.vstack([d.vertices, [[5.0, 5.0]]]))
     with pytest.raises(InvalidDiagramError, match="vertex 1 is not the origin"):
         d.validate()
 
@@ -130,6 +131,6 @@ def test_two_cycles_in_one_cell_are_reported():
     nxt = d.next.copy()
     mid = np.flatnonzero(d.site == 1)
     nxt[mid] = mid
-    d.next = nxt
+    d = replace(d, next=nxt)
     with pytest.raises(InvalidDiagramError, match="one cycle per cell"):
         d.validate()

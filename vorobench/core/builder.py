@@ -7,6 +7,10 @@ and links ``next`` in a finishing pass: the successor of h in cell a is the half
 that starts where h ends; a cell's half-edge that runs out to infinity is followed by the
 one that comes back. Cells between two parallel lines (collinear sites) have two half-edges
 from infinity, each followed by the other.
+
+Libraries that report ridges without orienting them (scipy's ``ridge_vertices``, a Delaunay
+triangulation's pairs of neighbouring triangles) pass ``oriented=False``:
+:func:`orient_ridges` then decides each ridge's direction from its sites, exactly.
 """
 
 from __future__ import annotations
@@ -16,23 +20,27 @@ from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from vorobench.core.diagram import Diagram, InvalidDiagramError
+from vorobench.core.predicates import orient2d_many
+from vorobench.core.tolerances import RIDGE_DIRECTION_REL_TOL, data_scale
 
-__all__ = ["assemble", "collinear_diagram"]
+__all__ = ["assemble", "orient_ridges", "collinear_diagram"]
 
 
 def assemble(sites: NDArray[np.float64], vertices: ArrayLike, edge_sites: ArrayLike,
-             edge_vertices: ArrayLike, *, compact_vertices: bool = False) -> Diagram:
+             edge_vertices: ArrayLike, *, compact_vertices: bool = False, oriented: bool = True) -> Diagram:
     """Build a :class:`Diagram` from a list of edges.
 
     ``edge_sites``: (E, 2) site pairs (a, b); ``edge_vertices``: (E, 2) vertex ids
     (start, end) of a's half-edge, which runs in direction perp(b - a); -1 = infinity.
-    With ``compact_vertices``, vertices no edge uses are dropped and ids renumbered.
-    Raises :class:`InvalidDiagramError` if the edges do not close up into cells.
+    With ``oriented=False`` the two vertex ids may come in either order (as in scipy's
+    ``ridge_vertices``), and :func:`orient_ridges` orders them. With ``compact_vertices``,
+    vertices no edge uses are dropped and ids renumbered. Raises :class:`InvalidDiagramError`
+    if the edges do not close up into cells.
     """
     sites = np.ascontiguousarray(sites, dtype=np.float64).reshape(-1, 2)
     vertices = np.ascontiguousarray(vertices, dtype=np.float64).reshape(-1, 2)
-    ab = np.asarray(edge_sites, dtype=np.int64).reshape(-1, 2)
-    se = np.asarray(edge_vertices, dtype=np.int64).reshape(-1, 2)
+    ab = _index_pairs(edge_sites, "edge_sites")
+    se = _index_pairs(edge_vertices, "edge_vertices")
     if ab.shape != se.shape:
         raise ValueError(f"edge_sites {ab.shape} and edge_vertices {se.shape} differ in shape")
     n = sites.shape[0]
@@ -40,6 +48,16 @@ def assemble(sites: NDArray[np.float64], vertices: ArrayLike, edge_sites: ArrayL
         if n >= 2:
             raise InvalidDiagramError(f"{n} sites but no edges")
         return Diagram.empty(sites)
+    bad = (ab < 0) | (ab >= n)
+    if bad.any():
+        e = int(np.flatnonzero(bad.any(axis=1))[0])
+        raise InvalidDiagramError(f"edge {e} names site {int(ab[e][bad[e]][0])}, outside [0, {n})")
+    bad = (se < -1) | (se >= vertices.shape[0])
+    if bad.any():
+        e = int(np.flatnonzero(bad.any(axis=1))[0])
+        raise InvalidDiagramError(f"edge {e} names vertex {int(se[e][bad[e]][0])}, outside [-1, {vertices.shape[0]})")
+    if not oriented:
+        se = orient_ridges(sites, vertices, ab, se)
     if compact_vertices:
         used = np.zeros(vertices.shape[0], dtype=bool)
         used[se[se >= 0]] = True
@@ -52,6 +70,91 @@ def assemble(sites: NDArray[np.float64], vertices: ArrayLike, edge_sites: ArrayL
     twin = np.arange(H, dtype=np.int64) ^ 1
     nxt = _link_next(site, origin, twin, n, vertices.shape[0])
     return Diagram(sites, vertices, origin, twin, nxt, site)
+
+
+def _index_pairs(values: ArrayLike, name: str) -> NDArray[np.int64]:
+    """An (E, 2) int64 array of ids; a ValueError naming ``name`` for anything else."""
+    arr = np.asarray(values)
+    if arr.size == 0:
+        return np.zeros((0, 2), dtype=np.int64)
+    if arr.dtype.kind not in "iu":
+        raise ValueError(f"{name} must hold integer ids, got dtype {arr.dtype}")
+    if arr.ndim != 2 or arr.shape[1] != 2:
+        raise ValueError(f"{name} must have shape (E, 2), got {arr.shape}")
+    return arr.astype(np.int64, copy=False)
+
+
+def _third_sites(ridge_sites: NDArray[np.int64], ridge_vertices: NDArray[np.int64]) -> NDArray[np.int64]:
+    """For each finite ridge end, a site of that vertex other than the ridge's two sites.
+
+    Any other ridge meeting at the same vertex separates a different pair of the vertex's
+    sites, so one of its two sites is the third site we need.
+    """
+    E = ridge_sites.shape[0]
+    v = ridge_vertices.reshape(-1)                     # incidence k = 2 * ridge + end
+    finite = np.flatnonzero(v >= 0)
+    order = finite[np.argsort(v[finite], kind="stable")]
+    sorted_v = v[order]
+    # Pair each incidence with its neighbour in vertex order (the previous one for the last).
+    partner = np.empty_like(order)
+    partner[:-1] = order[1:]
+    partner[-1:] = order[-2:-1] if order.size > 1 else order[-1:]
+    last = np.ones(order.size, dtype=bool)
+    last[:-1] = sorted_v[1:] != sorted_v[:-1]
+    partner[last] = np.concatenate([order[:1], order[:-1]])[last]
+    if np.any(v[partner] != sorted_v):
+        bad = int(sorted_v[np.flatnonzero(v[partner] != sorted_v)[0]])
+        raise InvalidDiagramError(f"vertex {bad} lies on a single ridge")
+    ridge, other = order // 2, partner // 2
+    p, q = ridge_sites[ridge, 0], ridge_sites[ridge, 1]
+    r0, r1 = ridge_sites[other, 0], ridge_sites[other, 1]
+    third = np.full(2 * E, -1, dtype=np.int64)
+    third[order] = np.where((r0 != p) & (r0 != q), r0, r1)
+    return third.reshape(E, 2)
+
+
+def orient_ridges(sites: NDArray[np.float64], vertices: NDArray[np.float64], ridge_sites: NDArray[np.int64],
+                  ridge_vertices: NDArray[np.int64]) -> NDArray[np.int64]:
+    """(start, end) of site a's half-edge for each ridge (a, b) given with its two vertex ids
+    in either order (-1 = infinity).
+
+    Decided combinatorially, not from float coordinates, so tiny ridges cannot be flipped by
+    rounding: a vertex is the centre of a circle through a, b and a third site r; p's
+    half-edge runs along perp(b - a), to the left of a->b, from the vertex whose r lies right
+    of a->b to the one whose r lies left (exact orient2d). A ridge whose float direction is
+    unambiguous (long against the coordinates' rounding) follows that direction instead, so
+    a floating-point library's ridge between non-Delaunay sites (Qhull merges nearly
+    collinear hull sites into one facet) still closes up. A line with both ends at infinity
+    keeps its order.
+    """
+    rv = np.asarray(ridge_vertices, dtype=np.int64).reshape(-1, 2)
+    rp = np.asarray(ridge_sites, dtype=np.int64).reshape(-1, 2)
+    third = _third_sites(rp, rv)
+    p, q = rp[:, 0], rp[:, 1]
+    side = np.zeros(rv.shape, dtype=np.int8)       # orient2d(p, q, third site of each end)
+    for end in (0, 1):
+        ok = rv[:, end] >= 0
+        side[ok, end] = orient2d_many(sites[p[ok]], sites[q[ok]], sites[third[ok, end]])
+    if np.any((rv >= 0) & (side == 0)):
+        e = int(np.flatnonzero(((rv >= 0) & (side == 0)).any(axis=1))[0])
+        raise InvalidDiagramError(f"ridge {e} between sites {int(p[e])} and {int(q[e])}: a vertex's third site "
+                                  f"lies on the line through them")
+    # The start is the end whose third site is on the right (negative).
+    end0_is_start = np.where(rv[:, 0] >= 0, side[:, 0] < 0, side[:, 1] > 0)
+    both = np.flatnonzero((rv[:, 0] >= 0) & (rv[:, 1] >= 0))
+    if both.size:
+        v0, v1 = vertices[rv[both, 0]], vertices[rv[both, 1]]
+        step = v1 - v0
+        pq = sites[q[both]] - sites[p[both]]
+        along = step[:, 1] * pq[:, 0] - step[:, 0] * pq[:, 1]        # step . perp(q - p)
+        length = np.hypot(step[:, 0], step[:, 1])
+        magnitude = np.maximum(np.abs(v0).max(axis=1), np.abs(v1).max(axis=1)) + data_scale(sites)
+        clear = ((length > RIDGE_DIRECTION_REL_TOL * magnitude)
+                 & (np.abs(along) > 0.5 * length * np.hypot(pq[:, 0], pq[:, 1])))
+        end0_is_start[both[clear]] = along[clear] > 0
+    start = np.where(end0_is_start, rv[:, 0], rv[:, 1])
+    end = np.where(end0_is_start, rv[:, 1], rv[:, 0])
+    return np.stack([start, end], axis=1)
 
 
 _BIG_VERTEX = 16   # vertices of higher degree (many cocircular sites) are sorted and bisected
@@ -147,7 +250,8 @@ def _link_next(site: NDArray[np.int64], origin: NDArray[np.int64], twin: NDArray
         where = "infinity" if end < 0 else f"vertex {end}"
         raise InvalidDiagramError(
             f"cell {int(site[h])} does not close: half-edge {h} ends at {where}, "
-            f"and no half-edge of the cell starts there")
+            f"and no half-edge of the cell starts there (ridges whose two vertices come in either "
+            f"order, as scipy's do, need assemble(..., oriented=False))")
     nxt = order[pos_ok].astype(np.int64)
     # Repeated (cell, start) keys: legal only for a strip cell's two full lines.
     repeated = np.flatnonzero(sorted_key[1:] == sorted_key[:-1])

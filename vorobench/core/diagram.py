@@ -3,21 +3,29 @@
 Conventions (docs/dcel.md): half-edge h has cell ``site[h]`` on its left, runs along the
 bisector of ``site[h]`` and ``site[twin[h]]`` in direction ``perp(b - a)``, starts at
 ``origin[h]`` (-1 = infinity), and ``next`` walks each cell counter-clockwise.
+
+A diagram is immutable once made: the scipy-style views (``regions``, ``ridge_points``,
+``ridge_vertices``, ...) are computed once, in linear time, and cached.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import gc
+from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
+from typing import Any, Optional
 
 import numpy as np
 from numpy.typing import NDArray
 
+from vorobench.core.cell_cycles import cell_cycles
 from vorobench.core.clip import clip_convex
 
 __all__ = ["Diagram", "InvalidDiagramError"]
 
 _FIELDS = ("sites", "vertices", "origin", "twin", "next", "site")
+_INPUT_FIELDS = ("input_points", "input_site")
 _FORMAT_VERSION = 1
 
 
@@ -29,9 +37,19 @@ def _first(mask: NDArray[np.bool_]) -> int:
     return int(np.flatnonzero(mask)[0])
 
 
-@dataclass(eq=False)
+def _read_only(arr: NDArray) -> NDArray:
+    arr.setflags(write=False)
+    return arr
+
+
+@dataclass(eq=False, frozen=True)
 class Diagram:
-    """A 2D Voronoi diagram as flat arrays: sites, vertices and four half-edge arrays."""
+    """A 2D Voronoi diagram as flat arrays: sites, vertices and four half-edge arrays.
+
+    ``input_points`` and ``input_site`` optionally keep the caller's rows, duplicates
+    included, and the site of each row (:func:`impls.build` and :meth:`from_scipy` fill them),
+    so that ``points`` and ``point_region`` have one entry per input row, as in scipy.
+    """
 
     sites: NDArray[np.float64]
     vertices: NDArray[np.float64]
@@ -39,6 +57,62 @@ class Diagram:
     twin: NDArray[np.integer]
     next: NDArray[np.integer]
     site: NDArray[np.integer]
+    input_points: Optional[NDArray[np.float64]] = field(default=None, repr=False)
+    input_site: Optional[NDArray[np.integer]] = field(default=None, repr=False)
+
+    #: scipy's ``Voronoi.furthest_site``: these are nearest-site diagrams (read by
+    #: ``scipy.spatial.voronoi_plot_2d``).
+    furthest_site = False
+    #: scipy's ``Voronoi.ndim``: the plane.
+    ndim = 2
+
+    def __post_init__(self) -> None:
+        if (self.input_points is None) != (self.input_site is None):
+            raise ValueError("input_points and input_site go together: give both or neither")
+        if self.input_site is not None:
+            rows = np.asarray(self.input_points).reshape(-1, 2).shape[0]
+            if np.shape(self.input_site) != (rows,):
+                raise ValueError(f"input_site has shape {np.shape(self.input_site)}, input_points has {rows} rows")
+
+    def with_input(self, points: NDArray[np.float64], inverse: NDArray[np.integer]) -> "Diagram":
+        """The same diagram remembering the caller's rows ``points`` and the site ``inverse[i]``
+        of each row (what :func:`vorobench.prepare` returned), duplicates included."""
+        points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+        inverse = np.asarray(inverse, dtype=np.int64).reshape(-1)
+        if inverse.size and (inverse.min() < 0 or inverse.max() >= self.n_sites):
+            raise ValueError(f"inverse names sites outside [0, {self.n_sites})")
+        return Diagram(self.sites, self.vertices, self.origin, self.twin, self.next, self.site,
+                       _read_only(points.copy()), _read_only(inverse.copy()))
+
+    @classmethod
+    def from_scipy(cls, vor: Any) -> "Diagram":
+        """The DCEL of a ``scipy.spatial.Voronoi`` (nearest-site, 2-D), its ridges oriented exactly.
+
+        Duplicate input rows (which Qhull keeps as coplanar points) become one site, remembered
+        per row in ``points`` / ``point_region``; ridges Qhull collapsed to a single vertex are
+        dropped. Raises ``ValueError`` for anything but a 2-D nearest-site diagram and
+        :class:`InvalidDiagramError` when its ridges do not close up into cells.
+        """
+        # Imported here: the builder and prepare import this module.
+        from vorobench.core.builder import assemble
+        from vorobench.core.prepare import prepare
+
+        for name in ("points", "vertices", "ridge_points", "ridge_vertices"):
+            if not hasattr(vor, name):
+                raise ValueError(f"from_scipy needs a scipy.spatial.Voronoi, got {type(vor).__name__} without .{name}")
+        if getattr(vor, "furthest_site", False):
+            raise ValueError("from_scipy takes nearest-site diagrams; this one was built with furthest_site=True")
+        points = np.asarray(vor.points, dtype=np.float64)
+        if points.ndim != 2 or points.shape[1] != 2:
+            raise ValueError(f"from_scipy takes 2-D diagrams; points have shape {points.shape}")
+        sites, inverse = prepare(points)
+        vertices = np.asarray(vor.vertices, dtype=np.float64).reshape(-1, 2)
+        ridge_sites = inverse[np.asarray(vor.ridge_points, dtype=np.int64).reshape(-1, 2)]
+        ridge_vertices = np.asarray(vor.ridge_vertices, dtype=np.int64).reshape(-1, 2)
+        keep = ridge_vertices[:, 0] != ridge_vertices[:, 1]       # a ridge collapsed to a point
+        diagram = assemble(sites, vertices, ridge_sites[keep], ridge_vertices[keep], oriented=False,
+                           compact_vertices=True)
+        return diagram.with_input(points, inverse)
 
     # ------------------------------------------------------------------ construction
     @classmethod
@@ -91,42 +165,98 @@ class Diagram:
         h = np.arange(self.n_half_edges)
         return h[h < self.twin]
 
-    @property
-    def ridge_points(self) -> NDArray[np.int64]:
-        """scipy-style (E, 2) array: the two sites separated by each edge."""
-        e = self.edges()
-        return np.stack([self.site[e], self.site[self.twin[e]]], axis=1).astype(np.int64)
-
-    @property
-    def ridge_vertices(self) -> NDArray[np.int64]:
-        """scipy-style (E, 2) array: the end vertices of each edge, -1 for infinity."""
-        e = self.edges()
-        return np.stack([self.origin[e], self.origin[self.twin[e]]], axis=1).astype(np.int64)
+    @cached_property
+    def _cycles(self) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+        """Every cell's half-edges in ``next`` order (:func:`cell_cycles`), walked once."""
+        if self.n_half_edges and (self.site.min() < 0 or self.site.max() >= self.n_sites):
+            raise InvalidDiagramError(f"site ids must lie in [0, {self.n_sites})")
+        order, offsets, bad = cell_cycles(self.site, self.next, self.origin, self.n_sites)
+        if bad >= 0:
+            raise InvalidDiagramError(f"cell {bad}: next does not walk once around the cell's half-edges")
+        return _read_only(order), _read_only(offsets)
 
     def cell_half_edges(self, i: int) -> list[int]:
         """Half-edges of cell i in counter-clockwise order (starting after infinity if unbounded)."""
-        first = np.flatnonzero(self.site == i)
-        if first.size == 0:
-            return []
-        starts = first[self.origin[first] < 0]
-        h0 = int(starts[0]) if starts.size else int(first[0])
-        out, h = [h0], int(self.next[h0])
-        while h != h0:
-            out.append(h)
-            if len(out) > first.size:
-                raise InvalidDiagramError(f"cell {i}: next does not return to half-edge {h0}")
-            h = int(self.next[h])
-        return out
+        order, offsets = self._cycles
+        return order[offsets[i]:offsets[i + 1]].tolist()
+
+    # ------------------------------------------------------------------ scipy-style views
+    @cached_property
+    def _first_row(self) -> NDArray[np.int64]:
+        """The first input row of each site (the site's own index without input rows)."""
+        if self.input_site is None:
+            return np.arange(self.n_sites, dtype=np.int64)
+        rows = np.arange(self.input_site.size, dtype=np.int64)
+        first = np.full(self.n_sites, -1, dtype=np.int64)
+        first[self.input_site[::-1]] = rows[::-1]          # the last write of a site is its first row
+        return first
 
     @property
-    def regions(self) -> list[list[int]]:
-        """scipy-style: the vertices of each cell counter-clockwise, -1 where it is unbounded."""
-        return [[int(self.origin[h]) for h in self.cell_half_edges(i)] for i in range(self.n_sites)]
+    def points(self) -> NDArray[np.float64]:
+        """scipy-style: the input rows, duplicates included (the sites when none were kept)."""
+        return self.sites if self.input_points is None else self.input_points
 
     @property
+    def npoints(self) -> int:
+        """scipy-style: number of input rows."""
+        return int(self.points.shape[0])
+
+    @property
+    def min_bound(self) -> NDArray[np.float64]:
+        """scipy-style: the smallest coordinates of the input rows."""
+        return self.points.min(axis=0) if self.npoints else np.full(2, np.nan)
+
+    @property
+    def max_bound(self) -> NDArray[np.float64]:
+        """scipy-style: the largest coordinates of the input rows."""
+        return self.points.max(axis=0) if self.npoints else np.full(2, np.nan)
+
+    @cached_property
     def point_region(self) -> NDArray[np.int64]:
-        """scipy-style: index into ``regions`` of each site (cell i belongs to site i)."""
-        return np.arange(self.n_sites, dtype=np.int64)
+        """scipy-style: index into ``regions`` of each input row; duplicates share their cell
+        (region i is the cell of site i)."""
+        if self.input_site is None:
+            return _read_only(np.arange(self.n_sites, dtype=np.int64))
+        return _read_only(np.asarray(self.input_site, dtype=np.int64))
+
+    @cached_property
+    def regions(self) -> list[list[int]]:
+        """scipy-style: the vertices of each cell counter-clockwise, -1 where it is unbounded
+        (an unbounded cell's list starts at infinity); an empty list for a cell with no edge."""
+        order, offsets = self._cycles
+        flat = self.origin[order].tolist()
+        bounds = offsets.tolist()
+        # A million small lists would wake the cyclic garbage collector hundreds of times
+        # (4x the time at 10^6 sites, measured); none of them can be part of a cycle.
+        collecting = gc.isenabled()
+        gc.disable()
+        try:
+            return [flat[bounds[i]:bounds[i + 1]] for i in range(self.n_sites)]
+        finally:
+            if collecting:
+                gc.enable()
+
+    @cached_property
+    def ridge_points(self) -> NDArray[np.int64]:
+        """scipy-style (E, 2) array: the input rows (first row of each site) on either side of
+        each edge, in ``edges()`` order."""
+        e = self.edges()
+        pairs = np.stack([self.site[e], self.site[self.twin[e]]], axis=1).astype(np.int64)
+        return _read_only(self._first_row[pairs])
+
+    @cached_property
+    def ridge_vertices(self) -> NDArray[np.int64]:
+        """scipy-style (E, 2) array: the end vertices of each edge, -1 (infinity) first."""
+        e = self.edges()
+        ends = np.stack([self.origin[e], self.origin[self.twin[e]]], axis=1).astype(np.int64)
+        ray = ends[:, 1] < 0
+        ends[ray] = ends[ray, ::-1]
+        return _read_only(ends)
+
+    @cached_property
+    def ridge_dict(self) -> dict[tuple[int, int], list[int]]:
+        """scipy-style: ``{(p, q): [v, w]}`` for every ridge, keyed by its two input rows."""
+        return {(p, q): [v, w] for (p, q), (v, w) in zip(self.ridge_points.tolist(), self.ridge_vertices.tolist())}
 
     def half_edge_direction(self, h: NDArray[np.integer] | int) -> NDArray[np.float64]:
         """Direction perp(b - a) of half-edges h (not normalised)."""
@@ -176,11 +306,34 @@ class Diagram:
         box = box or self.bounding_box()
         return [self.cell_polygon(i, box) for i in range(self.n_sites)]
 
+    # ------------------------------------------------------------------ export and drawing
+    def to_shapely(self, box: Optional[tuple[float, float, float, float]] = None) -> list:
+        """One shapely ``Polygon`` per site, its cell clipped to ``box`` = (xmin, ymin, xmax, ymax)
+        (default: around the sites); an empty polygon where the cell misses the box."""
+        from vorobench.core.export import to_shapely   # shapely is optional; export imports this module
+
+        return to_shapely(self, box)
+
+    def to_geojson(self, box: Optional[tuple[float, float, float, float]] = None) -> dict:
+        """A JSON-serialisable GeoJSON ``FeatureCollection``: one ``Feature`` per site, its cell
+        clipped to ``box`` (default: around the sites), ``null`` geometry where it misses the box."""
+        from vorobench.core.export import to_geojson
+
+        return to_geojson(self, box)
+
+    def plot(self, ax: Any = None, box: Optional[tuple[float, float, float, float]] = None, **kwargs: Any) -> Any:
+        """Draw sites, edges (clipped to ``box``, default around the sites) and vertices on a
+        matplotlib axes (a new figure's when ``ax`` is None); returns the axes."""
+        from vorobench.core.drawing import draw        # matplotlib loads only when drawing
+
+        return draw(self, ax=ax, box=box, **kwargs)
+
     # ------------------------------------------------------------------ persistence
     def save(self, path: str | Path) -> None:
-        """Write the diagram to a compressed ``.npz`` file."""
+        """Write the diagram to a compressed ``.npz`` file (with its input rows, if it keeps them)."""
+        kept = {f: getattr(self, f) for f in _INPUT_FIELDS if getattr(self, f) is not None}
         np.savez_compressed(path, format_version=_FORMAT_VERSION,
-                            **{f: getattr(self, f) for f in _FIELDS})
+                            **{f: getattr(self, f) for f in _FIELDS}, **kept)
 
     @classmethod
     def load(cls, path: str | Path) -> "Diagram":
@@ -189,7 +342,8 @@ class Diagram:
             missing = [f for f in _FIELDS if f not in data]
             if missing:
                 raise ValueError(f"{path}: not a vorobench diagram (missing {', '.join(missing)})")
-            return cls(**{f: data[f] for f in _FIELDS})
+            kept = {f: data[f] for f in _INPUT_FIELDS if f in data}
+            return cls(**{f: data[f] for f in _FIELDS}, **kept)
 
     # ------------------------------------------------------------------ invariants
     def validate(self) -> "Diagram":
