@@ -20,7 +20,7 @@ from impls.base import Implementation, InputMutated, UnsupportedInput
 from vorobench.core.diagram import Diagram
 
 __all__ = ["Implementation", "UnsupportedInput", "InputMutated", "available", "get", "build", "register", "registered",
-           "unregister", "of_kind", "ENTRY_POINT_GROUP", "DEFAULT_REFERENCE"]
+           "unregister", "of_kind", "weighted", "ENTRY_POINT_GROUP", "DEFAULT_REFERENCE"]
 
 ENTRY_POINT_GROUP = "vorobench.impls"
 
@@ -117,6 +117,19 @@ def get(name: str) -> Implementation:
     return impl
 
 
+def weighted() -> list[str]:
+    """The available implementations that take weights (power diagrams); one that fails to
+    load is left out."""
+    out = []
+    for name in available():
+        try:
+            if get(name).weighted:
+                out.append(name)
+        except Exception:  # a broken plugin is reported where it is used, not here
+            continue
+    return out
+
+
 def of_kind(kind: str) -> list[str]:
     """The available implementations that declare ``kind`` ("own", "outside" or "plugin");
     one that fails to load is left out."""
@@ -130,9 +143,13 @@ def of_kind(kind: str) -> list[str]:
     return out
 
 
-def build(name: str, points: ArrayLike, stats: Optional[dict] = None) -> Diagram:
+def build(name: str, points: ArrayLike, stats: Optional[dict] = None, *,
+          weights: Optional[ArrayLike] = None) -> Diagram:
     """Prepare ``points`` and build their Voronoi diagram with implementation ``name``.
 
+    ``weights`` (one per point) asks for the power diagram: the power of x with respect to
+    site i is |x - p_i|^2 - w_i; equal rows keep the largest of their weights; an
+    implementation that does not take weights raises :class:`UnsupportedInput`.
     Duplicate rows share one site; the diagram remembers the rows, so its scipy-style
     ``points`` and ``point_region`` have one entry per row. Raises :class:`UnsupportedInput`
     (a ``ValueError``) when the implementation declares it cannot take these points, and
@@ -140,11 +157,18 @@ def build(name: str, points: ArrayLike, stats: Optional[dict] = None) -> Diagram
     """
     # Imported here, not at the top: prepare compiles with numba, which adds 0.3 s to every
     # import of the registry (measured); listing implementations does not need it.
-    from vorobench.core.prepare import prepare
+    from vorobench.core.prepare import prepare, prepare_weighted
 
     impl = get(name)
-    sites, inverse = prepare(points)
-    diagram = impl.run(sites, stats)
+    if weights is None:
+        sites, inverse = prepare(points)
+        diagram = impl.run(sites, stats)
+    else:
+        if not impl.weighted:
+            raise UnsupportedInput(f"{name} does not support weighted sites; weighted implementations: "
+                                   f"{', '.join(weighted()) or 'none here'}")
+        sites, site_weights, inverse = prepare_weighted(points, weights)
+        diagram = impl.run(sites, stats, weights=site_weights)
     if inverse.size == sites.shape[0]:
         return diagram                  # no duplicates: the sites are the input rows
     rows = np.asarray(points, dtype=np.float64).reshape(-1, 2)

@@ -4,26 +4,60 @@ from __future__ import annotations
 
 from contextlib import contextmanager
 from contextvars import ContextVar
-from dataclasses import dataclass
-from typing import Callable, Iterator, Optional
+from dataclasses import dataclass, replace
+from typing import Callable, Iterator, Optional, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
 
 from vorobench.core.counters import CounterError, check_counters
 from vorobench.core.diagram import Diagram
-from vorobench.core.scaling import exact_shift, scale_back_vertices, scale_points
+from vorobench.core.scaling import check_weight_range, exact_shift, scale_back_vertices, scale_points, scale_weights
 
-__all__ = ["Implementation", "KINDS", "BuildFunction", "UnsupportedInput", "InputMutated", "CounterError", "record_timing"]
+__all__ = ["Implementation", "KINDS", "BuildFunction", "WeightedBuildFunction", "UnsupportedInput", "InputMutated", "CounterError", "record_timing"]
 
-#: ``build(sites, stats)``: sites are prepared (distinct, finite float64); stats is a dict or
-#: None, for counters only (machine-independent integers); times go to :func:`record_timing`.
-BuildFunction = Callable[[NDArray[np.float64], Optional[dict]], Diagram]
 
-#: Where :func:`record_timing` adds seconds during a build (None: nobody asked for them).
+@runtime_checkable
+class BuildFunction(Protocol):
+    """The construction behind an :class:`Implementation`: ``build(sites, stats) -> Diagram``.
+
+    Any function taking two positional arguments fits (``def build(sites, stats=None)``);
+    :meth:`Implementation.run` is its only caller. ``isinstance(f, BuildFunction)`` only
+    checks that ``f`` is callable.
+    """
+
+    def __call__(self, sites: NDArray[np.float64], stats: Optional[dict[str, int]], /) -> Diagram:
+        """The Voronoi diagram of ``sites``, cell i belonging to site i.
+
+        ``sites``: an (n, 2) float64, C-contiguous, read-only array of distinct, finite
+        points in the caller's order, already scaled into the exact range (nonzero magnitudes
+        in [2**-100, 2**100)); n may be 0, 1 or 2. ``stats``: None, or a dict to put counters
+        into: machine-independent integers (events, predicate calls, walk steps), never times
+        (those go to :func:`record_timing`). Returns a
+        :class:`~vorobench.core.diagram.Diagram` of exactly these sites; raises on failure.
+        """
+        ...
+
+
+@runtime_checkable
+class WeightedBuildFunction(Protocol):
+    """The power-diagram construction of an :class:`Implementation` that takes weights:
+    ``build_weighted(sites, weights, stats) -> Diagram``."""
+
+    def __call__(self, sites: NDArray[np.float64], weights: NDArray[np.float64],
+                 stats: Optional[dict[str, int]], /) -> Diagram:
+        """The power diagram of ``sites`` with ``weights``: the power of x with respect to site i
+        is |x - p_i|^2 - w_i. ``sites`` as for :class:`BuildFunction`; ``weights``: (n,)
+        float64, finite, read-only, scaled with the sites (by 2**(2k) when the sites were
+        scaled by 2**k). A hidden site (empty cell) gets no half-edge. Returns a
+        :class:`~vorobench.core.diagram.Diagram` of exactly these sites."""
+        ...
+
+
 #: What an implementation may say it is (``Implementation.kind``).
 KINDS = ("own", "outside", "plugin")
 
+#: Where :func:`record_timing` adds seconds during a build (None: nobody asked for them).
 _PHASE_TIMES: ContextVar[Optional[dict]] = ContextVar("vorobench_phase_times", default=None)
 
 
@@ -62,6 +96,8 @@ class Implementation:
     ``"plugin"`` (anything registered from elsewhere, the default). ``warmup``: compiles JIT kernels so that timings
     exclude compile time. ``supports``: returns None if it can take the sites, else the
     reason it cannot (the runner then skips the case instead of failing it).
+    ``build_weighted``: the power-diagram construction, for implementations that take
+    weights (``weighted``); the others are refused weighted input as unsupported.
 
     Callers go through :meth:`run`, never ``build`` directly: it is the one place that
     honours ``supports`` and keeps the caller's sites out of the implementation's reach.
@@ -76,6 +112,12 @@ class Implementation:
     warmup: Optional[Callable[[], None]] = None
     supports: Optional[Callable[[NDArray[np.float64]], Optional[str]]] = None
     kind: str = "plugin"
+    build_weighted: Optional[WeightedBuildFunction] = None
+
+    @property
+    def weighted(self) -> bool:
+        """Whether it builds power diagrams (it has a ``build_weighted``)."""
+        return self.build_weighted is not None
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -89,7 +131,8 @@ class Implementation:
         return str(reason) if reason else None
 
     def run(self, sites: NDArray[np.float64], stats: Optional[dict] = None, *,
-            timings: Optional[dict] = None, check_supports: bool = True) -> Diagram:
+            timings: Optional[dict] = None, check_supports: bool = True,
+            weights: Optional[NDArray[np.float64]] = None) -> Diagram:
         """Build the diagram of prepared ``sites``.
 
         ``stats`` (a dict) receives the build's counters, ``timings`` the seconds of the parts
@@ -99,6 +142,10 @@ class Implementation:
         read-only copy, so ``sites`` itself is never touched; writing through that copy
         raises inside the implementation, and a copy made writeable again and changed is
         caught by the comparison afterwards.
+
+        ``weights`` (one per site) asks for the power diagram, through ``build_weighted``;
+        an implementation without one raises :class:`UnsupportedInput`. The diagram
+        returned carries the caller's weights.
 
         Magnitudes: sites outside the range where the predicates are exact are scaled by a
         power of two into it first (exact; same combinatorics), the implementation builds
@@ -110,6 +157,8 @@ class Implementation:
         :mod:`vorobench.core.scaling` for the rule. Inside the range this costs one pass over the
         coordinates.
         """
+        if weights is not None and self.build_weighted is None:
+            raise UnsupportedInput(f"{self.name} does not support weighted sites (it builds ordinary diagrams only)")
         shift = exact_shift(sites)
         if shift == 0:
             expected = sites
@@ -118,21 +167,39 @@ class Implementation:
             expected = scale_points(sites, shift)
             given = expected.copy()
         given.setflags(write=False)
+        if weights is not None:
+            weights = np.asarray(weights, dtype=np.float64).reshape(-1)
+            if weights.shape != (sites.shape[0],):
+                raise ValueError(f"weights has shape {weights.shape}, there are {sites.shape[0]} sites")
+            check_weight_range(sites, weights)
+            expected_weights = scale_weights(weights, shift)
+            given_weights = expected_weights.copy()
+            given_weights.setflags(write=False)
         if check_supports or shift != 0:
             reason = self.unsupported_reason(given)
             if reason:
                 raise UnsupportedInput(f"{self.name} does not support these sites: {reason}")
         with _collecting_times(timings):
-            diagram = self.build(given, stats)
+            if weights is None:
+                diagram = self.build(given, stats)
+            else:
+                diagram = self.build_weighted(given, given_weights, stats)
         if stats:
             stats.update(check_counters(stats, who=self.name))
         if not np.array_equal(given, expected):
             rows = np.flatnonzero((given != expected).any(axis=1)) if given.shape == expected.shape else []
             where = f" (row {int(rows[0])}; {len(rows)} row(s) changed)" if len(rows) else ""
             raise InputMutated(f"{self.name} changed the sites it was given{where}: inputs are read-only")
-        if shift == 0:
-            return diagram
-        return _scaled_back(diagram, sites, shift)
+        if weights is not None and not np.array_equal(given_weights, expected_weights):
+            raise InputMutated(f"{self.name} changed the weights it was given: inputs are read-only")
+        if shift != 0:
+            diagram = _scaled_back(diagram, sites, shift)
+        if weights is not None:
+            # The judge reads the weights from the diagram: they are the caller's, whatever the build kept.
+            own = np.array(weights, dtype=np.float64, copy=True)
+            own.setflags(write=False)
+            diagram = replace(diagram, weights=own)
+        return diagram
 
 
 def _scaled_back(diagram: Diagram, sites: NDArray[np.float64], shift: int) -> Diagram:
@@ -147,4 +214,4 @@ def _scaled_back(diagram: Diagram, sites: NDArray[np.float64], shift: int) -> Di
         own = scale_back_vertices(built, shift)
     own.setflags(write=False)
     return Diagram(own, scale_back_vertices(diagram.vertices, shift), diagram.origin, diagram.twin,
-                   diagram.next, diagram.site)
+                   diagram.next, diagram.site, weights=diagram.weights)

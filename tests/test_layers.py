@@ -4,7 +4,7 @@ layer importing only from the layers below it, and no cycle between modules.
 Layers, bottom to top: ``vorobench.core`` < ``impls`` < ``vorobench.judge`` <
 ``vorobench.harness`` < ``vorobench.cli``; ``datasets_gen`` stands alone (only the harness,
 the command line and tests use it). ``vorobench`` itself (the lazy public API) imports nothing
-at import time.
+at import time. ``vorobench.plugin``, the names plugin authors import, stands with ``impls``.
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ PACKAGES = ("vorobench", "impls", "datasets_gen")
 LAYERS = {
     "vorobench.core": 0,
     "impls": 1,
+    "vorobench.plugin": 1,
     "vorobench.judge": 2,
     "datasets_gen": 2,
     "vorobench.harness": 3,
@@ -30,6 +31,7 @@ LAYERS = {
 ALLOWED = {
     "vorobench.core": {"vorobench.core"},
     "impls": {"vorobench.core", "impls"},
+    "vorobench.plugin": {"vorobench.core", "impls"},
     "datasets_gen": {"datasets_gen"},
     "vorobench.judge": {"vorobench.core", "impls", "vorobench.judge"},
     "vorobench.harness": {"vorobench.core", "impls", "vorobench.judge", "vorobench.harness", "datasets_gen"},

@@ -20,6 +20,7 @@ import impls
 from impls.plugins import plugins_registered
 from vorobench.cli.args import (
     OneLineParser,
+    bounds,
     non_negative_float,
     non_negative_int,
     plain_help,
@@ -52,17 +53,18 @@ def _console():
 
 
 def cmd_impls(args: argparse.Namespace) -> int:
-    """Table of the implementations that can run here."""
+    """Table of the implementations that can run here, those of ``--plugin`` included."""
     table = Table(title="implementations")
     for col in ("name", "exact", "complexity", "from", "description"):
         table.add_column(col)
-    for name in impls.available():
-        try:
-            impl = impls.get(name)
-        except Exception as exc:  # an outside plugin that fails to load is listed, not fatal
-            table.add_row(name, "?", "?", "?", f"[red]failed to load: {exc}[/red]")
-            continue
-        table.add_row(impl.name, "yes" if impl.exact else "no", impl.complexity, impl.origin, impl.description)
+    with plugins_registered(args.plugin):
+        for name in impls.available():
+            try:
+                impl = impls.get(name)
+            except Exception as exc:  # an outside plugin that fails to load is listed, not fatal
+                table.add_row(name, "?", "?", "?", f"[red]failed to load: {exc}[/red]")
+                continue
+            table.add_row(impl.name, "yes" if impl.exact else "no", impl.complexity, impl.origin, impl.description)
     _console().print(table)
     return 0
 
@@ -77,6 +79,12 @@ def cmd_datasets(args: argparse.Namespace) -> int:
         exact = "yes" if ds.exact_n else f"no: {ds.note}" if ds.note else "no"
         table.add_row(name, ds.family, exact, ds.description)
     _console().print(table)
+    weights = Table(title="weight families (--weights FAMILY on bench, validate, fuzz: power diagrams)")
+    for col in ("name", "description"):
+        weights.add_column(col)
+    for name, text in datasets_gen.WEIGHT_FAMILIES.items():
+        weights.add_row(name, text)
+    _console().print(weights)
     return 0
 
 
@@ -112,6 +120,8 @@ def cmd_build(args: argparse.Namespace) -> int:
     from vorobench.core.prepare import prepare
     from vorobench.judge.sandbox import Sandbox
 
+    if args.box is not None and not args.plot:
+        raise ValueError("--box frames the picture: give --plot FILE too")
     points, label = load_points(args.dataset, args.n, args.seed, args.points)
     sites, _ = prepare(points)
     with plugins_registered(args.plugin):
@@ -146,7 +156,7 @@ def cmd_build(args: argparse.Namespace) -> int:
     if args.plot:
         from vorobench.judge.plotting import save_plot
 
-        save_plot(diagram, args.plot, title=f"{args.impl}: {label}")
+        save_plot(diagram, args.plot, title=f"{args.impl}: {label}", box=args.box)
         print(f"wrote {args.plot}")
     return 0
 
@@ -175,13 +185,19 @@ def _add_dataset_args(p: argparse.ArgumentParser, default: str = "uniform") -> N
 def build_parser() -> argparse.ArgumentParser:
     parser = OneLineParser(prog="vorobench", description=__doc__)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
-    sub.add_parser("impls", help="list implementations").set_defaults(func=cmd_impls)
+    p = sub.add_parser("impls", help="list implementations")
+    p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
+                   help="also list these implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
+    p.set_defaults(func=cmd_impls)
     sub.add_parser("datasets", help="list dataset families").set_defaults(func=cmd_datasets)
     p = sub.add_parser("build", help="build one diagram, print counts, plot/save it")
     p.add_argument("--impl", default=impls.DEFAULT_REFERENCE,
                    help=f"implementation name (default {impls.DEFAULT_REFERENCE})")
     _add_dataset_args(p)
     p.add_argument("--plot", help="write a picture (PNG/SVG/PDF) of the diagram")
+    p.add_argument("--box", type=bounds, default=None, metavar="XMIN,YMIN,XMAX,YMAX",
+                   help="what --plot shows (default: the sites with a margin); "
+                        "write --box=-1,-1,1,1 when it starts with a minus")
     p.add_argument("--save", help="save the diagram as .npz")
     p.add_argument("--timeout", type=positive_float, default=None,
                    help="seconds the build may take, warm-up aside (default: no limit)")

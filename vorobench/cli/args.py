@@ -11,8 +11,10 @@ import math
 import re
 from typing import Callable, NoReturn, Optional
 
+from vorobench.core.framing import Box, checked_box
+
 __all__ = ["OneLineParser", "names", "sizes", "seeds", "positive_float", "non_negative_float", "positive_int",
-           "non_negative_int", "fraction", "size", "MAX_SIZE", "plain_help"]
+           "non_negative_int", "fraction", "size", "bounds", "MAX_SIZE", "plain_help"]
 
 #: Largest point count a command accepts: 10^8 points are 1.6 GB of coordinates before any
 #: construction; beyond that a run cannot finish on any machine this tool targets.
@@ -83,6 +85,17 @@ def fraction(text: str) -> float:
     if not 0 < value < 1:
         raise argparse.ArgumentTypeError(f"must lie strictly between 0 and 1: {text!r}")
     return value
+
+
+def bounds(text: str) -> Box:
+    """A box XMIN,YMIN,XMAX,YMAX: four finite numbers with XMIN < XMAX and YMIN < YMAX."""
+    parts = text.split(",")
+    if len(parts) != 4:
+        raise argparse.ArgumentTypeError(f"a box is four numbers XMIN,YMIN,XMAX,YMAX; got {text!r}")
+    try:
+        return checked_box([_number(part.strip(), float, "a number") for part in parts])
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def size(text: str) -> int:

@@ -22,6 +22,7 @@ from pathlib import Path
 from rich.console import Console
 
 import impls
+from impls.plugins import plugins_registered
 from vorobench.cli import args as cli_args
 from vorobench.cli.bench import execute
 from vorobench.harness.demo import DEMO_DATASETS, demo_implementations, demo_sizes, remove_reference_cache
@@ -77,7 +78,8 @@ def run(args: argparse.Namespace) -> int:
                       console=console)
     if code != 0:
         return code
-    rep = write_report(results_csv, out, title=args.title or f"demo {out.name}", reference=impls.DEFAULT_REFERENCE)
+    with plugins_registered(args.plugin):           # the report reads the plugins' declared complexities
+        rep = write_report(results_csv, out, title=args.title or f"demo {out.name}", reference=impls.DEFAULT_REFERENCE)
     remove_reference_cache(out / ".reference")
     minutes = (time.perf_counter() - started) / 60
     print(f"Report ({minutes:.1f} min): {rep.markdown} (figures next to it; single-file HTML: {rep.html})")

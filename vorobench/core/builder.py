@@ -15,271 +15,185 @@ triangulation's pairs of neighbouring triangles) pass ``oriented=False``:
 
 from __future__ import annotations
 
+from typing import Optional
+
 import numpy as np
 from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from vorobench.core.diagram import Diagram, InvalidDiagramError
-from vorobench.core.predicates import orient2d_many
-from vorobench.core.tolerances import RIDGE_DIRECTION_REL_TOL, data_scale
+from vorobench.core.half_edges import index_pairs, link_edges, orient_ridges
+from vorobench.core.predicates import (
+    EPSILON,
+    compress_expansion,
+    diff_expansion,
+    diff_product_expansion,
+    expansion_diff,
+    expansion_product,
+    expansion_sign,
+    expansion_sum,
+)
 
 __all__ = ["assemble", "orient_ridges", "collinear_diagram"]
 
 
 def assemble(sites: NDArray[np.float64], vertices: ArrayLike, edge_sites: ArrayLike,
-             edge_vertices: ArrayLike, *, compact_vertices: bool = False, oriented: bool = True) -> Diagram:
+             edge_vertices: ArrayLike, *, compact_vertices: bool = False, oriented: bool = True,
+             weights: Optional[ArrayLike] = None) -> Diagram:
     """Build a :class:`Diagram` from a list of edges.
 
     ``edge_sites``: (E, 2) site pairs (a, b); ``edge_vertices``: (E, 2) vertex ids
     (start, end) of a's half-edge, which runs in direction perp(b - a); -1 = infinity.
     With ``oriented=False`` the two vertex ids may come in either order (as in scipy's
     ``ridge_vertices``), and :func:`orient_ridges` orders them. With ``compact_vertices``,
-    vertices no edge uses are dropped and ids renumbered. Raises :class:`InvalidDiagramError`
+    vertices no edge uses are dropped and ids renumbered. ``weights`` (one per site) makes
+    it a power diagram, whose hidden sites have no edge. Raises :class:`InvalidDiagramError`
     if the edges do not close up into cells.
     """
     sites = np.ascontiguousarray(sites, dtype=np.float64).reshape(-1, 2)
     vertices = np.ascontiguousarray(vertices, dtype=np.float64).reshape(-1, 2)
-    ab = _index_pairs(edge_sites, "edge_sites")
-    se = _index_pairs(edge_vertices, "edge_vertices")
+    ab = index_pairs(edge_sites, "edge_sites")
+    se = index_pairs(edge_vertices, "edge_vertices")
     if ab.shape != se.shape:
         raise ValueError(f"edge_sites {ab.shape} and edge_vertices {se.shape} differ in shape")
     n = sites.shape[0]
+    if weights is not None:
+        weights = np.ascontiguousarray(weights, dtype=np.float64).reshape(-1)
+        if weights.shape != (n,):
+            raise ValueError(f"weights has shape {weights.shape}, there are {n} sites")
     if n <= 1 or ab.shape[0] == 0:
-        if n >= 2:
+        if n >= 2 and weights is None:
             raise InvalidDiagramError(f"{n} sites but no edges")
-        return Diagram.empty(sites)
-    bad = (ab < 0) | (ab >= n)
-    if bad.any():
-        e = int(np.flatnonzero(bad.any(axis=1))[0])
-        raise InvalidDiagramError(f"edge {e} names site {int(ab[e][bad[e]][0])}, outside [0, {n})")
-    bad = (se < -1) | (se >= vertices.shape[0])
-    if bad.any():
-        e = int(np.flatnonzero(bad.any(axis=1))[0])
-        raise InvalidDiagramError(f"edge {e} names vertex {int(se[e][bad[e]][0])}, outside [-1, {vertices.shape[0]})")
-    if not oriented:
-        se = orient_ridges(sites, vertices, ab, se)
-    if compact_vertices:
-        used = np.zeros(vertices.shape[0], dtype=bool)
-        used[se[se >= 0]] = True
-        new_id = np.cumsum(used) - 1
-        se = np.where(se >= 0, new_id[np.maximum(se, 0)], -1)
-        vertices = vertices[used]
-    H = 2 * ab.shape[0]
-    site = ab.reshape(H)                      # half-edge 2e: cell a; 2e + 1: cell b
-    origin = se.reshape(H).copy()             # 2e starts at `start`, 2e + 1 starts at `end`
-    twin = np.arange(H, dtype=np.int64) ^ 1
-    nxt = _link_next(site, origin, twin, n, vertices.shape[0])
-    return Diagram(sites, vertices, origin, twin, nxt, site)
+        return Diagram.empty(sites, weights)
+    vertices, origin, twin, nxt, site = link_edges(n, vertices, ab, se, sites=sites, oriented=oriented,
+                                                   compact_vertices=compact_vertices)
+    return Diagram(sites, vertices, origin, twin, nxt, site, weights=weights)
 
 
-def _index_pairs(values: ArrayLike, name: str) -> NDArray[np.int64]:
-    """An (E, 2) int64 array of ids; a ValueError naming ``name`` for anything else."""
-    arr = np.asarray(values)
-    if arr.size == 0:
-        return np.zeros((0, 2), dtype=np.int64)
-    if arr.dtype.kind not in "iu":
-        raise ValueError(f"{name} must hold integer ids, got dtype {arr.dtype}")
-    if arr.ndim != 2 or arr.shape[1] != 2:
-        raise ValueError(f"{name} must have shape (E, 2), got {arr.shape}")
-    return arr.astype(np.int64, copy=False)
-
-
-def _third_sites(ridge_sites: NDArray[np.int64], ridge_vertices: NDArray[np.int64]) -> NDArray[np.int64]:
-    """For each finite ridge end, a site of that vertex other than the ridge's two sites.
-
-    Any other ridge meeting at the same vertex separates a different pair of the vertex's
-    sites, so one of its two sites is the third site we need.
-    """
-    E = ridge_sites.shape[0]
-    v = ridge_vertices.reshape(-1)                     # incidence k = 2 * ridge + end
-    finite = np.flatnonzero(v >= 0)
-    order = finite[np.argsort(v[finite], kind="stable")]
-    sorted_v = v[order]
-    # Pair each incidence with its neighbour in vertex order (the previous one for the last).
-    partner = np.empty_like(order)
-    partner[:-1] = order[1:]
-    partner[-1:] = order[-2:-1] if order.size > 1 else order[-1:]
-    last = np.ones(order.size, dtype=bool)
-    last[:-1] = sorted_v[1:] != sorted_v[:-1]
-    partner[last] = np.concatenate([order[:1], order[:-1]])[last]
-    if np.any(v[partner] != sorted_v):
-        bad = int(sorted_v[np.flatnonzero(v[partner] != sorted_v)[0]])
-        raise InvalidDiagramError(f"vertex {bad} lies on a single ridge")
-    ridge, other = order // 2, partner // 2
-    p, q = ridge_sites[ridge, 0], ridge_sites[ridge, 1]
-    r0, r1 = ridge_sites[other, 0], ridge_sites[other, 1]
-    third = np.full(2 * E, -1, dtype=np.int64)
-    third[order] = np.where((r0 != p) & (r0 != q), r0, r1)
-    return third.reshape(E, 2)
-
-
-def orient_ridges(sites: NDArray[np.float64], vertices: NDArray[np.float64], ridge_sites: NDArray[np.int64],
-                  ridge_vertices: NDArray[np.int64]) -> NDArray[np.int64]:
-    """(start, end) of site a's half-edge for each ridge (a, b) given with its two vertex ids
-    in either order (-1 = infinity).
-
-    Decided combinatorially, not from float coordinates, so tiny ridges cannot be flipped by
-    rounding: a vertex is the centre of a circle through a, b and a third site r; p's
-    half-edge runs along perp(b - a), to the left of a->b, from the vertex whose r lies right
-    of a->b to the one whose r lies left (exact orient2d). A ridge whose float direction is
-    unambiguous (long against the coordinates' rounding) follows that direction instead, so
-    a floating-point library's ridge between non-Delaunay sites (Qhull merges nearly
-    collinear hull sites into one facet) still closes up. A line with both ends at infinity
-    keeps its order.
-    """
-    rv = np.asarray(ridge_vertices, dtype=np.int64).reshape(-1, 2)
-    rp = np.asarray(ridge_sites, dtype=np.int64).reshape(-1, 2)
-    third = _third_sites(rp, rv)
-    p, q = rp[:, 0], rp[:, 1]
-    side = np.zeros(rv.shape, dtype=np.int8)       # orient2d(p, q, third site of each end)
-    for end in (0, 1):
-        ok = rv[:, end] >= 0
-        side[ok, end] = orient2d_many(sites[p[ok]], sites[q[ok]], sites[third[ok, end]])
-    if np.any((rv >= 0) & (side == 0)):
-        e = int(np.flatnonzero(((rv >= 0) & (side == 0)).any(axis=1))[0])
-        raise InvalidDiagramError(f"ridge {e} between sites {int(p[e])} and {int(q[e])}: a vertex's third site "
-                                  f"lies on the line through them")
-    # The start is the end whose third site is on the right (negative).
-    end0_is_start = np.where(rv[:, 0] >= 0, side[:, 0] < 0, side[:, 1] > 0)
-    both = np.flatnonzero((rv[:, 0] >= 0) & (rv[:, 1] >= 0))
-    if both.size:
-        v0, v1 = vertices[rv[both, 0]], vertices[rv[both, 1]]
-        step = v1 - v0
-        pq = sites[q[both]] - sites[p[both]]
-        along = step[:, 1] * pq[:, 0] - step[:, 0] * pq[:, 1]        # step . perp(q - p)
-        length = np.hypot(step[:, 0], step[:, 1])
-        magnitude = np.maximum(np.abs(v0).max(axis=1), np.abs(v1).max(axis=1)) + data_scale(sites)
-        clear = ((length > RIDGE_DIRECTION_REL_TOL * magnitude)
-                 & (np.abs(along) > 0.5 * length * np.hypot(pq[:, 0], pq[:, 1])))
-        end0_is_start[both[clear]] = along[clear] > 0
-    start = np.where(end0_is_start, rv[:, 0], rv[:, 1])
-    end = np.where(end0_is_start, rv[:, 1], rv[:, 0])
-    return np.stack([start, end], axis=1)
-
-
-_BIG_VERTEX = 16   # vertices of higher degree (many cocircular sites) are sorted and bisected
-
-
-@njit(cache=True)
-def _link_next_compiled(site, origin, twin, n, V):
-    """Fast path of :func:`_link_next`. Half-edges are bucketed by start vertex (counting
-    sort; ~3 per vertex), so next[h] is the member of dest(h)'s bucket in cell site[h];
-    a ray's successor is its cell's one half-edge from infinity. Sequential when vertex ids
-    follow the edge order. Returns (next, ok); ok is False on anything unusual (a strip
-    cell's two lines, a cell that does not close), which the numpy path then handles or reports."""
-    H = site.size
-    first = np.zeros(V + 1, dtype=np.int64)
-    from_infinity = np.full(n, -1, dtype=np.int64)
-    for h in range(H):
-        v = origin[h]
-        if v >= 0:
-            first[v + 1] += 1
-        elif from_infinity[site[h]] >= 0:
-            return np.empty(0, dtype=np.int64), False
-        else:
-            from_infinity[site[h]] = h
-    for v in range(V):
-        first[v + 1] += first[v]
-    fill = first[:V].copy()
-    members = np.empty(H, dtype=np.int64)
-    for h in range(H):
-        v = origin[h]
-        if v >= 0:
-            members[fill[v]] = h
-            fill[v] += 1
-    cells = np.empty(H, dtype=np.int64)     # site of each bucket member, buckets sorted by it
-    for v in range(V):
-        lo, hi = first[v], first[v + 1]
-        if hi - lo > _BIG_VERTEX:
-            part = members[lo:hi].copy()
-            order = np.argsort(site[part])
-            for k in range(hi - lo):
-                members[lo + k] = part[order[k]]
-        for k in range(lo, hi):
-            cells[k] = site[members[k]]
-    nxt = np.empty(H, dtype=np.int64)
-    taken = np.zeros(H, dtype=np.bool_)
-    for h in range(H):
-        c = site[h]
-        v = origin[twin[h]]
-        if v < 0:
-            g = from_infinity[c]
-            if g < 0:
-                return nxt, False
-        else:
-            lo, hi = first[v], first[v + 1]
-            if hi - lo > _BIG_VERTEX:
-                k = lo + np.searchsorted(cells[lo:hi], c)
-                if k >= hi or cells[k] != c or (k + 1 < hi and cells[k + 1] == c):
-                    return nxt, False
-            else:
-                k = -1
-                for m in range(lo, hi):
-                    if cells[m] == c:
-                        if k >= 0:
-                            return nxt, False
-                        k = m
-                if k < 0:
-                    return nxt, False
-            g = members[k]
-        if taken[g]:                            # next would not be a permutation
-            return nxt, False
-        taken[g] = True
-        nxt[h] = g
-    return nxt, True
-
-
-def _link_next(site: NDArray[np.int64], origin: NDArray[np.int64], twin: NDArray[np.int64],
-               n: int, V: int) -> NDArray[np.int64]:
-    """next[h] = the half-edge of cell site[h] starting at destination(h)."""
-    H = site.size
-    if H and site.min() >= 0 and site.max() < n and origin.min() >= -1 and origin.max() < V:
-        nxt, ok = _link_next_compiled(site, origin, twin, n, V)
-        if ok:
-            return nxt
-    key = site * (V + 1) + (origin + 1)       # (cell, start vertex); infinity sorts first
-    order = np.argsort(key, kind="stable")
-    sorted_key = key[order]
-    want = site * (V + 1) + (origin[twin] + 1)
-    pos = np.searchsorted(sorted_key, want)
-    pos_ok = np.minimum(pos, H - 1)
-    found = (pos < H) & (sorted_key[pos_ok] == want)
-    if not found.all():
-        h = int(np.flatnonzero(~found)[0])
-        end = int(origin[twin[h]])
-        where = "infinity" if end < 0 else f"vertex {end}"
-        raise InvalidDiagramError(
-            f"cell {int(site[h])} does not close: half-edge {h} ends at {where}, "
-            f"and no half-edge of the cell starts there (ridges whose two vertices come in either "
-            f"order, as scipy's do, need assemble(..., oriented=False))")
-    nxt = order[pos_ok].astype(np.int64)
-    # Repeated (cell, start) keys: legal only for a strip cell's two full lines.
-    repeated = np.flatnonzero(sorted_key[1:] == sorted_key[:-1])
-    if repeated.size:
-        g1, g2 = order[repeated], order[repeated + 1]
-        strip = (origin[g1] < 0) & (origin[twin[g1]] < 0) & (origin[twin[g2]] < 0)
-        if not strip.all():
-            k = int(np.flatnonzero(~strip)[0])
-            v = int(origin[g1[k]])
-            raise InvalidDiagramError(
-                f"cell {int(site[g1[k]])} has two half-edges ({int(g1[k])}, {int(g2[k])}) starting at "
-                f"{'infinity' if v < 0 else f'vertex {v}'}")
-        triple = np.flatnonzero(np.diff(repeated) == 1)
-        if triple.size:
-            k = int(order[repeated[triple[0]]])
-            raise InvalidDiagramError(f"cell {int(site[k])} has three or more half-edges from infinity")
-        nxt[g1], nxt[g2] = g2, g1
-    return nxt
-
-
-def collinear_diagram(sites: NDArray[np.float64]) -> Diagram:
-    """The diagram of n >= 2 collinear sites: n - 1 parallel lines, no vertex.
+def collinear_diagram(sites: NDArray[np.float64], weights: Optional[ArrayLike] = None) -> Diagram:
+    """The diagram of n >= 2 collinear sites: parallel lines, no vertex.
 
     Sites are ordered along their common line (lexicographically, which is monotone along
-    any line); consecutive sites are separated by their bisector, a full line.
+    any line); consecutive sites are separated by their bisector, a full line: n - 1 lines.
+
+    With ``weights``, the power diagram: a site keeps a cell when its lifted point
+    (position along the line, |p|^2 - w) is a vertex of the lower convex hull of the lifted
+    points, decided exactly (:func:`collinear_power_test`); consecutive visible sites are
+    separated by their power bisector, and the other sites are hidden (no edge). A site
+    whose lifted point lies exactly on the segment between its neighbours' is hidden too:
+    its cell would be a line (where the neighbours' powers tie), not a region. Equal
+    weights give the ordinary diagram's edges, in the same order.
     """
     sites = np.ascontiguousarray(sites, dtype=np.float64)
     order = np.lexsort((sites[:, 1], sites[:, 0]))
+    if weights is not None:
+        weights = np.ascontiguousarray(weights, dtype=np.float64).reshape(-1)
+        if weights.shape != (sites.shape[0],):
+            raise ValueError(f"weights has shape {weights.shape}, there are {sites.shape[0]} sites")
+        chain = np.empty(order.size, dtype=np.int64)
+        k = _lower_chain(sites[:, 0].copy(), sites[:, 1].copy(), weights, order.astype(np.int64), chain)
+        order = chain[:k]
     pairs = np.stack([order[:-1], order[1:]], axis=1)
     ends = np.full(pairs.shape, -1, dtype=np.int64)
-    return assemble(sites, np.zeros((0, 2)), pairs, ends)
+    return assemble(sites, np.zeros((0, 2)), pairs, ends, weights=weights)
+
+
+# ---------------------------------------------------------------------------------------------
+# Power diagrams of collinear sites: the lower hull of a 1-D lifting, decided exactly.
+#
+# Three collinear sites a < b < c along their line, b = a + s (c - a) with 0 < s < 1. Lifted
+# heights h = |p|^2 - w; along the line |p|^2 is a parabola of curvature |c - a|^2, so
+#     h_b - ((1 - s) h_a + s h_c) = (1 - s)(w_a - w_b) + s (w_c - w_b) - s (1 - s) |c - a|^2.
+# With L = (b - a).(c - a) = s D and M = (c - b).(c - a) = (1 - s) D (exact for collinear
+# sites, D = |c - a|^2 > 0), D times it is the polynomial
+#     F = M (w_a - w_b) + L (w_c - w_b) - L M,
+# of degree 4 (weights count as degree 2): b's lifted point lies above the chord of a's and c's
+# when F > 0, on it when F = 0; then pow_b >= min(pow_a, pow_c) everywhere and b is hidden.
+# ---------------------------------------------------------------------------------------------
+
+#: Relative error bound of the float evaluation of F: each difference rounds once (u), each
+#: dot product L, M adds three roundings (two products, one sum: gamma_4 of |L|-permanent),
+#: each of the three terms one more product (gamma_6, gamma_6, gamma_9 with the weight
+#: differences' rounding), and the two final sums one each: gamma_11 of the permanent
+#: |M||dw_a| + |L||dw_c| + |L||M| (absolute values inside L, M). 12u covers gamma_11 and the
+#: permanent's own seven roundings (tests/core/test_collinear_power.py checks it with fractions).
+COLLINEAR_POWER_ERRBOUND = 12.0 * EPSILON
+
+
+@njit(cache=True)
+def _collinear_power_exact(ax, ay, aw, bx, by, bw, cx, cy, cw):
+    # F from exact differences: L, M <= 16 components, the products <= 64, 64, 512; the sums are
+    # compressed on the way (the exact stage is rare: ties and near ties only).
+    p = np.empty(8)
+    q = np.empty(8)
+    lx = np.empty(16)
+    mx = np.empty(16)
+    n_p = diff_product_expansion(bx, ax, cx, ax, p)
+    n_q = diff_product_expansion(by, ay, cy, ay, q)
+    n_l = compress_expansion(lx, expansion_sum(p, n_p, q, n_q, lx), lx)
+    n_p = diff_product_expansion(cx, bx, cx, ax, p)
+    n_q = diff_product_expansion(cy, by, cy, ay, q)
+    n_m = compress_expansion(mx, expansion_sum(p, n_p, q, n_q, mx), mx)
+    dwa = np.empty(2)
+    dwc = np.empty(2)
+    n_dwa = diff_expansion(aw, bw, dwa)
+    n_dwc = diff_expansion(cw, bw, dwc)
+    t1 = np.empty(2 * n_m * n_dwa)
+    n1 = expansion_product(mx, n_m, dwa, n_dwa, t1)
+    t2 = np.empty(2 * n_l * n_dwc)
+    n2 = expansion_product(lx, n_l, dwc, n_dwc, t2)
+    t3 = np.empty(2 * n_l * n_m)
+    n3 = expansion_product(lx, n_l, mx, n_m, t3)
+    s = np.empty(n1 + n2)
+    ns = compress_expansion(s, expansion_sum(t1, n1, t2, n2, s), s)
+    f = np.empty(ns + n3)
+    nf = expansion_diff(s, ns, t3, n3, f)
+    return expansion_sign(f, nf)
+
+
+@njit(cache=True)
+def collinear_power_test(ax, ay, aw, bx, by, bw, cx, cy, cw):
+    """Exact sign of where weighted site b's lifted point lies against the chord of a's and c's,
+    for collinear sites a < b < c along their line (the caller's promise; not checked):
+    +1 above (b is hidden between a and c), 0 on it (hidden too: a line cell), -1 below
+    (b keeps a cell between them). Float filter, then expansion arithmetic; exact for
+    coordinates in [2**-100, 2**100) and weights in [2**-200, 2**200) in magnitude."""
+    bax = bx - ax
+    bay = by - ay
+    cax = cx - ax
+    cay = cy - ay
+    cbx = cx - bx
+    cby = cy - by
+    dwa = aw - bw
+    dwc = cw - bw
+    l1 = bax * cax
+    l2 = bay * cay
+    m1 = cbx * cax
+    m2 = cby * cay
+    el = l1 + l2
+    em = m1 + m2
+    f = (em * dwa + el * dwc) - el * em
+    labs = abs(l1) + abs(l2)
+    mabs = abs(m1) + abs(m2)
+    permanent = mabs * abs(dwa) + labs * abs(dwc) + labs * mabs
+    if abs(f) > COLLINEAR_POWER_ERRBOUND * permanent:
+        return (f > 0.0) - (f < 0.0)
+    return _collinear_power_exact(ax, ay, aw, bx, by, bw, cx, cy, cw)
+
+
+@njit(cache=True)
+def _lower_chain(xs, ys, ws, order, out):
+    """Monotone chain over ``order`` (sorted along the line): the lower hull of the lifted
+    points, popping the middle site while it is on or above the chord; writes the kept
+    sites to ``out`` and returns how many."""
+    k = 0
+    for i in order:
+        while k >= 2:
+            a = out[k - 2]
+            b = out[k - 1]
+            if collinear_power_test(xs[a], ys[a], ws[a], xs[b], ys[b], ws[b], xs[i], ys[i], ws[i]) < 0:
+                break
+            k -= 1
+        out[k] = i
+        k += 1
+    return k

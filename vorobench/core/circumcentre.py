@@ -21,7 +21,7 @@ from vorobench.core.predicates import (
     orient2d_expansion,
 )
 
-__all__ = ["circumcentre", "CANCELLATION_THRESHOLD"]
+__all__ = ["circumcentre", "power_centre", "CANCELLATION_THRESHOLD"]
 
 #: When a determinant or numerator keeps less than this fraction of the size of its terms,
 #: cancellation has eaten too many digits: it is recomputed exactly (expansion arithmetic).
@@ -101,6 +101,75 @@ def circumcentre(ax: float, ay: float, bx: float, by: float, cx: float, cy: floa
         ok, ux, uy = circumcentre_offsets_dd(ax, ay, bx, by, cx, cy)
         if not ok:
             ux, uy = _exact_offsets(ax, ay, bx, by, cx, cy)
+        return ax + ux, ay + uy
+    inv = 0.5 / det
+    return ax + num_x * inv, ay + num_y * inv
+
+
+@njit(cache=True)
+def _exact_power_offsets(ax, ay, aw, bx, by, bw, cx, cy, cw):
+    """Power centre minus a, from exact numerators and denominator (rounded once at the end):
+    |B|^2 and |C|^2 of the circumcentre become |B|^2 - (w_b - w_a) and |C|^2 - (w_c - w_a)."""
+    ebx = np.empty(2)
+    eby = np.empty(2)
+    ecx = np.empty(2)
+    ecy = np.empty(2)
+    ewb = np.empty(2)
+    ewc = np.empty(2)
+    nbx = diff_expansion(bx, ax, ebx)
+    nby = diff_expansion(by, ay, eby)
+    ncx = diff_expansion(cx, ax, ecx)
+    ncy = diff_expansion(cy, ay, ecy)
+    nwb = diff_expansion(bw, aw, ewb)
+    nwc = diff_expansion(cw, aw, ewc)
+    sb, nsb = _square_sum(ebx, nbx, eby, nby)
+    sc, nsc = _square_sum(ecx, ncx, ecy, ncy)
+    b2 = np.empty(nsb + nwb)
+    nb2 = expansion_diff(sb, nsb, ewb, nwb, b2)
+    c2 = np.empty(nsc + nwc)
+    nc2 = expansion_diff(sc, nsc, ewc, nwc, c2)
+    num_x = _cross_numerator(ecy, ncy, b2, nb2, eby, nby, c2, nc2)
+    num_y = _cross_numerator(ebx, nbx, c2, nc2, ecx, ncx, b2, nb2)
+    h = np.empty(ORIENT2D_EXPANSION_MAX)
+    det = estimate(h, orient2d_expansion(ax, ay, bx, by, cx, cy, h))
+    return num_x / (2.0 * det), num_y / (2.0 * det)
+
+
+@njit(cache=True)
+def power_centre(ax: float, ay: float, aw: float, bx: float, by: float, bw: float, cx: float, cy: float,
+                 cw: float):
+    """The point (x, y) of equal power |x - p|^2 - w with respect to a, b and c (not collinear):
+    a vertex of the power diagram.
+
+    The same arithmetic as :func:`circumcentre` with the squared lengths |b - a|^2, |c - a|^2
+    lowered by the weight differences, so equal weights give the circumcentre bit for bit
+    (the differences are exactly 0); under cancellation the quotient's parts are computed
+    exactly and rounded once.
+    """
+    if aw == bw and aw == cw:
+        return circumcentre(ax, ay, bx, by, cx, cy)
+    bx_ = bx - ax
+    by_ = by - ay
+    cx_ = cx - ax
+    cy_ = cy - ay
+    b2 = bx_ * bx_ + by_ * by_ - (bw - aw)
+    c2 = cx_ * cx_ + cy_ * cy_ - (cw - aw)
+    d1 = bx_ * cy_
+    d2 = by_ * cx_
+    x1 = cy_ * b2
+    x2 = by_ * c2
+    y1 = bx_ * c2
+    y2 = cx_ * b2
+    det = d1 - d2
+    num_x = x1 - x2
+    num_y = y1 - y2
+    scale_b = bx_ * bx_ + by_ * by_ + abs(bw - aw)
+    scale_c = cx_ * cx_ + cy_ * cy_ + abs(cw - aw)
+    if (abs(det) <= CANCELLATION_THRESHOLD * (abs(d1) + abs(d2))
+            or abs(num_x) <= CANCELLATION_THRESHOLD * (abs(cy_) * scale_b + abs(by_) * scale_c)
+            or abs(num_y) <= CANCELLATION_THRESHOLD * (abs(bx_) * scale_c + abs(cx_) * scale_b)
+            or abs(b2) <= CANCELLATION_THRESHOLD * scale_b or abs(c2) <= CANCELLATION_THRESHOLD * scale_c):
+        ux, uy = _exact_power_offsets(ax, ay, aw, bx, by, bw, cx, cy, cw)
         return ax + ux, ay + uy
     inv = 0.5 / det
     return ax + num_x * inv, ay + num_y * inv

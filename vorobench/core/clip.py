@@ -30,8 +30,9 @@ def clip_convex(poly: NDArray[np.float64], anchor: NDArray[np.float64],
 
 
 def polygon_area(poly: NDArray[np.float64]) -> float:
-    """Signed area (positive for counter-clockwise) by the shoelace formula."""
+    """Signed area (positive for counter-clockwise) by the shoelace formula, taken relative to
+    the first corner so that coordinates far from the origin (1e9 + small) keep their digits."""
     if poly.shape[0] < 3:
         return 0.0
-    x, y = poly[:, 0], poly[:, 1]
+    x, y = poly[:, 0] - poly[0, 0], poly[:, 1] - poly[0, 1]
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))

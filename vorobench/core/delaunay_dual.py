@@ -7,6 +7,10 @@ circumcentre: neighbours whose fourth site is exactly cocircular (incircle == 0)
 into one vertex (union-find), and the Delaunay edges inside the group give no Voronoi edge.
 So the output has one vertex of degree >= 4 per empty circle through 4 or more sites and no
 zero-length edges. Its coordinates come from the three smallest site ids on the circle.
+
+The power diagram is dual to a regular triangulation in the same way (:func:`power_dcel`):
+vertices at power centres, neighbours merged when their four lifted points are coplanar, and
+sites whose cell has no interior (lift not a vertex of the lower hull) left without half-edges.
 """
 
 from __future__ import annotations
@@ -14,11 +18,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from vorobench.core.circumcentre import circumcentre
-from vorobench.core.predicates import incircle_counted
+from vorobench.core.circumcentre import circumcentre, power_centre
+from vorobench.core.predicates import incircle_counted, orient2d_counted, power_test_counted
 from vorobench.core.union_find import find
 
-__all__ = ["voronoi_vertices", "voronoi_edges", "voronoi_dcel"]
+__all__ = ["voronoi_vertices", "voronoi_edges", "voronoi_dcel", "power_vertices", "power_dcel",
+           "VISIBLE", "FLAT", "THROUGH"]
 
 
 @njit(cache=True)
@@ -275,3 +280,302 @@ def voronoi_dcel(pts, ids, tri, opp, ntri, counters):
         nxt[h] = hid[f]
     twin = np.arange(H, dtype=np.int32) ^ 1
     return vertices, origin, twin, nxt, site, merged
+
+
+# ---------------------------------------------------------------------------------------------
+# Power diagrams: the dual of a regular triangulation
+#
+# A regular triangulation is the projection of the lower hull of the lifted points
+# (x, y, x**2 + y**2 - w). Neighbouring triangles whose four lifts are coplanar lie in one facet
+# of that hull and give one power vertex (union-find, as for cocircular Delaunay triangles). A
+# vertex of the triangulation may still fail to be a vertex of the hull once facets are merged
+# (its lift was inserted exactly onto a later facet or edge): its power cell has no interior, so
+# the site is hidden. Around such a site v, the merged facets number
+# * one (v's lift inside a facet): no edge of v separates two power vertices: no half-edge;
+# * two, v inside the triangulation (v's lift inside an edge of the hull, the segment between
+#   the lifts of two hull vertices u and x, through v and maybe more such sites): the power edge
+#   between u and x is dual to the chain u - v - ... - x; it is made from the half-edges of
+#   u -> v and x -> (last site before x), paired as twins ("through" sites);
+# * one, v on the convex hull between collinear hull neighbours: likewise, a ray.
+# Everything else is an ordinary site. A vertex's coordinates come from the three smallest ids
+# among the visible sites around it (the corners of its facet), never three collinear sites.
+# ---------------------------------------------------------------------------------------------
+
+#: Site classes of :func:`power_vertices` (``state``): an ordinary site (or one absent from the
+#: triangulation), a vertex whose lift lies inside a facet of the lower hull, one inside an edge.
+VISIBLE = 0
+FLAT = 1
+THROUGH = 2
+
+
+@njit(cache=True)
+def _power_centre_of(pts, w, ids, a, b, c):
+    # the power centre computed from a, b, c in increasing site id (the rule of the module)
+    a, b, c = _by_id(ids, a, b, c)
+    return power_centre(pts[a, 0], pts[a, 1], w[a], pts[b, 0], pts[b, 1], w[b], pts[c, 0], pts[c, 1], w[c])
+
+
+@njit(cache=True, inline='always')
+def _coplanar_across(pts, w, tri, t, d, counters):
+    """Whether d's lift lies on the plane of the lifts of finite triangle t's corners."""
+    a = tri[3 * t]
+    b = tri[3 * t + 1]
+    c = tri[3 * t + 2]
+    return power_test_counted(pts[a, 0], pts[a, 1], w[a], pts[b, 0], pts[b, 1], w[b], pts[c, 0], pts[c, 1], w[c],
+                              pts[d, 0], pts[d, 1], w[d], counters) == 0
+
+
+@njit(cache=True)
+def power_vertices(pts, w, ids, tri, opp, ntri, counters):
+    """The power vertex of every triangle of a regular triangulation: (vid, vertices, merged,
+    state, through).
+
+    ``vid[t]``: triangle t's vertex (-1 for a ghost), shared by neighbours with coplanar lifts;
+    ``merged`` counts triangles folded into a neighbour's vertex; ``state[v]`` classes point v
+    (:data:`VISIBLE`, :data:`FLAT`, :data:`THROUGH`) and ``through[v]`` holds a through site's two
+    half-edges that separate different vertices. One pass when no two neighbours are coplanar
+    (then every vertex of the triangulation is visible); the first coplanar pair found hands
+    over to :func:`_merged_power_vertices`. ``counters`` needs the power-test entries.
+    """
+    n = pts.shape[0]
+    inf = n
+    vid = np.full(ntri, -1, dtype=np.int64)
+    vertices = np.empty((ntri, 2), dtype=np.float64)
+    nv = 0
+    for t in range(ntri):
+        a = tri[3 * t]
+        b = tri[3 * t + 1]
+        c = tri[3 * t + 2]
+        if a == inf or b == inf or c == inf:
+            continue
+        x, y = _power_centre_of(pts, w, ids, a, b, c)
+        vertices[nv, 0] = x
+        vertices[nv, 1] = y
+        vid[t] = nv
+        nv += 1
+    tests = np.zeros_like(counters)        # added to counters only if this pass completes
+    for e in range(3 * ntri):
+        oe = opp[e]
+        if oe < e:
+            continue
+        t = e // 3
+        t2 = oe // 3
+        if vid[t] < 0 or vid[t2] < 0:
+            continue
+        d = tri[3 * t2 + (oe - 3 * t2 + 2) % 3]
+        if _coplanar_across(pts, w, tri, t, d, tests):
+            return _merged_power_vertices(pts, w, ids, tri, opp, ntri, counters)
+    counters += tests
+    return vid, vertices[:nv], 0, np.zeros(n, dtype=np.int8), np.full((n, 2), -1, dtype=np.int64)
+
+
+@njit(cache=True)
+def _classify_sites(pts, tri, opp, ntri, group, counters):
+    """(state, through): count, around each vertex v of the triangulation, its out-edges whose two
+    sides belong to different groups (ghosts form group -1). None: FLAT; two, v interior or a hull
+    site between collinear hull neighbours: THROUGH, those two edges kept; else VISIBLE."""
+    n = pts.shape[0]
+    state = np.zeros(n, dtype=np.int8)
+    through = np.full((n, 2), -1, dtype=np.int64)
+    corner = np.full(n + 1, -1, dtype=np.int64)
+    for e in range(3 * ntri):
+        corner[tri[e]] = e
+    for v in range(n):
+        e0 = corner[v]
+        if e0 < 0:
+            continue
+        e = e0
+        count = 0
+        hull = False
+        for _ in range(3 * ntri):
+            t = e // 3
+            k = e - 3 * t
+            g_left = group[t]
+            g_right = group[opp[e] // 3]
+            if g_left < 0:
+                hull = True
+            if g_left != g_right:
+                if count < 2:
+                    through[v, count] = e
+                count += 1
+            e = opp[3 * t + (k + 2) % 3]
+            if e == e0:
+                break
+        if count == 0:
+            state[v] = FLAT
+        elif count == 2:
+            if hull:
+                # the two separating edges are the hull edges v -> u and v -> x
+                e1 = through[v, 0]
+                e2 = through[v, 1]
+                u = tri[3 * (e1 // 3) + (e1 % 3 + 1) % 3]
+                x = tri[3 * (e2 // 3) + (e2 % 3 + 1) % 3]
+                if orient2d_counted(pts[u, 0], pts[u, 1], pts[v, 0], pts[v, 1], pts[x, 0], pts[x, 1], counters) == 0:
+                    state[v] = THROUGH
+            else:
+                state[v] = THROUGH
+        if state[v] != THROUGH:
+            through[v, 0] = -1
+            through[v, 1] = -1
+    return state, through
+
+
+@njit(cache=True)
+def _merged_power_vertices(pts, w, ids, tri, opp, ntri, counters):
+    """:func:`power_vertices` when some neighbours have coplanar lifts: union-find over them, the
+    sites classified, one vertex per group from its visible corners."""
+    n = pts.shape[0]
+    inf = n
+    parent = np.arange(ntri)
+    ghost = np.zeros(ntri, dtype=np.bool_)
+    for t in range(ntri):
+        ghost[t] = _is_ghost(tri, t, inf)
+    merged = 0
+    for e in range(3 * ntri):
+        oe = opp[e]
+        if oe < e:
+            continue
+        t = e // 3
+        t2 = oe // 3
+        if ghost[t] or ghost[t2]:
+            continue
+        d = tri[3 * t2 + (oe - 3 * t2 + 2) % 3]
+        if _coplanar_across(pts, w, tri, t, d, counters):
+            r1 = find(parent, t)
+            r2 = find(parent, t2)
+            if r1 != r2:
+                parent[max(r1, r2)] = min(r1, r2)
+                merged += 1
+    group = np.full(ntri, -1, dtype=np.int64)
+    for t in range(ntri):
+        if not ghost[t]:
+            group[t] = find(parent, t)
+    state, through = _classify_sites(pts, tri, opp, ntri, group, counters)
+    # ---- the three visible corners of smallest site id of each group
+    low = np.full((ntri, 3), -1, dtype=np.int64)
+    nlow = np.zeros(ntri, dtype=np.int64)
+    for t in range(ntri):
+        r = group[t]
+        if r < 0:
+            continue
+        for k in range(3):
+            s = tri[3 * t + k]
+            if state[s] != VISIBLE or s == low[r, 0] or s == low[r, 1] or s == low[r, 2]:
+                continue
+            if nlow[r] < 3:
+                low[r, nlow[r]] = s
+                nlow[r] += 1
+                if nlow[r] == 3:
+                    _sort3_by_id(low, r, low[r, 0], low[r, 1], low[r, 2], ids)
+            else:
+                _insert_by_id(low, r, s, ids)
+    vid = np.full(ntri, -1, dtype=np.int64)
+    nv = 0
+    for t in range(ntri):
+        if group[t] == t:
+            vid[t] = nv
+            nv += 1
+    vertices = np.empty((nv, 2), dtype=np.float64)
+    for t in range(ntri):
+        if vid[t] < 0:
+            continue
+        if nlow[t] < 3:
+            raise RuntimeError("power_vertices: a facet of the lower hull has fewer than three visible corners")
+        x, y = _power_centre_of(pts, w, ids, low[t, 0], low[t, 1], low[t, 2])
+        vertices[vid[t], 0] = x
+        vertices[vid[t], 1] = y
+    for t in range(ntri):
+        if group[t] >= 0:
+            vid[t] = vid[group[t]]
+    return vid, vertices, merged, state, through
+
+
+@njit(cache=True, inline='always')
+def _head(tri, e):
+    """The vertex half-edge e points to."""
+    t = e // 3
+    return tri[3 * t + (e - 3 * t + 1) % 3]
+
+
+@njit(cache=True)
+def _across_chain(tri, e, state, through, n):
+    """For e = u -> v with v a THROUGH site: the last half-edge y -> x of the straight chain of
+    through sites u - v - ... - y - x (x not a through site); its twin x -> y is the twin of
+    e's power half-edge."""
+    prev = tri[e]
+    cur = _head(tri, e)
+    for _ in range(n):
+        # leave cur by its separating edge that does not lead back to prev
+        out = through[cur, 0]
+        if _head(tri, out) == prev:
+            out = through[cur, 1]
+        x = _head(tri, out)
+        if state[x] != THROUGH:
+            return out
+        prev = cur
+        cur = x
+    raise RuntimeError("power_dcel: a chain of through sites does not end")
+
+
+@njit(cache=True)
+def power_dcel(pts, w, ids, tri, opp, ntri, counters):
+    """The power diagram dual to a regular triangulation (ghosts included, as in
+    :func:`voronoi_dcel`) as DCEL arrays: (vertices, origin, twin, next, site, merged, degenerate).
+
+    ``pts``, ``w``: the weighted points the triangulation indexes, ``ids[v]`` their site ids. As in
+    :func:`voronoi_dcel`, each Delaunay half-edge u -> v separating two different vertices gives
+    cell u's half-edge from the vertex on its right to the one on its left, followed around u by
+    turning through the triangles; its twin is the half-edge of v -> u, or, when v is a through
+    site, of the half-edge closing the chain of through sites. Sites absent from the
+    triangulation and FLAT or THROUGH sites get no half-edge (hidden); ``degenerate`` counts
+    the latter two. ``counters`` needs the power-test entries.
+    """
+    n = pts.shape[0]
+    inf = n
+    vid, vertices, merged, state, through = power_vertices(pts, w, ids, tri, opp, ntri, counters)
+    m = 3 * ntri
+    hid = np.full(m, -1, dtype=np.int32)
+    pairs = 0
+    for e in range(m):
+        if hid[e] >= 0:
+            continue
+        oe = opp[e]
+        t = e // 3
+        a = tri[e]
+        b = tri[3 * t + (e - 3 * t + 1) % 3]
+        if a == inf or b == inf or vid[t] == vid[oe // 3] or state[a] != VISIBLE:
+            continue
+        partner = oe
+        if state[b] == THROUGH:
+            partner = opp[_across_chain(tri, e, state, through, n)]
+        elif state[b] != VISIBLE:
+            raise RuntimeError("power_dcel: a flat site on an edge between two power vertices")
+        hid[e] = 2 * pairs
+        hid[partner] = 2 * pairs + 1
+        pairs += 1
+    degenerate = 0
+    for v in range(n):
+        if state[v] != VISIBLE:
+            degenerate += 1
+    H = 2 * pairs
+    origin = np.empty(H, dtype=np.int32)
+    nxt = np.empty(H, dtype=np.int32)
+    site = np.empty(H, dtype=np.int32)
+    for e in range(m):
+        h = hid[e]
+        if h < 0:
+            continue
+        t = e // 3
+        origin[h] = vid[opp[e] // 3]
+        site[h] = ids[tri[e]]
+        f = opp[3 * t + (e - 3 * t + 2) % 3]
+        for _ in range(m):
+            if hid[f] >= 0:
+                break
+            g = f // 3
+            f = opp[3 * g + (f - 3 * g + 2) % 3]
+        if hid[f] < 0:
+            raise RuntimeError("power_dcel: a cell does not close up")
+        nxt[h] = hid[f]
+    twin = np.arange(H, dtype=np.int32) ^ 1
+    return vertices, origin, twin, nxt, site, merged, degenerate

@@ -21,16 +21,14 @@ from numpy.typing import NDArray
 
 from vorobench.core.cell_cycles import cell_cycles
 from vorobench.core.clip import clip_convex
+from vorobench.core.errors import InvalidDiagramError
+from vorobench.core.framing import site_box
 
 __all__ = ["Diagram", "InvalidDiagramError"]
 
 _FIELDS = ("sites", "vertices", "origin", "twin", "next", "site")
-_INPUT_FIELDS = ("input_points", "input_site")
+_INPUT_FIELDS = ("input_points", "input_site", "weights")
 _FORMAT_VERSION = 1
-
-
-class InvalidDiagramError(ValueError):
-    """A DCEL invariant is broken; the message names the invariant and the ids involved."""
 
 
 def _first(mask: NDArray[np.bool_]) -> int:
@@ -49,6 +47,9 @@ class Diagram:
     ``input_points`` and ``input_site`` optionally keep the caller's rows, duplicates
     included, and the site of each row (:func:`impls.build` and :meth:`from_scipy` fill them),
     so that ``points`` and ``point_region`` have one entry per input row, as in scipy.
+
+    ``weights`` (one per site) makes it a power diagram: the power of x with respect to site
+    i is |x - p_i|^2 - w_i, and a *hidden* site (its cell is empty) has no half-edge.
     """
 
     sites: NDArray[np.float64]
@@ -59,6 +60,7 @@ class Diagram:
     site: NDArray[np.integer]
     input_points: Optional[NDArray[np.float64]] = field(default=None, repr=False)
     input_site: Optional[NDArray[np.integer]] = field(default=None, repr=False)
+    weights: Optional[NDArray[np.float64]] = field(default=None, repr=False)
 
     #: scipy's ``Voronoi.furthest_site``: these are nearest-site diagrams (read by
     #: ``scipy.spatial.voronoi_plot_2d``).
@@ -73,6 +75,8 @@ class Diagram:
             rows = np.asarray(self.input_points).reshape(-1, 2).shape[0]
             if np.shape(self.input_site) != (rows,):
                 raise ValueError(f"input_site has shape {np.shape(self.input_site)}, input_points has {rows} rows")
+        if self.weights is not None and np.shape(self.weights) != (np.shape(self.sites)[0],):
+            raise ValueError(f"weights has shape {np.shape(self.weights)}, there are {np.shape(self.sites)[0]} sites")
 
     def with_input(self, points: NDArray[np.float64], inverse: NDArray[np.integer]) -> "Diagram":
         """The same diagram remembering the caller's rows ``points`` and the site ``inverse[i]``
@@ -82,7 +86,14 @@ class Diagram:
         if inverse.size and (inverse.min() < 0 or inverse.max() >= self.n_sites):
             raise ValueError(f"inverse names sites outside [0, {self.n_sites})")
         return Diagram(self.sites, self.vertices, self.origin, self.twin, self.next, self.site,
-                       _read_only(points.copy()), _read_only(inverse.copy()))
+                       _read_only(points.copy()), _read_only(inverse.copy()), self.weights)
+
+    def with_weights(self, weights: Optional[NDArray[np.float64]]) -> "Diagram":
+        """The same DCEL as a power diagram of these site ``weights`` (None: ordinary)."""
+        if weights is not None:
+            weights = _read_only(np.array(weights, dtype=np.float64).reshape(-1))
+        return Diagram(self.sites, self.vertices, self.origin, self.twin, self.next, self.site,
+                       self.input_points, self.input_site, weights)
 
     @classmethod
     def from_scipy(cls, vor: Any) -> "Diagram":
@@ -93,8 +104,8 @@ class Diagram:
         dropped. Raises ``ValueError`` for anything but a 2-D nearest-site diagram and
         :class:`InvalidDiagramError` when its ridges do not close up into cells.
         """
-        # Imported here: the builder and prepare import this module.
-        from vorobench.core.builder import assemble
+        # Imported here: prepare compiles numba kernels, which an import of Diagram should not wait for.
+        from vorobench.core.half_edges import link_edges
         from vorobench.core.prepare import prepare
 
         for name in ("points", "vertices", "ridge_points", "ridge_vertices"):
@@ -110,17 +121,20 @@ class Diagram:
         ridge_sites = inverse[np.asarray(vor.ridge_points, dtype=np.int64).reshape(-1, 2)]
         ridge_vertices = np.asarray(vor.ridge_vertices, dtype=np.int64).reshape(-1, 2)
         keep = ridge_vertices[:, 0] != ridge_vertices[:, 1]       # a ridge collapsed to a point
-        diagram = assemble(sites, vertices, ridge_sites[keep], ridge_vertices[keep], oriented=False,
-                           compact_vertices=True)
-        return diagram.with_input(points, inverse)
+        if sites.shape[0] <= 1 or not keep.any():
+            raise ValueError(f"from_scipy needs a diagram with ridges; this one has {sites.shape[0]} distinct points")
+        arrays = link_edges(sites.shape[0], vertices, ridge_sites[keep], ridge_vertices[keep], sites=sites,
+                            oriented=False, compact_vertices=True)
+        return cls(sites, *arrays).with_input(points, inverse)
 
     # ------------------------------------------------------------------ construction
     @classmethod
-    def empty(cls, sites: NDArray[np.float64]) -> "Diagram":
-        """The diagram with no edges (n = 0 or 1)."""
+    def empty(cls, sites: NDArray[np.float64], weights: Optional[NDArray[np.float64]] = None) -> "Diagram":
+        """The diagram with no edges (n = 0 or 1; or one visible site of a power diagram)."""
         none = np.zeros(0, dtype=np.int64)
         return cls(np.asarray(sites, dtype=np.float64).reshape(-1, 2), np.zeros((0, 2)),
-                   none, none.copy(), none.copy(), none.copy())
+                   none, none.copy(), none.copy(), none.copy(),
+                   weights=None if weights is None else np.asarray(weights, dtype=np.float64).reshape(-1))
 
     # ------------------------------------------------------------------ sizes
     @property
@@ -138,6 +152,25 @@ class Diagram:
     @property
     def n_edges(self) -> int:
         return self.n_half_edges // 2
+
+    @property
+    def is_power(self) -> bool:
+        """Whether this is a power diagram (it has site weights)."""
+        return self.weights is not None
+
+    @cached_property
+    def hidden(self) -> NDArray[np.int64]:
+        """Sites with an empty cell (no half-edge): possible only in a power diagram, and for
+        every site of a diagram of one site or none; read-only."""
+        if self.n_half_edges == 0:
+            return _read_only(np.arange(self.n_sites if self.n_sites > 1 else 0, dtype=np.int64))
+        has_cell = np.bincount(np.asarray(self.site, dtype=np.int64), minlength=self.n_sites) > 0
+        return _read_only(np.flatnonzero(~has_cell).astype(np.int64))
+
+    @property
+    def n_visible(self) -> int:
+        """Number of sites with a non-empty cell."""
+        return self.n_sites - int(self.hidden.size)
 
     def counts(self) -> dict[str, int]:
         """Sizes as a dict: n (sites), V (vertices), E (edges), H (half-edges)."""
@@ -277,13 +310,17 @@ class Diagram:
 
     def cell_polygon(self, i: int, box: tuple[float, float, float, float] | None = None
                      ) -> NDArray[np.float64]:
-        """Cell i clipped to ``box`` = (xmin, ymin, xmax, ymax), as a CCW (k, 2) polygon.
+        """Cell i clipped to ``box`` = (xmin, ymin, xmax, ymax), as a CCW (k, 2) polygon
+        (default box: around the sites); empty for a hidden site.
 
-        The cell is the intersection of the left half-planes of its half-edges (each line
-        through the half-edge's finite end, or the sites' midpoint for a full line), so the
-        polygon reflects the diagram's own vertices.
+        The cell is the intersection of the left half-planes of its half-edges, each line
+        through the half-edge's end nearer its two sites (a floating-point library may place a
+        far-away vertex far off its line), or through their (power) bisector's point on the
+        line between them when both ends are at infinity. An edge and its twin choose the same
+        point, so neighbouring polygons share their corners exactly.
         """
-        box = box or self.bounding_box()
+        if box is None:
+            box = site_box(self)
         xmin, ymin, xmax, ymax = box
         poly = np.array([[xmin, ymin], [xmax, ymin], [xmax, ymax], [xmin, ymax]], dtype=np.float64)
         if self.n_sites == 1 and i == 0:
@@ -292,18 +329,29 @@ class Diagram:
         if hs.size == 0:
             return np.zeros((0, 2))
         direction = self.half_edge_direction(hs)
-        start, end = self.origin[hs], self.origin[self.twin[hs]]
         a, b = self.sites[self.site[hs]], self.sites[self.site[self.twin[hs]]]
         anchor = 0.5 * (a + b)
+        if self.weights is not None:
+            # a power bisector passes the midpoint moved by (w_a - w_b) / (2 |b - a|^2) of b - a
+            w = np.asarray(self.weights, dtype=np.float64)
+            t = 0.5 * (w[self.site[hs]] - w[self.site[self.twin[hs]]]) / ((b - a) ** 2).sum(axis=1)
+            anchor = anchor + t[:, None] * (b - a)
         if self.n_vertices:
-            anchor = np.where((end >= 0)[:, None], self.vertices[np.maximum(end, 0)], anchor)
-            anchor = np.where((start >= 0)[:, None], self.vertices[np.maximum(start, 0)], anchor)
+            start, end = self.origin[hs], self.origin[self.twin[hs]]
+            ps, pe = self.vertices[np.maximum(start, 0)], self.vertices[np.maximum(end, 0)]
+            mid = 0.5 * (a + b)
+            ds = np.where(start >= 0, ((ps - mid) ** 2).sum(axis=1), np.inf)
+            de = np.where(end >= 0, ((pe - mid) ** 2).sum(axis=1), np.inf)
+            # ties go to the vertex with the smaller id, the same choice from either side
+            use_start = (ds < de) | ((ds == de) & (start <= end) & (start >= 0))
+            anchor = np.where(use_start[:, None], ps, np.where((end >= 0)[:, None], pe, anchor))
         return clip_convex(poly, anchor, direction)
 
     def polygons(self, box: tuple[float, float, float, float] | None = None
                  ) -> list[NDArray[np.float64]]:
-        """Every cell clipped to ``box`` (default: bounding box of sites and vertices)."""
-        box = box or self.bounding_box()
+        """Every cell clipped to ``box`` (default: around the sites)."""
+        if box is None:
+            box = site_box(self)
         return [self.cell_polygon(i, box) for i in range(self.n_sites)]
 
     # ------------------------------------------------------------------ export and drawing
@@ -366,7 +414,11 @@ class Diagram:
         if not np.isfinite(v).all():
             raise InvalidDiagramError(f"vertex {_first(~np.isfinite(v).all(axis=1))} is not finite")
         n, V = self.n_sites, self.n_vertices
-        if n <= 1:
+        if self.weights is not None:
+            w = np.asarray(self.weights)
+            if w.shape != (n,) or not np.isfinite(w).all():
+                raise InvalidDiagramError(f"weights must be {n} finite numbers, got shape {w.shape}")
+        if n <= 1 or (self.weights is not None and H == 0):
             if H or V:
                 raise InvalidDiagramError(f"n = {n} must give no half-edges or vertices, got H={H}, V={V}")
             return self
@@ -408,15 +460,17 @@ class Diagram:
                 f"half-edge {k} ends at vertex {int(dest[k])} but next[{k}] = {int(nxt[k])} starts at vertex "
                 f"{int(origin[nxt[k]])} (-1 = infinity)")
         has_cell = np.bincount(site, minlength=n) > 0
-        if not has_cell.all():
+        if not has_cell.all() and self.weights is None:
             raise InvalidDiagramError(f"site {_first(~has_cell)} has no cell (no half-edge bounds it)")
+        visible = int(has_cell.sum())      # a power diagram's hidden sites have no cell
         cycles, labels = _cycle_labels(nxt)
-        if cycles != n:
+        if cycles != visible:
             _, first_of_cycle = np.unique(labels, return_index=True)
             per_cell = np.bincount(site[first_of_cycle], minlength=n)
-            k = _first(per_cell != 1)
+            k = _first((per_cell != 1) & has_cell)
             raise InvalidDiagramError(
-                f"next must form one cycle per cell: {cycles} cycles for {n} cells; cell {k} has {int(per_cell[k])}")
+                f"next must form one cycle per cell: {cycles} cycles for {visible} cells; cell {k} has "
+                f"{int(per_cell[k])}")
         used = np.zeros(V, dtype=bool)
         used[origin[origin >= 0]] = True
         if not used.all():

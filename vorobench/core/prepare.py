@@ -6,9 +6,9 @@ import numpy as np
 from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
-from vorobench.core.scaling import check_exact_range
+from vorobench.core.scaling import check_exact_range, check_weight_range
 
-__all__ = ["prepare"]
+__all__ = ["prepare", "prepare_weighted"]
 
 
 def _as_real_array(points: ArrayLike) -> NDArray[np.float64]:
@@ -105,3 +105,30 @@ def prepare(points: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
     if firsts.size == n:
         return arr, np.arange(n, dtype=np.intp)
     return np.ascontiguousarray(arr[firsts]), inverse
+
+
+def prepare_weighted(points: ArrayLike, weights: ArrayLike
+                     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]:
+    """:func:`prepare` for weighted sites: ``(sites, site_weights, inverse)``.
+
+    ``weights`` holds one real, finite number per input row (the power of x with respect to
+    site i is |x - p_i|^2 - w_i). Equal rows become one site, which keeps the largest of
+    their weights: the others' cells would be empty under it. Raises ``ValueError`` naming
+    the problem and the first offending row.
+    """
+    sites, inverse = prepare(points)
+    w = _as_real_array(weights)
+    if w.ndim != 1 or w.shape[0] != inverse.shape[0]:
+        raise ValueError(f"weights must have shape ({inverse.shape[0]},), one per point, got shape {w.shape}")
+    w = np.asarray(w, dtype=np.float64)
+    finite = np.isfinite(w)
+    if not finite.all():
+        row = int(np.flatnonzero(~finite)[0])
+        raise ValueError(f"weights must be finite: row {row} is {w[row]} ({int((~finite).sum())} non-finite in all)")
+    if sites.shape[0] == w.shape[0]:
+        site_weights = w + 0.0
+    else:
+        site_weights = np.full(sites.shape[0], -np.inf)
+        np.maximum.at(site_weights, inverse, w)
+    check_weight_range(sites, site_weights)
+    return sites, np.ascontiguousarray(site_weights), inverse

@@ -57,7 +57,8 @@ from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["OutsideExactRange", "EXACT_MIN_EXPONENT", "EXACT_MAX_EXPONENT", "EXACT_EXPONENT_SPAN",
            "RANGE_TEXT", "magnitude_range", "check_exact_range", "exact_shift", "comfortable_shift",
-           "scale_points", "scale_back_vertices", "smallest_normal", "exact_range_sites"]
+           "scale_points", "scale_back_vertices", "smallest_normal", "exact_range_sites",
+           "WEIGHT_MIN_EXPONENT", "WEIGHT_MAX_EXPONENT", "check_weight_range", "scale_weights"]
 
 #: frexp exponents e (|x| in [2**(e-1), 2**e)) of nonzero coordinates where the predicates are
 #: exact: |x| in [2**-100, 2**100).
@@ -65,6 +66,12 @@ EXACT_MIN_EXPONENT = -99
 EXACT_MAX_EXPONENT = 100
 #: Largest difference of frexp exponents that one power-of-two scaling fits into the range.
 EXACT_EXPONENT_SPAN = EXACT_MAX_EXPONENT - EXACT_MIN_EXPONENT
+
+#: frexp exponents of nonzero weights where the power predicates are exact, once the sites are
+#: in the exact range and the weights scaled with them (by 2**(2k)): |w| in [2**-200, 2**200),
+#: the range of squared coordinates (a weight is a squared length).
+WEIGHT_MIN_EXPONENT = -199
+WEIGHT_MAX_EXPONENT = 200
 
 #: The rule in words, for error messages.
 RANGE_TEXT = ("the exact range: nonzero coordinate magnitudes must fit in [2**-100, 2**100) "
@@ -183,3 +190,26 @@ def exact_range_sites(sites: NDArray[np.float64]) -> tuple[NDArray[np.float64], 
     except OutsideExactRange as exc:
         return sites, str(exc)
     return (scale_points(sites, shift) if shift else sites), None
+
+
+def scale_weights(weights: NDArray[np.float64], k: int) -> NDArray[np.float64]:
+    """``weights * 2**(2k)``: the weights of ``sites * 2**k`` (a weight is a squared length)."""
+    return np.ascontiguousarray(np.ldexp(np.asarray(weights, dtype=np.float64), 2 * k))
+
+
+def check_weight_range(sites: ArrayLike, weights: ArrayLike) -> None:
+    """:class:`OutsideExactRange` naming the first weight whose magnitude, once the sites are
+    placed in the exact range (:func:`exact_shift`) and the weights scaled with them, lies
+    outside [2**-200, 2**200), where the power predicates are exact."""
+    w = np.asarray(weights, dtype=np.float64).reshape(-1)
+    hi, lo = magnitude_range(w)
+    if hi == 0:
+        return
+    k = exact_shift(sites)
+    if _exponent(hi) + 2 * k <= WEIGHT_MAX_EXPONENT and _exponent(lo) + 2 * k >= WEIGHT_MIN_EXPONENT:
+        return
+    bad = hi if _exponent(hi) + 2 * k > WEIGHT_MAX_EXPONENT else lo
+    row = int(np.flatnonzero(np.abs(w) == bad)[0])
+    raise OutsideExactRange(
+        f"weight {bad:.6g} (site {row}) is outside the exact range of weights: with the sites scaled "
+        f"by 2**{k}, nonzero weight magnitudes must lie in [2**-200, 2**200) after scaling by 2**{2 * k}")

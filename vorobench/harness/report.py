@@ -26,7 +26,7 @@ from vorobench.harness.analysis import (
 )
 from vorobench.harness.markdown_text import one_line, text
 from vorobench.harness.report_html import PageInput, plotly_styles, render
-from vorobench.harness.results import load_checked, metadata_path, read_metadata
+from vorobench.harness.results import load_checked, metadata_path, read_metadata, with_weights_in_dataset
 from vorobench.harness.units import factor_text, percent_text, seconds_text, size_text
 
 __all__ = ["write_report", "Report", "reading", "busy_machine_note"]
@@ -73,11 +73,13 @@ def _md_table(header: list[str], rows: list[list[object]], align: Optional[str] 
     return "\n".join(lines)
 
 
-def _complexity(name: str) -> str:
+def _complexity(name: str) -> Optional[str]:
+    """The complexity ``name`` declares; None for one not registered here (a ``--plugin`` the
+    report was not given), whose growth is then reported unchecked."""
     try:
         return impls.get(name).complexity
     except Exception:  # an implementation that is not installed here is still reported
-        return "?"
+        return None
 
 
 # ------------------------------------------------------------------------------ reading
@@ -134,6 +136,9 @@ def reading(cases, sizes, exponents, ratios, reference: str, check=None, repeats
         declared = g["declared"].dropna()
         if declared.empty:
             points.append(text + "; no declared complexity to compare with.")
+            continue
+        if not np.isfinite(g["declared_exponent"].astype(float)).any():
+            points.append(text + f"; declared {_text(declared.iloc[0])}, not of the form O(n^a log^b n): unchecked.")
             continue
         expected = float(g["declared_exponent"].median())
         text += f"; declared {_text(declared.iloc[0])}, about n^{expected:.2f} over these sizes"
@@ -261,6 +266,7 @@ def write_report(results_path: str | Path, out: str | Path, title: Optional[str]
     """
     results_path, out = Path(results_path), Path(out)
     df = load_checked(results_path)            # ValueError naming the file if it holds no results
+    df = with_weights_in_dataset(df)            # weighted cases: datasets of their own, named so
     meta = read_metadata(results_path)
     out.mkdir(parents=True, exist_ok=True)
     runs = meta.get("runs", [])

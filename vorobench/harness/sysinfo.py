@@ -110,10 +110,27 @@ def machine_id() -> str:
     return hashlib.sha256("|".join(parts).encode()).hexdigest()[:12]
 
 
+def _entry_point_distribution(name: str) -> Optional[metadata.Distribution]:
+    """The installed distribution whose entry point in the group ``vorobench.impls`` is called
+    ``name`` (None if there is none)."""
+    try:
+        for ep in metadata.entry_points(group=impls.ENTRY_POINT_GROUP):
+            if ep.name == name and ep.dist is not None:
+                return ep.dist
+    except Exception:  # a broken installed distribution must not cost us the run
+        pass
+    return None
+
+
 def code_provenance(names: Sequence[str]) -> dict[str, dict[str, object]]:
     """Where each implementation's code comes from: its module, file, distribution and version,
     and the commit and dirty flag of the git tree holding its file (plugins under development
-    are usually in one); None where a piece cannot be found."""
+    are usually in one); None where a piece cannot be found.
+
+    The distribution is the one that installs the build function's top-level package; for an
+    implementation registered by an entry point, the entry point's own distribution when that
+    package has several owners or none (a build imported from another library, a partial).
+    """
     try:
         owners = metadata.packages_distributions()
     except Exception:  # a broken installed distribution must not cost us the run
@@ -124,14 +141,19 @@ def code_provenance(names: Sequence[str]) -> dict[str, dict[str, object]]:
                                    "commit": None, "dirty": None}
         try:
             build = impls.get(name).build
-            module = sys.modules.get(build.__module__)
-            info["module"] = build.__module__
+            module_name = str(getattr(build, "__module__", None) or "")
+            module = sys.modules.get(module_name)
+            info["module"] = module_name or None
             path = Path(getattr(module, "__file__", "") or "")
             if path.is_file():
                 info["file"] = str(path.resolve())
                 info.update(git_commit(path.resolve().parent))
-            dists = owners.get(build.__module__.split(".")[0], [])
-            if dists:
+            dists = owners.get(module_name.split(".")[0], []) if module_name else []
+            # A --plugin module registered in this process shadows an entry point of its name.
+            registrar = None if name in impls.registered() else _entry_point_distribution(name)
+            if registrar is not None and (len(dists) != 1 or registrar.name in dists):
+                info["distribution"], info["version"] = registrar.name, registrar.version
+            elif dists:
                 info["distribution"] = dists[0]
                 info["version"] = metadata.version(dists[0])
         except Exception:  # an implementation that cannot load is reported by the run itself

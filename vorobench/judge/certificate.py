@@ -27,6 +27,16 @@ for in every tolerance (``_Context.normal_min``). Sites whose magnitudes span mo
 range (1.0 with 1e-300) cannot be judged exactly: the structure check fails, saying so.
 Messages give coordinates in the diagram's own units.
 
+Power diagrams (a diagram with varying ``weights``): every check is the power version.
+Distances become *lifted distances* sqrt(|x - p|^2 - w + W), W the largest weight, whose
+order is the order of the powers |x - p|^2 - w (a k-d tree over (p_x, p_y, sqrt(W - w))
+finds the site of smallest power); vertices have equal power from their sites and no site
+of smaller power (the empty power circle: orthogonality), edge ends lie on the power
+bisector, Euler's relation counts the visible sites, the unbounded cells are the visible
+sites on the hull boundary and no hull corner is hidden, and probes (random points and the
+hidden sites' own positions) lie in the cell of their smallest power. A site need not lie in
+its own power cell, so that probe is left out.
+
 Geometric tolerances come from :mod:`vorobench.core.tolerances`. O(n log n).
 """
 
@@ -172,6 +182,11 @@ class _Context:
     #: why the sites cannot be judged exactly at any scale, or None
     range_problem: Optional[str] = None
     structure_ok: bool = False
+    #: power diagram: each site's weight (scaled by 2**(2 shift)) and W - w, the square of its
+    #: lift (W the largest weight); zeros and False for an ordinary diagram
+    weights: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0))
+    lift2: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0))
+    weighted: bool = False
     _tree: Any = None
     _lists: Optional[tuple[NDArray[np.int64], NDArray[np.int64]]] = None
 
@@ -186,9 +201,25 @@ class _Context:
 
     @property
     def tree(self):
+        """k-d tree of the sites; lifted to (x, y, sqrt(W - w)) for a power diagram, so that a
+        query at (x, y, 0) finds the site of smallest power."""
         if self._tree is None:
-            self._tree = cKDTree(self.sites, balanced_tree=False, compact_nodes=False)  # 3x faster build
+            points = self.sites if not self.weighted else np.column_stack([self.sites, np.sqrt(self.lift2)])
+            self._tree = cKDTree(points, balanced_tree=False, compact_nodes=False)  # 3x faster build
         return self._tree
+
+    def query(self, pts: NDArray[np.float64], k: int = 1):
+        """(lifted distances, site ids) of the k sites of smallest power at ``pts``."""
+        if self.weighted:
+            pts = np.column_stack([pts, np.zeros(pts.shape[0])])
+        return self.tree.query(pts, k=k, workers=-1)
+
+    @property
+    def visible(self) -> NDArray[np.bool_]:
+        """Sites with a cell (every site of an ordinary diagram with edges)."""
+        has = np.zeros(self.n, dtype=bool)
+        has[self.site] = True
+        return has
 
     @property
     def vertex_sites(self) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
@@ -226,14 +257,23 @@ def _check_structure(ctx: _Context) -> Check:
 
 
 @njit(cache=True)
-def _vertex_kernel(xy, sites, ptr, s, r_min, r_max, magnitude):
-    """Per vertex: smallest and largest distance to its sites, and the largest coordinate."""
+def _lifted_distance(px, py, sites, x, lift2, weighted):
+    """|p - site x|, or its lifted distance sqrt(|p - x|^2 + W - w_x) in a power diagram."""
+    if weighted:
+        dx, dy = px - sites[x, 0], py - sites[x, 1]
+        return np.sqrt(dx * dx + dy * dy + lift2[x])
+    return np.hypot(px - sites[x, 0], py - sites[x, 1])
+
+
+@njit(cache=True)
+def _vertex_kernel(xy, sites, ptr, s, r_min, r_max, magnitude, lift2, weighted):
+    """Per vertex: smallest and largest (lifted) distance to its sites, and the largest coordinate."""
     for v in range(ptr.size - 1):
         lo, hi = np.inf, 0.0
         mag = max(abs(xy[v, 0]), abs(xy[v, 1]))
         for j in range(ptr[v], ptr[v + 1]):
             x = s[j]
-            d = np.hypot(xy[v, 0] - sites[x, 0], xy[v, 1] - sites[x, 1])
+            d = _lifted_distance(xy[v, 0], xy[v, 1], sites, x, lift2, weighted)
             lo, hi = min(lo, d), max(hi, d)
             mag = max(mag, abs(sites[x, 0]), abs(sites[x, 1]))
         r_min[v], r_max[v], magnitude[v] = lo, hi, mag
@@ -247,7 +287,7 @@ def _check_vertices(ctx: _Context) -> Check:
         return Check("vertices", True, "no vertices")
     few = used[deg[used] < 3]
     r_min, r_max, mag = np.empty(ctx.V), np.empty(ctx.V), np.empty(ctx.V)
-    _vertex_kernel(ctx.xy, ctx.sites, ptr, s, r_min, r_max, mag)
+    _vertex_kernel(ctx.xy, ctx.sites, ptr, s, r_min, r_max, mag, ctx.lift2, ctx.weighted)
     r_min, r_max, mag = r_min[used], r_max[used], ctx.magnitude(mag[used])
     # Strict: relative to the vertex's own radius. Near-degenerate (a floating-point library
     # merging nearly cocircular sites): relative to the data scale.
@@ -257,7 +297,7 @@ def _check_vertices(ctx: _Context) -> Check:
     # Empty circle: no site strictly closer than the vertex's own (k-d tree nearest site).
     nearest = np.full(used.size, np.nan)
     finite = np.isfinite(ctx.xy[used]).all(axis=1)
-    nearest[finite] = ctx.tree.query(ctx.xy[used[finite]], workers=-1)[0]
+    nearest[finite] = ctx.query(ctx.xy[used[finite]])[0]
     closer = ~(nearest >= r_min - tol)
     spread = (r_max - r_min) / np.maximum(r_max, 1e-300)
     problems = []
@@ -282,7 +322,7 @@ def _check_vertices(ctx: _Context) -> Check:
 
 
 @njit(cache=True)
-def _edge_kernel(sites, xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, magnitude):
+def _edge_kernel(sites, xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, magnitude, lift2, weighted):
     """Per edge k (a's half-edge from vertex u to v, -1 = infinity):
     wrong_way[k]: not oriented along perp(b - a): some other site of u is not strictly right of
     a->b, or some other site of v not strictly left (exact); worst[k]: the largest distance of
@@ -303,7 +343,8 @@ def _edge_kernel(sites, xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, m
                     dist = abs((bx - ax) * (sites[x, 1] - ay) - (by - ay) * (sites[x, 0] - ax)) / length
                     worst[k] = max(worst[k], dist)
             px, py = xy[w, 0], xy[w, 1]
-            da, db = np.hypot(px - ax, py - ay), np.hypot(px - bx, py - by)
+            da = _lifted_distance(px, py, sites, aa, lift2, weighted)
+            db = _lifted_distance(px, py, sites, bb, lift2, weighted)
             if not abs(da - db) <= gap[k]:          # NaN (a non-finite vertex) sticks
                 gap[k] = abs(da - db)
                 radius[k] = max(da, db)
@@ -319,7 +360,7 @@ def _check_edges(ctx: _Context) -> Check:
     ptr, s = ctx.vertex_sites
     wrong_way = np.zeros(e.size, dtype=bool)
     worst, gap, radius, mag = (np.zeros(e.size) for _ in range(4))
-    _edge_kernel(ctx.sites, ctx.xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, mag)
+    _edge_kernel(ctx.sites, ctx.xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, mag, ctx.lift2, ctx.weighted)
     mag = ctx.magnitude(mag)
     off = ~(gap <= length_tolerance(EQUIDISTANCE_REL_TOL, radius, mag))     # NaN is off
     off_far = ~(gap <= length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(ctx.scale, radius), mag))
@@ -348,6 +389,8 @@ def _check_edges(ctx: _Context) -> Check:
 
 def _check_euler(ctx: _Context) -> Check:
     n, H = ctx.n, ctx.H
+    if ctx.weighted:                    # hidden sites have no cell: count the visible ones
+        n = int(ctx.visible.sum()) if H else min(n, 1)
     E = H // 2
     used = np.zeros(ctx.V, dtype=bool)
     used[ctx.origin[ctx.origin >= 0]] = True
@@ -362,7 +405,8 @@ def _check_euler(ctx: _Context) -> Check:
     comps = _count_components(np.append(used, True), u, w)
     value = V - E + n
     ok = value == 1 and comps == 1
-    detail = f"V - E + n = {V} - {E} + {n} = {value}" + ("" if value == 1 else " (expected 1)")
+    name = "n_visible" if ctx.weighted else "n"
+    detail = f"V - E + {name} = {V} - {E} + {n} = {value}" + ("" if value == 1 else " (expected 1)")
     detail += f"; {comps} connected component{'s' if comps != 1 else ''}" + ("" if comps == 1 else " (expected 1)")
     return Check("euler", ok, detail)
 
@@ -405,10 +449,29 @@ def _check_hull(ctx: _Context) -> Check:
     hull[polygon] = True
     unbounded = np.zeros(n, dtype=bool)
     unbounded[ctx.site[(ctx.origin < 0) | (ctx.dest < 0)]] = True
+    hidden_corners = np.zeros(0, dtype=np.int64)
+    if ctx.weighted:
+        if ctx.H == 0:
+            extreme = np.unique(polygon[[0, -1]]) if polygon.size else polygon
+            return Check("hull", False, "no edge, so at most one site has a cell, but the extreme sites of the hull "
+                         "always have one", _ids(extreme), "site")
+        # The lifted point of a hull corner is a vertex of the lower hull: never hidden. A site
+        # on a hull edge may be hidden; if visible, its cell is unbounded.
+        visible = ctx.visible
+        prev, nxt = np.roll(polygon, 1), np.roll(polygon, -1)
+        corner = np.array([orient2d(*ctx.sites[p], *ctx.sites[c], *ctx.sites[q]) != 0
+                           for p, c, q in zip(prev, polygon, nxt)], dtype=bool) if polygon.size > 2 else \
+            np.ones(polygon.size, dtype=bool)
+        hidden_corners = polygon[corner & ~visible[polygon]]
+        hull &= visible
     missing = np.flatnonzero(hull & ~unbounded)
     extra = np.flatnonzero(unbounded & ~hull)
+    if hidden_corners.size:
+        return Check("hull", False, f"{hidden_corners.size} corners of the convex hull are hidden (a hull corner "
+                     f"always has a cell)", _ids(hidden_corners), "site")
     if not (missing.size or extra.size):
-        return Check("hull", True, f"{int(hull.sum())} unbounded cells = sites on the convex-hull boundary")
+        what = "visible sites on the convex-hull boundary" if ctx.weighted else "sites on the convex-hull boundary"
+        return Check("hull", True, f"{int(hull.sum())} unbounded cells = {what}")
     # Near-degenerate: an interior site within tolerance of the hull boundary, or a hull site
     # within tolerance of the segment joining its two hull neighbours.
     limit = NEAR_DEGENERATE_REL_TOL * ctx.scale
@@ -450,7 +513,7 @@ _PROBE_NEIGHBOURS = 3
 
 @njit(cache=True)
 def _probe_kernel(pts, cell, cptr, by_cell, sites, xy, site, twin, origin, scale, normal_min, rel_tol, outside,
-                  strictly_inside):
+                  strictly_inside, weights):
     """Where probe pts[i] lies relative to the polygon of cell[i] as the diagram draws it: each
     half-edge h bounds the cell by the line through its finite end (the diagram's own
     vertex), or through the sites' midpoint for a full line, in direction perp(b - a), with
@@ -471,7 +534,11 @@ def _probe_kernel(pts, cell, cptr, by_cell, sites, xy, site, twin, origin, scale
             if w >= 0:
                 ax, ay = xy[w, 0], xy[w, 1]
             else:
-                ax, ay = 0.5 * (sites[a, 0] + sites[b, 0]), 0.5 * (sites[a, 1] + sites[b, 1])
+                # a full line: the (power) bisector, through the midpoint moved towards the
+                # lighter site by (w_a - w_b) / (2 |b - a|^2) of b - a
+                ex, ey = sites[b, 0] - sites[a, 0], sites[b, 1] - sites[a, 1]
+                t = 0.5 + 0.5 * (weights[a] - weights[b]) / (ex * ex + ey * ey)
+                ax, ay = sites[a, 0] + t * ex, sites[a, 1] + t * ey
             side = (dx * (py - ay) - dy * (px - ax)) / np.hypot(dx, dy)   # signed distance, + = left
             radius = np.hypot(ax - sites[a, 0], ay - sites[a, 1])
             tol = allowed_error(rel_tol, max(scale, radius), max(abs(px), abs(py), abs(ax), abs(ay), normal_min))
@@ -507,8 +574,17 @@ def _check_probes(ctx: _Context) -> Check:
     if n <= 1:
         return Check("probes", True, f"n = {n}: one cell is the whole plane")
     random = _random_probes(ctx)
+    if ctx.weighted:
+        # The hidden sites' own positions are probed too: were one wrongly hidden, its
+        # position may well be where its power is the smallest.
+        hidden = np.flatnonzero(~ctx.visible) if ctx.H else np.arange(n)
+        random = np.concatenate([random, ctx.sites[hidden]])
+        if ctx.H == 0:
+            owner = np.unique(ctx.query(random)[1])
+            return Check("probes", False, f"the diagram has no edge, but {owner.size} different sites have the "
+                         f"smallest power among {random.shape[0]} probes", _ids(owner), "site")
     k = min(n, 1 + _PROBE_NEIGHBOURS)
-    dist, near = ctx.tree.query(random, k=k, workers=-1)
+    dist, near = ctx.query(random, k=k)
     dist = dist.reshape(random.shape[0], k)
     near = near.reshape(random.shape[0], k).astype(np.int64)
     # Sites as near as the nearest one, to float precision, are ties: the probe may be in any
@@ -529,12 +605,14 @@ def _check_probes(ctx: _Context) -> Check:
     outside = np.zeros(pts.shape[0], dtype=bool)
     strictly_inside = np.zeros(pts.shape[0], dtype=bool)
     xy = ctx.xy if ctx.V else np.zeros((1, 2))
+    wt = ctx.weights if ctx.weighted else np.zeros(n)
     _probe_kernel(pts, cell, cptr, by_cell, ctx.sites, xy, ctx.site, ctx.twin, ctx.origin,
-                  ctx.scale, ctx.normal_min, PROBE_REL_TOL, outside, strictly_inside)
+                  ctx.scale, ctx.normal_min, PROBE_REL_TOL, outside, strictly_inside, wt)
     site_outside = np.zeros(n, dtype=bool)
-    site_outside[np.bincount(ctx.site, minlength=n) == 0] = True          # a site without a cell
-    _site_probe_kernel(ctx.sites, xy, ctx.site, ctx.twin, ctx.origin, ctx.scale, ctx.normal_min, PROBE_REL_TOL,
-                       site_outside)
+    if not ctx.weighted:                # a power cell need not hold its own site
+        site_outside[np.bincount(ctx.site, minlength=n) == 0] = True          # a site without a cell
+        _site_probe_kernel(ctx.sites, xy, ctx.site, ctx.twin, ctx.origin, ctx.scale, ctx.normal_min, PROBE_REL_TOL,
+                           site_outside)
     out_q = outside.reshape(-1, k)
     in_q = strictly_inside.reshape(-1, k)
     bad_own = np.flatnonzero(~(tie & ~out_q).any(axis=1))      # in no cell of a nearest site
@@ -560,6 +638,9 @@ def _check_probes(ctx: _Context) -> Check:
                          f"{int(near[q, 0])})")
             ids += _ids(near.reshape(-1)[bad_other])
         return Check("probes", False, "; ".join(parts), [int(i) for i in dict.fromkeys(ids)][:_MAX_IDS], "site")
+    if ctx.weighted:
+        return Check("probes", True, f"{random.shape[0]} probes ({ctx.probes} random, the rest at hidden sites) lie "
+                                     f"in the cell of their smallest power and no other of the {k} smallest")
     return Check("probes", True, f"{ctx.probes} random probes lie in their nearest site's cell and no other of "
                                  f"the {k} nearest; all {n} sites lie in their own cell")
 
@@ -604,6 +685,10 @@ def certify(diagram: Diagram, *, probes: int = DEFAULT_PROBES, seed: int = 0) ->
     ctx = _Context(d, sites, xy, origin, twin, np.asarray(d.site, np.int64), origin[twin], data_scale(sites),
                    d.n_sites, d.n_vertices, d.n_half_edges, seed, int(probes), shift, smallest_normal(shift),
                    range_problem)
+    if d.weights is not None and np.shape(d.weights) == (d.n_sites,):
+        w = np.ldexp(np.asarray(d.weights, np.float64), 2 * shift)
+        if w.size and not (w == w[0]).all():        # equal weights: the ordinary diagram
+            ctx.weights, ctx.lift2, ctx.weighted = w, w.max() - w, True
     checks = []
     for name in CHECKS:
         t0 = time.perf_counter_ns()

@@ -41,7 +41,7 @@ from scipy.sparse.csgraph import connected_components
 
 from vorobench.core.diagram import Diagram
 from vorobench.core.incidence import vertex_site_lists
-from vorobench.core.predicates import incircle, orient2d
+from vorobench.core.predicates import incircle, orient2d, power_test
 from vorobench.core.scaling import comfortable_shift, scale_points, smallest_normal
 from vorobench.core.sorting import argsort_keys, dense_rank, is_member, sorted_unique
 from vorobench.core.tolerances import (
@@ -62,6 +62,9 @@ VERDICTS = ("exact", "within_tolerance", "differs")
 #: Kinds of difference counted in :attr:`Comparison.counts`, with a readable label.
 DIFFERENCE_KINDS: dict[str, str] = {
     "site_mismatch": "sites only in one diagram",
+    "weight_mismatch": "sites whose weights differ (beyond one constant added to all)",
+    "hidden_only_in_a": "sites hidden (no cell) only in {a}",
+    "hidden_only_in_b": "sites hidden (no cell) only in {b}",
     "invalid_structure": "diagrams that are not valid DCELs",
     "vertices_only_in_a": "vertices (site sets) only in {a}",
     "vertices_only_in_b": "vertices (site sets) only in {b}",
@@ -222,7 +225,7 @@ def _structure_error(d: Diagram) -> Optional[str]:
         return f"vertex {int(np.flatnonzero(~finite)[0])} is not finite ({int((~finite).sum())} in all)"
     H = d.n_half_edges
     if H == 0:
-        return None if d.n_sites <= 1 else f"{d.n_sites} sites but no edges"
+        return None if d.n_sites <= 1 or d.weights is not None else f"{d.n_sites} sites but no edges"
     h = np.arange(H)
     twin, nxt, site, origin = (np.asarray(x, np.int64) for x in (d.twin, d.next, d.site, d.origin))
     for bad, text in (
@@ -259,24 +262,30 @@ class _Form:
     m_cv: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, np.int64))
 
 
-def _exactly_coincident(sites, xy, ptr, s, a, b, u, v, scale: float, normal_min: float) -> NDArray[np.bool_]:
+def _exactly_coincident(sites, xy, ptr, s, a, b, u, v, scale: float, normal_min: float,
+                        weights: Optional[NDArray[np.float64]] = None) -> NDArray[np.bool_]:
     """Edges (a, b) from vertex u to v whose end vertices coincide: all sites of u and v on one circle.
 
     Decided exactly on the sites: with c a third site of u, every site x of u and v other
     than a, b, c must satisfy incircle(a, b, c, x) == 0, and a, b, c must not be collinear.
+    With ``weights`` (a power diagram) the test is ``power_test == 0``: the lifted points
+    (x, y, x^2 + y^2 - w) of all of them lie in one plane.
     Vertices whose coordinates lie farther apart than any rounding of a circumcentre could
     explain (``COINCIDENCE_FILTER_*``) are not tested: that settles almost every edge cheaply.
     ``normal_min``: the smallest normal float in these units (subnormals are rounded absolutely).
     """
     out = np.zeros(a.size, dtype=bool)
     if a.size:
+        weighted = weights is not None
+        w = np.asarray(weights, np.float64) if weighted else np.zeros(sites.shape[0])
         _coincident_kernel(sites, xy, ptr, s, a, b, u, v, scale, normal_min, COINCIDENCE_FILTER_REL_TOL,
-                           COINCIDENCE_FILTER_ULPS * np.finfo(np.float64).eps, out)
+                           COINCIDENCE_FILTER_ULPS * np.finfo(np.float64).eps, out, w, weighted)
     return out
 
 
 @njit(cache=True)
-def _coincident_kernel(sites, xy, ptr, s, a, b, u, v, scale, normal_min, filter_rel, filter_abs, out):
+def _coincident_kernel(sites, xy, ptr, s, a, b, u, v, scale, normal_min, filter_rel, filter_abs, out, wt,
+                       weighted):
     for k in range(a.size):
         aa, bb, uu, vv = a[k], b[k], u[k], v[k]
         ax, ay, bx, by = sites[aa, 0], sites[aa, 1], sites[bb, 0], sites[bb, 1]
@@ -285,6 +294,8 @@ def _coincident_kernel(sites, xy, ptr, s, a, b, u, v, scale, normal_min, filter_
         # than a small fraction of R; far more than both means two different vertices.
         px, py, qx, qy = xy[uu, 0], xy[uu, 1], xy[vv, 0], xy[vv, 1]
         radius = np.hypot(px - ax, py - ay)
+        if weighted:        # the power circle's radius: sqrt of the vertex's power
+            radius = np.sqrt(max(radius * radius - wt[aa], 0.0)) + radius
         magnitude = max(abs(px), abs(py), abs(qx), abs(qy), normal_min)
         bound = filter_rel * max(radius, scale) + \
             filter_abs * (magnitude + radius * radius / max(np.hypot(ax - bx, ay - by), 1e-300))
@@ -309,7 +320,13 @@ def _coincident_kernel(sites, xy, ptr, s, a, b, u, v, scale, normal_min, filter_
         for w in (uu, vv):
             for j in range(ptr[w], ptr[w + 1]):
                 x = s[j]
-                if x != aa and x != bb and x != c and incircle(ax, ay, bx, by, cx, cy, sites[x, 0], sites[x, 1]) != 0:
+                if x == aa or x == bb or x == c:
+                    continue
+                if weighted:
+                    side = power_test(ax, ay, wt[aa], bx, by, wt[bb], cx, cy, wt[c], sites[x, 0], sites[x, 1], wt[x])
+                else:
+                    side = incircle(ax, ay, bx, by, cx, cy, sites[x, 0], sites[x, 1])
+                if side != 0:
                     same = False
                     break
             if not same:
@@ -341,10 +358,15 @@ def _successor(nxt: NDArray[np.int64], kept: NDArray[np.bool_]) -> NDArray[np.in
 
 
 @njit(cache=True)
-def _nearly_cocircular_kernel(xy, sites, ptr, s, u, v, rel_tol, normal_min, out):
+def _nearly_cocircular_kernel(xy, sites, ptr, s, u, v, rel_tol, normal_min, out, weights, weighted):
     """out[k]: vertex u[k] or v[k] is equidistant, within ``rel_tol`` of the radius (plus
     roundoff), from every site of both: the two vertices are one vertex of nearly cocircular
-    sites, as a floating-point library may merge them."""
+    sites, as a floating-point library may merge them. In a power diagram "distance" is the
+    square root of the power (lifted by the largest weight, so that it stays real)."""
+    lift = 0.0
+    if weighted:
+        for x in range(weights.size):
+            lift = max(lift, weights[x])
     for k in range(u.size):
         for w in (u[k], v[k]):
             px, py = xy[w, 0], xy[w, 1]
@@ -354,6 +376,8 @@ def _nearly_cocircular_kernel(xy, sites, ptr, s, u, v, rel_tol, normal_min, out)
                 for j in range(ptr[z], ptr[z + 1]):
                     x = s[j]
                     d = np.hypot(px - sites[x, 0], py - sites[x, 1])
+                    if weighted:
+                        d = np.sqrt(d * d - weights[x] + lift)
                     lo, hi = min(lo, d), max(hi, d)
                     mag = max(mag, abs(sites[x, 0]), abs(sites[x, 1]))
             if hi - lo <= allowed_error(rel_tol, hi, mag):
@@ -361,7 +385,7 @@ def _nearly_cocircular_kernel(xy, sites, ptr, s, u, v, rel_tol, normal_min, out)
 
 
 def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optional[float], scale: float,
-               consistent: bool, normal_min: float = 0.0) -> _Form:
+               consistent: bool, normal_min: float = 0.0, weights: Optional[NDArray[np.float64]] = None) -> _Form:
     """Canonical form of ``d``: contract exactly-zero edges (and, with ``rel_tol``, edges
     shorter than ``rel_tol * scale`` or between vertices of nearly cocircular sites), merge
     their vertices, list the kept half-edges with their merged ends. ``consistent``: the
@@ -386,14 +410,15 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optiona
     exact = loop.copy()
     xy = np.asarray(d.vertices, np.float64).reshape(-1, 2)
     exact[~loop] = _exactly_coincident(common_sites, xy, ptr, s, a[~loop], b[~loop], u[~loop], v[~loop], scale,
-                                       normal_min)
+                                       normal_min, weights)
     contract = exact.copy()
     short: list[tuple[int, int, float]] = []
     n_short = 0
     if rel_tol is not None and e.size:
         length = np.hypot(*(xy[u] - xy[v]).T)
         is_short = length < rel_tol * scale
-        _nearly_cocircular_kernel(xy, common_sites, ptr, s, u, v, rel_tol, normal_min, is_short)
+        _nearly_cocircular_kernel(xy, common_sites, ptr, s, u, v, rel_tol, normal_min, is_short,
+                                  np.zeros(0) if weights is None else weights, weights is not None)
         is_short &= ~exact
         n_short = int(is_short.sum())
         for k in np.flatnonzero(is_short)[:_MAX_SHORT_LISTED]:
@@ -670,6 +695,60 @@ def _edge_points(f: _Form, k: int, shift: int = 0) -> list[tuple[float, float]]:
     return [tuple(_own_units(f.m_xy[m], shift)) for m in (int(f.start[k]), int(f.end[k])) if m >= 0]
 
 
+# ---------------------------------------------------------------------------------- weights
+def _varying_weights(d: Diagram) -> Optional[NDArray[np.float64]]:
+    """The site weights of a power diagram, or None for an ordinary one (no weights, or all
+    equal: adding one constant to every weight changes no power comparison)."""
+    if d.weights is None:
+        return None
+    w = np.asarray(d.weights, np.float64).reshape(-1)
+    return None if w.size == 0 or (w == w[0]).all() else w
+
+
+def _common_weights(a: Diagram, b: Diagram, site_map: NDArray[np.int64], labels: tuple[str, str]
+                    ) -> tuple[Optional[NDArray[np.float64]], list[Difference]]:
+    """(the weights both diagrams are of, in a's site numbering, or None for ordinary diagrams;
+    differences when they are of different weights). Weights that differ by one constant
+    give the same diagram, so they are the same weights here."""
+    wa, wb = _varying_weights(a), _varying_weights(b)
+    if wa is None and wb is None:
+        return None, []
+    n = site_map.size
+    common_a = np.zeros(n) if wa is None else wa
+    common_b = np.zeros(n)
+    if wb is not None:
+        common_b[site_map] = wb
+    offset = common_a - common_b
+    bad = np.flatnonzero(offset != offset[0])
+    if bad.size == 0:
+        return common_a, []
+    la, lb = labels
+    return common_a, [Difference("weight_mismatch", (int(i),), f"weight {common_a[i]:.17g} in {la} "
+                                 f"({'ordinary' if wa is None else 'power'} diagram), {common_b[i]:.17g} in {lb} "
+                                 f"({'ordinary' if wb is None else 'power'} diagram)") for i in bad]
+
+
+def _hidden_differences(a: Diagram, b: Diagram, site_map: NDArray[np.int64], diff: "_Diff",
+                        labels: tuple[str, str], shift: int) -> None:
+    """Count and list the sites hidden (no half-edge) in one diagram but not in the other."""
+    n = site_map.size
+    if n <= 1:
+        return
+    visible_a = np.zeros(n, dtype=bool)
+    visible_a[np.asarray(a.site, np.int64)] = True
+    visible_b = np.zeros(n, dtype=bool)
+    visible_b[site_map[np.asarray(b.site, np.int64)]] = True
+    sites = np.asarray(a.sites, np.float64)
+    for kind, only, label in (("hidden_only_in_a", visible_b & ~visible_a, labels[0]),
+                              ("hidden_only_in_b", visible_a & ~visible_b, labels[1])):
+        ids = np.flatnonzero(only)
+        diff.counts[kind] = int(ids.size)
+        for i in ids[:_MAX_LISTED]:
+            xy = tuple(_own_units(sites[i], shift))
+            diff.differences.append(Difference(kind, (int(i),), f"site at ({xy[0]:.12g}, {xy[1]:.12g}) has no "
+                                               f"cell in {label}", [xy]))
+
+
 # ---------------------------------------------------------------------------------- entry point
 def _scaled(d: Diagram, shift: int) -> Diagram:
     """``d`` with sites and vertices times 2**shift (exact inside the float range)."""
@@ -678,7 +757,8 @@ def _scaled(d: Diagram, shift: int) -> Diagram:
     with np.errstate(over="ignore", under="ignore"):
         return Diagram(scale_points(np.asarray(d.sites, np.float64).reshape(-1, 2), shift),
                        scale_points(np.asarray(d.vertices, np.float64).reshape(-1, 2), shift),
-                       d.origin, d.twin, d.next, d.site)
+                       d.origin, d.twin, d.next, d.site,
+                       weights=None if d.weights is None else np.ldexp(np.asarray(d.weights, np.float64), 2 * shift))
 
 
 def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coord_tol: Optional[float] = None,
@@ -708,6 +788,10 @@ def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coor
         counts["site_mismatch"] = site_count
         return Comparison(False, "differs", counts, site_diffs, **base)
     reordered = not np.array_equal(site_map, np.arange(site_map.size))
+    weights, weight_diffs = _common_weights(a, b, site_map, (la, lb))
+    if weight_diffs:
+        counts["weight_mismatch"] = len(weight_diffs)
+        return Comparison(False, "differs", counts, weight_diffs[:_MAX_LISTED], sites_reordered=reordered, **base)
     err_a, err_b = _structure_error(a), _structure_error(b)
     structure = {name: msg for name, msg in ((la, err_a), (lb, err_b)) if msg}
     counts["invalid_structure"] = int(err_a is not None) + int(err_b is not None)
@@ -717,15 +801,18 @@ def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coor
     # Compared at 2**shift times the coordinates (largest site coordinate in [0.5, 1)): exact.
     shift, _ = comfortable_shift(np.asarray(a.sites, np.float64).reshape(-1, 2))
     a, b = _scaled(a, shift), _scaled(b, shift)
+    if weights is not None:
+        weights = np.ldexp(weights, 2 * shift)
     normal_min = smallest_normal(shift)
     sites = np.asarray(a.sites, np.float64)
     unit_scale = data_scale(sites)
     result = None
     for stage, tol in (("exact", None), ("within_tolerance", rel_tol)):
-        forms = [_canonical(a, identity, n, tol, unit_scale, err_a is None, normal_min),
-                 _canonical(b, site_map, n, tol, unit_scale, err_b is None, normal_min)]
+        forms = [_canonical(a, identity, n, tol, unit_scale, err_a is None, normal_min, weights),
+                 _canonical(b, site_map, n, tol, unit_scale, err_b is None, normal_min, weights)]
         _joint_vertex_ids(forms, n)
         diff = _differences(forms[0], forms[1], sites, n, unit_scale, coord_tol, (la, lb), shift, normal_min)
+        _hidden_differences(a, b, site_map, diff, (la, lb), shift)
         result = (stage, forms, diff)
         if diff.combinatorial == 0 or rel_tol <= 0:
             break

@@ -1,114 +1,72 @@
-"""Drawing a diagram with matplotlib: sites, edges clipped to a box, vertices."""
+"""Pictures of diagrams for the judge and the command line: one diagram, or two overlaid.
+
+The drawing itself (``draw``, ``edge_segments``) lives in :mod:`vorobench.core.drawing`, so
+that ``Diagram.plot`` can use it; ``draw_diagram`` is its old name here.
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional, Sequence
+from typing import Any, Optional, Sequence
 
 import numpy as np
-from numpy.typing import NDArray
 
 from vorobench.core.diagram import Diagram
+from vorobench.core.drawing import draw as draw_diagram
+from vorobench.core.drawing import edge_segments
+from vorobench.core.framing import Box, checked_box, point_box, site_box
 
 # matplotlib is imported by the functions that draw: it must be told its backend (Agg) before
 # pyplot loads, and it adds 0.5 s to the start of every command that might draw (measured).
 
-__all__ = ["edge_segments", "draw_diagram", "save_plot", "save_overlay"]
+__all__ = ["edge_segments", "draw_diagram", "save_plot", "witness_box", "draw_overlay", "save_overlay"]
 
 
-def edge_segments(d: Diagram, box: tuple[float, float, float, float]) -> NDArray[np.float64]:
-    """(E, 2, 2) segments of every edge; ends at infinity are pushed beyond ``box``."""
-    e = d.edges()
-    if e.size == 0:
-        return np.zeros((0, 2, 2))
-    xmin, ymin, xmax, ymax = box
-    reach = 4.0 * float(np.hypot(xmax - xmin, ymax - ymin))
-    direction = d.half_edge_direction(e)
-    direction = direction / np.linalg.norm(direction, axis=1)[:, None]
-    start, end = d.origin[e], d.origin[d.twin[e]]
-    a, b = d.sites[d.site[e]], d.sites[d.site[d.twin[e]]]
-    mid = 0.5 * (a + b)
-    vs = d.vertices[np.maximum(start, 0)] if d.n_vertices else mid
-    ve = d.vertices[np.maximum(end, 0)] if d.n_vertices else mid
-    # A ray starting at infinity reaches vertex `end` along `direction`: it came from end - t*dir.
-    p0 = np.where((start >= 0)[:, None], vs, np.where((end >= 0)[:, None], ve, mid) - reach * direction)
-    p1 = np.where((end >= 0)[:, None], ve, np.where((start >= 0)[:, None], vs, mid) + reach * direction)
-    return np.stack([p0, p1], axis=1)
-
-
-def draw_diagram(d: Diagram, ax=None, box: Optional[tuple[float, float, float, float]] = None,
-                 title: str = "", highlight: Optional[Sequence[int]] = None,
-                 edge_color: str = "tab:blue", label: Optional[str] = None, show_sites: bool = True):
-    """Draw ``d`` on a matplotlib axes; ``highlight`` lists half-edges to draw in red."""
-    import matplotlib.pyplot as plt
-    from matplotlib.collections import LineCollection
-
-    if ax is None:
-        _, ax = plt.subplots(figsize=(7, 7))
-    box = box or d.bounding_box()
-    segs = edge_segments(d, box)
-    small = d.n_sites <= 2000
-    if segs.size:
-        ax.add_collection(LineCollection(segs, colors=edge_color, linewidths=0.9 if small else 0.3,
-                                         label=label or "edges"))
-    if highlight is not None and len(highlight):
-        hl = np.unique(np.minimum(np.asarray(highlight), d.twin[np.asarray(highlight)]))
-        lookup = {int(h): k for k, h in enumerate(d.edges())}
-        rows = [lookup[int(h)] for h in hl if int(h) in lookup]
-        if rows:
-            ax.add_collection(LineCollection(segs[rows], colors="red", linewidths=2.5, label="highlighted"))
-    if d.n_vertices and small:
-        ax.plot(d.vertices[:, 0], d.vertices[:, 1], "o", ms=2.5, color="tab:orange", label="vertices")
-    if show_sites and d.n_sites:
-        ax.plot(d.sites[:, 0], d.sites[:, 1], ".", ms=4 if small else 1, color="black", label="sites")
-    ax.set_xlim(box[0], box[2])
-    ax.set_ylim(box[1], box[3])
-    ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-    if title:
-        ax.set_title(title)
-    ax.legend(loc="upper right", fontsize="small", framealpha=0.8)
-    return ax
-
-
-def save_plot(d: Diagram, path: str | Path, title: str = "") -> Path:
-    """Draw ``d`` and write the picture to ``path`` (format from the suffix)."""
+def save_plot(d: Diagram, path: str | Path, title: str = "", box: Optional[Sequence[float]] = None) -> Path:
+    """Draw ``d`` inside ``box`` (default: around the sites) and write the picture to ``path``
+    (format from the suffix)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(7, 7))
-    draw_diagram(d, ax=ax, title=title)
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120, bbox_inches="tight")
-    plt.close(fig)
+    try:
+        draw_diagram(d, ax=ax, box=box, title=title)
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path, dpi=120, bbox_inches="tight")
+    finally:
+        plt.close(fig)
     return path
 
 
-def save_overlay(first: Optional[Diagram], second: Optional[Diagram], path: str | Path, *,
-                 labels: tuple[str, str] = ("a", "b"), highlight_first: Optional[Sequence[int]] = None,
-                 highlight_second: Optional[Sequence[int]] = None, mark_sites: Optional[Sequence[int]] = None,
-                 title: str = "") -> Path:
-    """Draw two diagrams of the same sites on one axes (``first`` solid blue, ``second``
-    dashed orange), their differing half-edges in red and ``mark_sites`` circled; write ``path``.
-    Either diagram may be None (e.g. the implementation crashed)."""
-    import matplotlib
+def witness_box(diagrams: Sequence[Diagram], near: float = 0.5) -> Box:
+    """The frame of an overlay: the sites, and the vertices within ``near`` times the sites'
+    extent of them (where a wrong vertex would show), but not vertices far away, which nearly
+    collinear sites have and which would shrink the sites to a dot."""
+    if not diagrams:
+        raise ValueError("witness_box needs at least one diagram")
+    sites = diagrams[0].sites
+    xmin, ymin, xmax, ymax = site_box(diagrams[0], margin=near)
+    vertices = np.concatenate([np.asarray(d.vertices, dtype=np.float64).reshape(-1, 2) for d in diagrams])
+    close = ((vertices[:, 0] >= xmin) & (vertices[:, 0] <= xmax)
+             & (vertices[:, 1] >= ymin) & (vertices[:, 1] <= ymax))
+    return point_box(np.concatenate([sites, vertices[close]]), margin=0.1)
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
+def draw_overlay(first: Optional[Diagram], second: Optional[Diagram], ax: Any, *,
+                 box: Optional[Sequence[float]] = None, labels: tuple[str, str] = ("a", "b"),
+                 highlight_first: Optional[Sequence[int]] = None, highlight_second: Optional[Sequence[int]] = None,
+                 mark_sites: Optional[Sequence[int]] = None, title: str = "") -> Any:
+    """Draw two diagrams of the same sites on ``ax`` inside ``box`` (default
+    :func:`witness_box`): ``first`` solid blue, ``second`` dashed orange, their differing
+    half-edges in red and ``mark_sites`` circled. Either may be None (e.g. the implementation
+    crashed). Returns the axes."""
     drawn = [d for d in (first, second) if d is not None]
     if not drawn:
-        raise ValueError("save_overlay needs at least one diagram")
-    boxes = np.array([d.bounding_box() for d in drawn])
-    # Far-away vertices (nearly collinear sites) would shrink the sites to a dot: frame the sites.
-    site_box = drawn[0].bounding_box(margin=0.25) if drawn[0].n_sites else boxes[0]
-    box = (max(boxes[:, 0].min(), site_box[0]), max(boxes[:, 1].min(), site_box[1]),
-           min(boxes[:, 2].max(), site_box[2]), min(boxes[:, 3].max(), site_box[3]))
-    fig, ax = plt.subplots(figsize=(8, 8))
+        raise ValueError("draw_overlay needs at least one diagram")
+    box = witness_box(drawn) if box is None else checked_box(box)
     if first is not None:
         draw_diagram(first, ax=ax, box=box, highlight=highlight_first, edge_color="tab:blue", label=labels[0])
     if second is not None:
@@ -127,9 +85,28 @@ def save_overlay(first: Optional[Diagram], second: Optional[Diagram], path: str 
     ax.set_title(title)
     handles, names = ax.get_legend_handles_labels()
     unique = dict(zip(names, handles))                    # one entry per label
-    ax.legend(unique.values(), unique.keys(), loc="best", fontsize="small", framealpha=0.8)
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110, bbox_inches="tight")
-    plt.close(fig)
+    if unique:
+        ax.legend(unique.values(), unique.keys(), loc="best", fontsize="small", framealpha=0.8)
+    return ax
+
+
+def save_overlay(first: Optional[Diagram], second: Optional[Diagram], path: str | Path, *,
+                 box: Optional[Sequence[float]] = None, labels: tuple[str, str] = ("a", "b"),
+                 highlight_first: Optional[Sequence[int]] = None, highlight_second: Optional[Sequence[int]] = None,
+                 mark_sites: Optional[Sequence[int]] = None, title: str = "") -> Path:
+    """:func:`draw_overlay` on a new figure, written to ``path``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8, 8))
+    try:
+        draw_overlay(first, second, ax, box=box, labels=labels, highlight_first=highlight_first,
+                     highlight_second=highlight_second, mark_sites=mark_sites, title=title)
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path, dpi=110, bbox_inches="tight")
+    finally:
+        plt.close(fig)
     return path

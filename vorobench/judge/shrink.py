@@ -9,6 +9,7 @@ diagram on the reference's with the differing edges in red.
 
 from __future__ import annotations
 
+import os
 import shlex
 import time
 from dataclasses import dataclass
@@ -108,11 +109,18 @@ class Witness:
     verdict: CaseVerdict
 
 
+def _plugin_word(spec: str) -> str:
+    """A ``--plugin`` of the run as the witness's command names it: a file by its absolute path
+    (the command may be run from anywhere), a module by its name."""
+    return str(Path(spec).resolve()) if spec.endswith(".py") or os.sep in spec else spec
+
+
 def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[np.float64], *, reference: str,
                   exact_peer: Optional[str] = None, probes: int = 2000, judge: Optional[Judge] = None,
                   verdict: Optional[CaseVerdict] = None) -> Witness:
-    """Save ``points`` as ``NAME.npy`` with ``NAME.txt`` (the command that reproduces the failure
-    and what it reports; ``verdict`` if given, else ``points`` judged again) and ``NAME.png`` (both diagrams, differing edges in red)."""
+    """Save ``points`` as ``NAME.npy`` with ``NAME.txt`` (the command that reproduces the failure,
+    with the ``--plugin`` modules of ``judge``, and what it reports; ``verdict`` if given, else
+    ``points`` judged again) and ``NAME.png`` (both diagrams, differing edges in red)."""
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     npy = directory / f"{name}.npy"
@@ -120,7 +128,8 @@ def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[n
     if verdict is None:     # given when judging again would only cost the same timeout twice
         verdict = _judge(impl, points, reference=reference, exact_peer=exact_peer, probes=probes, judge=judge)
     names = impl if exact_peer is None else f"{exact_peer},{impl}"
-    command = (f"vorobench validate --impls {shlex.quote(names)} --reference {shlex.quote(reference)} "
+    plugins = "".join(f"--plugin {shlex.quote(_plugin_word(spec))} " for spec in (judge.plugins if judge else ()))
+    command = (f"vorobench validate {plugins}--impls {shlex.quote(names)} --reference {shlex.quote(reference)} "
                f"--points {shlex.quote(str(npy))}")
     lines = [command, "", f"{points.shape[0]} points; verdict {verdict.verdict}: {verdict.message}"]
     shown: list = []

@@ -1,0 +1,131 @@
+"""Drawing a diagram with matplotlib: sites, edges clipped to a box, vertices (``Diagram.plot``).
+
+The default box frames the sites (:func:`~vorobench.core.framing.site_box`), not the
+vertices, which can lie arbitrarily far away when sites are nearly collinear.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Optional, Protocol, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from vorobench.core.framing import HasSites, checked_box, site_box
+
+# matplotlib is imported by the function that draws: importing the core must not load it
+# (0.5 s, measured), and the caller may still have to choose its backend.
+
+__all__ = ["Drawable", "edge_segments", "clip_segments", "draw"]
+
+
+class Drawable(HasSites, Protocol):
+    """What drawing reads of a ``Diagram`` (not imported here: its ``plot`` imports this module)."""
+
+    @property
+    def vertices(self) -> NDArray[np.float64]: ...
+    @property
+    def origin(self) -> NDArray[np.integer]: ...
+    @property
+    def twin(self) -> NDArray[np.integer]: ...
+    @property
+    def site(self) -> NDArray[np.integer]: ...
+    def edges(self) -> NDArray[np.int64]: ...
+    def half_edge_direction(self, h: NDArray[np.integer]) -> NDArray[np.float64]: ...
+
+
+def edge_segments(diagram: Drawable, box: Sequence[float]) -> NDArray[np.float64]:
+    """(E, 2, 2) segments of the edges in ``edges()`` order; an end at infinity is put far
+    enough along its edge that the segment crosses all of ``box``."""
+    d = diagram
+    e = d.edges()
+    if e.size == 0:
+        return np.zeros((0, 2, 2))
+    xmin, ymin, xmax, ymax = checked_box(box)
+    centre = np.array([(xmin + xmax) / 2, (ymin + ymax) / 2])
+    direction = d.half_edge_direction(e)
+    direction = direction / np.linalg.norm(direction, axis=1)[:, None]
+    start, end = d.origin[e], d.origin[d.twin[e]]
+    mid = 0.5 * (d.sites[d.site[e]] + d.sites[d.site[d.twin[e]]])
+    has_vertices = d.vertices.shape[0] > 0
+    vs = d.vertices[np.maximum(start, 0)] if has_vertices else mid
+    ve = d.vertices[np.maximum(end, 0)] if has_vertices else mid
+    # Each ray or line goes on from its finite point (a vertex, or the sites' midpoint for a
+    # full line) by that point's distance to the box plus the box's diagonal: past the box,
+    # even from a vertex far outside it.
+    anchor = np.where((start >= 0)[:, None], vs, np.where((end >= 0)[:, None], ve, mid))
+    reach = (np.hypot(*(anchor - centre).T) + np.hypot(xmax - xmin, ymax - ymin))[:, None]
+    p0 = np.where((start >= 0)[:, None], vs, anchor - reach * direction)
+    p1 = np.where((end >= 0)[:, None], ve, anchor + reach * direction)
+    return np.stack([p0, p1], axis=1)
+
+
+def clip_segments(segments: NDArray[np.float64], box: Sequence[float]
+                  ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """``segments`` (m, 2, 2) cut to ``box`` (Liang-Barsky), and which of them meet the box.
+    Rows that miss it are left as they were. Drawing only what is inside keeps coordinates
+    of far-away vertices out of the renderer."""
+    xmin, ymin, xmax, ymax = checked_box(box)
+    p, q = segments[:, 0, :], segments[:, 1, :]
+    delta = q - p
+    t0, t1 = np.zeros(len(segments)), np.ones(len(segments))
+    inside = np.ones(len(segments), dtype=bool)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for axis, low, high in ((0, xmin, xmax), (1, ymin, ymax)):
+            dx, px = delta[:, axis], p[:, axis]
+            parallel = dx == 0
+            inside &= ~(parallel & ((px < low) | (px > high)))
+            ta, tb = (low - px) / dx, (high - px) / dx
+            enter, leave = np.minimum(ta, tb), np.maximum(ta, tb)
+            t0 = np.where(parallel, t0, np.maximum(t0, enter))
+            t1 = np.where(parallel, t1, np.minimum(t1, leave))
+    inside &= t0 <= t1
+    clipped = segments.copy()
+    clipped[inside, 0] = p[inside] + t0[inside, None] * delta[inside]
+    clipped[inside, 1] = p[inside] + t1[inside, None] * delta[inside]
+    return clipped, inside
+
+
+def draw(diagram: Drawable, ax: Any = None, box: Optional[Sequence[float]] = None, *, title: str = "",
+         highlight: Optional[Sequence[int]] = None, edge_color: str = "tab:blue", label: Optional[str] = None,
+         show_sites: bool = True) -> Any:
+    """Draw sites, edges and vertices of ``diagram`` inside ``box`` = (xmin, ymin, xmax, ymax)
+    (default: around the sites) on ``ax`` (default: a new figure's); ``highlight`` lists
+    half-edges to draw in red. Returns the axes."""
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+
+    d = diagram
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7, 7))
+    box = site_box(d) if box is None else checked_box(box)
+    xmin, ymin, xmax, ymax = box
+    segments, shown = clip_segments(edge_segments(d, box), box)
+    n_sites = d.sites.shape[0]
+    small = n_sites <= 2000
+    if shown.any():
+        ax.add_collection(LineCollection(segments[shown], colors=edge_color, linewidths=0.9 if small else 0.3,
+                                         label=label or "edges"))
+    if highlight is not None and len(highlight):
+        chosen = np.asarray(highlight, dtype=np.int64)
+        row_of_edge = {int(h): k for k, h in enumerate(d.edges())}
+        rows = [row_of_edge[h] for h in np.unique(np.minimum(chosen, d.twin[chosen])).tolist() if h in row_of_edge]
+        rows = [k for k in rows if shown[k]]
+        if rows:
+            ax.add_collection(LineCollection(segments[rows], colors="red", linewidths=2.5, label="highlighted"))
+    v = d.vertices
+    in_box = (v[:, 0] >= xmin) & (v[:, 0] <= xmax) & (v[:, 1] >= ymin) & (v[:, 1] <= ymax)
+    if in_box.any() and small:
+        ax.plot(v[in_box, 0], v[in_box, 1], "o", ms=2.5, color="tab:orange", label="vertices")
+    if show_sites and n_sites:
+        ax.plot(d.sites[:, 0], d.sites[:, 1], ".", ms=4 if small else 1, color="black", label="sites")
+    ax.set_xlim(xmin, xmax)
+    ax.set_ylim(ymin, ymax)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    if title:
+        ax.set_title(title)
+    if ax.get_legend_handles_labels()[0]:                  # nothing drawn, no empty legend
+        ax.legend(loc="upper right", fontsize="small", framealpha=0.8)
+    return ax
