@@ -46,7 +46,14 @@ def edge_segments(diagram: Drawable, box: Sequence[float]) -> NDArray[np.float64
     direction = d.half_edge_direction(e)
     direction = direction / np.linalg.norm(direction, axis=1)[:, None]
     start, end = d.origin[e], d.origin[d.twin[e]]
-    mid = 0.5 * (d.sites[d.site[e]] + d.sites[d.site[d.twin[e]]])
+    a, b = d.sites[d.site[e]], d.sites[d.site[d.twin[e]]]
+    mid = 0.5 * (a + b)
+    weights = getattr(d, "weights", None)
+    if weights is not None:
+        # a power bisector passes the midpoint moved by (w_a - w_b) / (2 |b - a|^2) of b - a
+        w = np.asarray(weights, dtype=np.float64)
+        t = 0.5 * (w[d.site[e]] - w[d.site[d.twin[e]]]) / ((b - a) ** 2).sum(axis=1)
+        mid = mid + t[:, None] * (b - a)
     has_vertices = d.vertices.shape[0] > 0
     vs = d.vertices[np.maximum(start, 0)] if has_vertices else mid
     ve = d.vertices[np.maximum(end, 0)] if has_vertices else mid
@@ -117,8 +124,30 @@ def draw(diagram: Drawable, ax: Any = None, box: Optional[Sequence[float]] = Non
     in_box = (v[:, 0] >= xmin) & (v[:, 0] <= xmax) & (v[:, 1] >= ymin) & (v[:, 1] <= ymax)
     if in_box.any() and small:
         ax.plot(v[in_box, 0], v[in_box, 1], "o", ms=2.5, color="tab:orange", label="vertices")
+    weights = getattr(d, "weights", None)
+    hidden = np.zeros(n_sites, dtype=bool)
+    if weights is not None and n_sites > 1:
+        hidden[:] = True
+        hidden[np.asarray(d.site, dtype=np.int64)] = False
+        if small:
+            # each weight w > 0 as the circle of radius sqrt(w): a cell is where a point's
+            # tangent to that circle is the shortest
+            from matplotlib.collections import EllipseCollection
+
+            w = np.asarray(weights, dtype=np.float64)
+            ring = (w > 0) & ~hidden
+            if ring.any():
+                size = 2 * np.sqrt(w[ring])
+                ax.add_collection(EllipseCollection(size, size, np.zeros(size.size), units="xy",
+                                                    offsets=d.sites[ring], offset_transform=ax.transData,
+                                                    facecolors="none", edgecolors="tab:gray", linewidths=0.6))
+                ax.plot([], [], "o", mfc="none", mec="tab:gray", label="weight w: circle of radius sqrt(w)")
     if show_sites and n_sites:
-        ax.plot(d.sites[:, 0], d.sites[:, 1], ".", ms=4 if small else 1, color="black", label="sites")
+        shown_sites = d.sites[~hidden]
+        ax.plot(shown_sites[:, 0], shown_sites[:, 1], ".", ms=4 if small else 1, color="black", label="sites")
+        if hidden.any():
+            ax.plot(d.sites[hidden, 0], d.sites[hidden, 1], "x", ms=5 if small else 2, color="tab:red",
+                    label=f"hidden sites ({int(hidden.sum())})")
     ax.set_xlim(xmin, xmax)
     ax.set_ylim(ymin, ymax)
     ax.set_aspect("equal")
