@@ -12,6 +12,9 @@
 float64 arrays on every run and machine (a fresh ``numpy.random.default_rng(seed)`` is
 passed to the family's generator, which uses only platform-stable operations).
 
+``weights(family, points, seed)`` draws site weights for power diagrams from one of
+``WEIGHT_FAMILIES`` (``radii``, ``equal``, ``integer``, ``hidden``), just as deterministic.
+
 A name of the form ``file:PATH`` loads points with ``load(PATH)`` and returns its first
 ``min(n, rows)`` rows; the seed is ignored.
 """
@@ -26,10 +29,12 @@ from numpy.typing import NDArray
 
 from .loaders import load
 from .registry import DATASETS, Dataset, Family, get
+from .weight_families import WEIGHT_FAMILIES, weights
 
 __all__ = [
     "DATASETS",
     "FILE_PREFIX",
+    "WEIGHT_FAMILIES",
     "Dataset",
     "Family",
     "actual_n",
@@ -37,6 +42,7 @@ __all__ = [
     "describe",
     "generate",
     "load",
+    "weights",
 ]
 
 #: Prefix of dataset names that refer to a point file instead of a generator.

@@ -55,16 +55,17 @@ def _console():
 def cmd_impls(args: argparse.Namespace) -> int:
     """Table of the implementations that can run here, those of ``--plugin`` included."""
     table = Table(title="implementations")
-    for col in ("name", "exact", "complexity", "from", "description"):
+    for col in ("name", "exact", "weights", "complexity", "from", "description"):
         table.add_column(col)
     with plugins_registered(args.plugin):
         for name in impls.available():
             try:
                 impl = impls.get(name)
             except Exception as exc:  # an outside plugin that fails to load is listed, not fatal
-                table.add_row(name, "?", "?", "?", f"[red]failed to load: {exc}[/red]")
+                table.add_row(name, "?", "?", "?", "?", f"[red]failed to load: {exc}[/red]")
                 continue
-            table.add_row(impl.name, "yes" if impl.exact else "no", impl.complexity, impl.origin, impl.description)
+            table.add_row(impl.name, "yes" if impl.exact else "no", "yes" if impl.weighted else "no",
+                          impl.complexity, impl.origin, impl.description)
     _console().print(table)
     return 0
 

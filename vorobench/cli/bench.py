@@ -3,6 +3,9 @@
 Each (implementation, dataset, n, seed) runs in a fresh process: a crash, a hang past
 --timeout or running out of memory is recorded as that case's status and the run goes on.
 Every finished case is appended to --out at once; --resume skips cases already there.
+With --weights FAMILY every case times the power diagram of its points with weights of that
+family (see `vorobench datasets`), and an implementation that does not take weights is
+recorded as unsupported.
 """
 
 from __future__ import annotations
@@ -25,9 +28,18 @@ from vorobench.cli import args as cli_args
 # matplotlib: about 1.5 s) inside the functions that run a command, and only the light
 # registry here: `vorobench --help` starts in 0.2 s instead of 1.7 s (measured).
 
-__all__ = ["add_arguments", "run", "execute"]
+__all__ = ["add_arguments", "run", "execute", "weight_family"]
 
 DEFAULT_SIZES = "1000,10000,100000"
+
+
+def weight_family(text: str) -> str:
+    """A ``--weights`` value: the name of a weight family of ``datasets_gen``."""
+    name = text.strip()
+    if name not in datasets_gen.WEIGHT_FAMILIES:
+        raise argparse.ArgumentTypeError(f"unknown weight family {text!r}; available: "
+                                         f"{', '.join(datasets_gen.WEIGHT_FAMILIES)} (see `vorobench datasets`)")
+    return name
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -38,6 +50,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--sizes", type=cli_args.sizes, default=cli_args.sizes(DEFAULT_SIZES),
                    help=f"comma-separated sizes, 1e4/10k accepted (default {DEFAULT_SIZES})")
     p.add_argument("--seeds", type=cli_args.seeds, default=[0], help="comma-separated dataset seeds (default 0)")
+    p.add_argument("--weights", type=weight_family, default=None, metavar="FAMILY",
+                   help="time power diagrams: every site weighted by this family (radii, equal, integer, hidden; "
+                        "see `vorobench datasets`); implementations without weights are recorded as unsupported")
     p.add_argument("--repeat", type=cli_args.positive_int, default=5,
                    help="timed builds per case, at least (default 5: the fewest with which `compare`'s rank test "
                         "can show a change at alpha 0.05 on one case)")
@@ -80,7 +95,8 @@ def default_out(now: Optional[_dt.datetime] = None) -> Path:
     return Path("results") / f"bench-{now:%Y%m%d-%H%M%S}.csv"
 
 
-def _validate_names(impl_names: Sequence[str], datasets: Sequence[str], reference: Optional[str]) -> None:
+def _validate_names(impl_names: Sequence[str], datasets: Sequence[str], reference: Optional[str],
+                    weights: Optional[str] = None) -> None:
     known = impls.available()
     for name in list(impl_names) + ([reference] if reference else []):
         if name not in known:
@@ -88,28 +104,35 @@ def _validate_names(impl_names: Sequence[str], datasets: Sequence[str], referenc
     for name in datasets:
         if name not in datasets_gen.available() and not name.startswith("file:"):
             raise ValueError(f"unknown dataset {name!r}; available: {', '.join(datasets_gen.available())}")
+    if weights is not None:
+        weight_family(weights)
+        if reference and not impls.get(reference).weighted:
+            raise ValueError(f"the reference {reference} does not take weights, so it cannot check weighted cases; "
+                             f"choose one that does with --reference ({', '.join(impls.weighted()) or 'none here'}) "
+                             f"or pass --no-check")
 
 
 def execute(impl_names: Optional[Sequence[str]], datasets: Sequence[str], sizes: Sequence[int],
             seeds: Sequence[int], out: Path, config, resume: bool = False, overwrite: bool = False,
             progress: bool = True, verbose: bool = True, console=None, executor: Optional[str] = None,
-            workers: int = 1) -> tuple[int, list]:
+            workers: int = 1, weights: Optional[str] = None) -> tuple[int, list]:
     """Run a benchmark into ``out``; returns (exit code, outcomes). Shared by bench and demo.
-    ``executor``/``workers``: see :func:`vorobench.harness.runner.run_cases`."""
+    ``executor``/``workers``: see :func:`vorobench.harness.runner.run_cases`. ``weights``: a
+    weight family of ``datasets_gen`` (power diagrams), or None (ordinary diagrams)."""
     # Plugins are registered here only for the run (workers register them again themselves).
     with plugins_registered(config.plugins):
         return _execute(impl_names, datasets, sizes, seeds, out, config, resume, overwrite, progress,
-                        verbose, console, executor, workers)
+                        verbose, console, executor, workers, weights)
 
 
 def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool, overwrite: bool,
              progress: bool, verbose: bool, console, executor: Optional[str] = None,
-             workers: int = 1) -> tuple[int, list]:
+             workers: int = 1, weights: Optional[str] = None) -> tuple[int, list]:
     from vorobench.harness import results, runner, sysinfo
 
     console = console or Console(stderr=True)
     impl_names = list(impl_names) if impl_names else impls.available()
-    _validate_names(impl_names, datasets, config.reference if config.check else None)
+    _validate_names(impl_names, datasets, config.reference if config.check else None, weights)
     # One run writes a results file at a time: a second one would rerun what the first has not
     # saved yet and interleave rows. Taken before reading (resume) or deleting (overwrite) it.
     with results.writer_lock(out):
@@ -122,11 +145,12 @@ def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool
         previous = store.rows() if resume else []
         done = {results.case_key(r) for r in previous}
         cases = runner.plan_cases(impl_names, datasets, sizes, seeds,
-                                  reference=config.reference if config.check else None)
+                                  reference=config.reference if config.check else None, weights=weights or "")
         todo = [c for c in cases if c.key not in done]
         meta = sysinfo.run_metadata(impl_names)
         meta.update(run_id=config.run_id, argv=sys.argv[1:], impls=impl_names, datasets=list(datasets),
-                    sizes=list(sizes), seeds=list(seeds), repeat=config.repeat, min_time=config.min_time,
+                    sizes=list(sizes), seeds=list(seeds), weights=weights or "", repeat=config.repeat,
+                    min_time=config.min_time,
                     timeout=config.timeout,
                     reference=config.reference, check=config.check, start_method=config.start_method,
                     cases_planned=len(cases), executor=executor or "local", workers=workers,
@@ -135,6 +159,11 @@ def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool
         results.append_run_metadata(out, meta)
         if resume and done:
             console.print(f"resuming {out}: {len(cases) - len(todo)} of {len(cases)} cases already done")
+        if weights:
+            unweighted = [name for name in impl_names if runner.takes_weights(name) is False]
+            if unweighted:
+                console.print(f"weights {weights}: {', '.join(unweighted)} "
+                              f"{'does' if len(unweighted) == 1 else 'do'} not take weights: unsupported")
         try:
             outcomes = runner.run_cases(cases, config, store.append, done=done, previous_rows=previous,
                                         progress=progress, console=console, verbose=verbose,
@@ -194,7 +223,7 @@ def run(args: argparse.Namespace) -> int:
     code, _ = execute(args.impls, args.datasets, args.sizes, args.seeds, out, config,
                       resume=args.resume, overwrite=args.overwrite,
                       progress=not args.quiet, verbose=not args.quiet,
-                      executor=args.executor, workers=args.workers)
+                      executor=args.executor, workers=args.workers, weights=args.weights)
     if args.parquet and out.exists():
         print(f"wrote {results.to_parquet(out)}")
     if store is not None:

@@ -9,6 +9,9 @@ implementations also with each other, as a task on the executor (``local`` or
 ``dask://HOST:PORT``). Every checked case is appended to ``cases.jsonl`` in ``--out``, so a
 rerun skips it; every failure is shrunk to a witness (:mod:`vorobench.judge.shrink`) under
 ``witnesses/``. ``--budget`` is a case count (``100000``) or a duration (``90s``, ``10m``, ``2h``).
+With ``--weights FAMILY`` every case is the power diagram of its points with weights of that
+family; the reference must take weights, and the implementations that do not are
+``unsupported`` (which passes).
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ import datasets_gen
 import impls
 from impls.plugins import plugins_registered
 from vorobench.cli import args as cli_args
+from vorobench.cli.bench import weight_family
 from vorobench.harness.campaign import INT_BOX, LOG_NAME, parse_budget
 
 # The harness and the judge are imported inside the functions that run the command, not here:
@@ -44,6 +48,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="campaign seed: fixes the sequence of cases (default 0)")
     p.add_argument("--reference", default=impls.DEFAULT_REFERENCE,
                    help=f"reference implementation (default {impls.DEFAULT_REFERENCE})")
+    p.add_argument("--weights", type=weight_family, default=None, metavar="FAMILY",
+                   help="fuzz power diagrams: weights of this family (radii, equal, integer, hidden; see "
+                        "`vorobench datasets`); implementations without weights are reported unsupported")
     p.add_argument("--probes", type=cli_args.non_negative_int, default=500,
                    help="random probes per certificate (default 500)")
     p.add_argument("--timeout", type=cli_args.positive_float, default=60.0,
@@ -74,6 +81,11 @@ def run(args: argparse.Namespace) -> int:
         names = list(args.impls) if args.impls else impls.available()
         for name in names + [args.reference]:
             impls.get(name)             # KeyError naming the available ones
+        if args.weights and not impls.get(args.reference).weighted:
+            others = ", ".join(impls.weighted()) or "none here"
+            raise ValueError(f"the reference {args.reference} does not take weights, so it cannot judge weighted "
+                             f"cases; choose one that does with --reference ({others})")
+        unweighted = [n for n in names if args.weights and not impls.get(n).weighted]
     generators = list(args.generators) if args.generators else datasets_gen.available() + [INT_BOX]
     unknown = [g for g in generators if g != INT_BOX and g not in datasets_gen.available()]
     if unknown:
@@ -84,18 +96,23 @@ def run(args: argparse.Namespace) -> int:
     write_json(out / "summary.json", {"passed": False, "complete": False,
                                        "note": "fuzzing started and has not finished (or was killed)"})
     console.print(f"fuzzing {', '.join(names)} against {args.reference} on {args.executor} "
-                  f"({args.workers} workers if local); budget {args.budget}; log {out / LOG_NAME}")
+                  f"({args.workers} workers if local); budget {args.budget}; log {out / LOG_NAME}"
+                  + (f"; power diagrams, {args.weights} weights" if args.weights else ""))
+    if unweighted:
+        console.print(f"weights {args.weights}: {', '.join(unweighted)} {'does' if len(unweighted) == 1 else 'do'} "
+                      f"not take weights: unsupported")
     s = run_campaign(out, names, generators, args.budget, executor=args.executor, workers=args.workers,
                      reference=args.reference, min_n=args.min_n, max_n=args.max_n, campaign_seed=args.seed,
                      probes=args.probes, plugins=args.plugin, shrink=not args.no_shrink,
                      shrink_seconds=args.shrink_seconds, console=console, timeout=args.timeout,
-                     memory_limit_mb=args.memory_limit)
+                     memory_limit_mb=args.memory_limit, weights=args.weights or "")
     # The gate covers the whole campaign: a failure logged by an earlier run still fails it.
     bad = s.failed + s.failed_before + s.lost + s.errors
     summary = {"passed": not bad, "complete": True, "checked": s.checked, "previously_checked": s.previously,
                "failed": s.failed, "failed_before": s.failed_before, "lost": s.lost,
                "errors": s.errors, "seconds": s.seconds, "cases_per_second": s.rate, "witnesses": s.witnesses,
-               "executor": args.executor, "workers": args.workers, "impls": names, "generators": generators}
+               "executor": args.executor, "workers": args.workers, "impls": names, "generators": generators,
+               "weights": args.weights, "unweighted": unweighted}
     write_json(out / "summary.json", summary)
     close_shared_judges()
     for w in s.witnesses:

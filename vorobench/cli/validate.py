@@ -5,6 +5,11 @@ is certified, and each is compared with the reference, which is certified too. P
 implementation x dataset, writes ``summary.json`` and, for every failure, a small witness
 (``.npy``, the command that reproduces it, a PNG) under ``--out``. Exit status 1 if anything
 is wrong.
+
+With ``--weights FAMILY`` every case is the power diagram of its points with weights of that
+family (``--weights file:PATH`` reads them, one per point, for ``--points``). The reference
+must take weights; an implementation that does not is ``unsupported`` on every case and is
+left out of the gate (it says so), and a witness keeps its weights (``NAME.weights.npy``).
 """
 
 from __future__ import annotations
@@ -12,7 +17,7 @@ from __future__ import annotations
 import argparse
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
 from rich.console import Console
@@ -25,6 +30,7 @@ import impls
 from impls import DEFAULT_REFERENCE
 from impls.plugins import plugins_registered
 from vorobench.cli import args as cli_args
+from vorobench.cli.bench import weight_family
 from vorobench.judge.defaults import DEFAULT_PROBES, DEFAULT_TIMEOUT
 
 if TYPE_CHECKING:  # annotations only: the module itself is loaded when the command runs
@@ -51,6 +57,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--seeds", type=cli_args.seeds, default=[0], help="comma-separated dataset seeds (default 0)")
     p.add_argument("--reference", default=DEFAULT_REFERENCE, help=f"reference implementation (default {DEFAULT_REFERENCE})")
     p.add_argument("--points", help="validate the points of this file (.npy/.csv/.txt) instead of datasets")
+    p.add_argument("--weights", type=_weights_option, default=None, metavar="FAMILY",
+                   help="validate power diagrams: weights of this family (radii, equal, integer, hidden; see "
+                        "`vorobench datasets`), or file:PATH (one per point of --points); implementations "
+                        "without weights are reported unsupported")
     p.add_argument("--out", default="reports/validate", help="directory for summary.json and witnesses "
                                                              "(default reports/validate)")
     p.add_argument("--probes", type=cli_args.non_negative_int, default=DEFAULT_PROBES,
@@ -75,18 +85,45 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="cases judged at once (default 1); every implementation runs in its own worker either way")
 
 
+def _weights_option(text: str) -> str:
+    """``--weights``: a weight family, or ``file:PATH`` of a weights file."""
+    if text.startswith("file:") and len(text) > len("file:"):
+        return text
+    return weight_family(text)
+
+
+def _weights_of(args: argparse.Namespace, points: np.ndarray, seed: Optional[int]) -> Optional[np.ndarray]:
+    """The weights of a case's points under ``--weights`` (None: ordinary diagrams)."""
+    family = args.weights
+    if family is None:
+        return None
+    if family.startswith("file:"):
+        from vorobench.harness.weighted_witness import load_weights
+
+        w = load_weights(family[len("file:"):])
+        if w.shape[0] != points.shape[0]:
+            raise ValueError(f"{family}: {w.shape[0]} weights for {points.shape[0]} points")
+        return w
+    return datasets_gen.weights(family, points, seed=seed or 0)
+
+
 def _cases(args: argparse.Namespace) -> list[dict[str, Any]]:
-    """(label, dataset, n, seed, points) of every case."""
+    """(label, dataset, n, seed, points, weights) of every case (points and weights None: generated
+    on the worker)."""
+    if args.weights is not None and args.weights.startswith("file:") and not args.points:
+        raise ValueError("--weights file:PATH gives the weights of --points FILE: give --points too")
     if args.points:
         pts = datasets_gen.load(args.points)
-        return [dict(dataset=Path(args.points).name, n=int(pts.shape[0]), seed=None, points=pts)]
+        return [dict(dataset=Path(args.points).name, n=int(pts.shape[0]), seed=None, points=pts,
+                     weights=_weights_of(args, pts, None))]
     names = list(args.datasets)
     if not names or names == ["all"]:
         names = datasets_gen.available()
     unknown = [d for d in names if d not in datasets_gen.available() and not d.startswith(datasets_gen.FILE_PREFIX)]
     if unknown:
         raise ValueError(f"unknown dataset(s) {', '.join(unknown)}; see `vorobench datasets`")
-    return [dict(dataset=d, n=n, seed=s, points=None) for d in names for n in args.sizes for s in args.seeds]
+    return [dict(dataset=d, n=n, seed=s, points=None, weights=None) for d in names for n in args.sizes
+            for s in args.seeds]
 
 
 def _impl_names(args: argparse.Namespace) -> list[str]:
@@ -95,20 +132,26 @@ def _impl_names(args: argparse.Namespace) -> list[str]:
         names = impls.available()
     for name in names + [args.reference]:
         impls.get(name)  # KeyError naming the available ones
+    if args.weights is not None and not impls.get(args.reference).weighted:
+        raise ValueError(f"the reference {args.reference} does not take weights, so it cannot judge weighted cases; "
+                         f"choose one that does with --reference ({', '.join(impls.weighted()) or 'none here'})")
     # The reference is certified too: it always has a row, first.
     return [args.reference] + [n for n in names if n != args.reference]
 
 
-def _judge_case(item: tuple) -> tuple[np.ndarray, list[tuple[str, CaseVerdict, Any]]]:
-    """One case on any worker, through the judging engine: (sites, [(impl, verdict, peer)])."""
+def _judge_case(item: tuple) -> tuple[np.ndarray, list[tuple[str, CaseVerdict, Any]], Optional[np.ndarray]]:
+    """One case on any worker, through the judging engine: (sites, [(impl, verdict, peer)], site
+    weights or None). The points and weights of a named dataset are generated here."""
     from vorobench.judge.engine import shared_judge
 
-    case, names, reference, options = item
+    case, names, reference, options, family = item
     with plugins_registered(dict(options)["plugins"]):
-        points = case["points"] if case["points"] is not None else \
-            datasets_gen.generate(case["dataset"], case["n"], seed=case["seed"])
-        judged = shared_judge(names, reference, **dict(options)).judge(points)
-    return judged.sites, judged.rows
+        points, weights = case["points"], case["weights"]
+        if points is None:
+            points = datasets_gen.generate(case["dataset"], case["n"], seed=case["seed"])
+            weights = datasets_gen.weights(family, points, seed=case["seed"]) if family else None
+        judged = shared_judge(names, reference, **dict(options)).judge(points, weights=weights)
+    return judged.sites, judged.rows, judged.weights
 
 
 def _write_json(path: Path, data: dict) -> None:
@@ -148,14 +191,19 @@ def _run(args: argparse.Namespace) -> int:
     options = (("probes", args.probes), ("timeout", args.timeout), ("warmup_timeout", args.warmup_timeout),
                ("memory_limit_mb", args.memory_limit), ("plugins", tuple(args.plugin)))
     records: list[dict[str, Any]] = []
-    failures: list[tuple[dict[str, Any], CaseVerdict, np.ndarray]] = []
+    failures: list[tuple[dict[str, Any], CaseVerdict, np.ndarray, Optional[np.ndarray]]] = []
+    family = args.weights or ""
+    unweighted = [n for n in names if family and not impls.get(n).weighted]
+    if unweighted:
+        console.print(f"[dim]weights {escape(family)}: {escape(', '.join(unweighted))} "
+                      f"{'does' if len(unweighted) == 1 else 'do'} not take weights: unsupported[/]")
     lost_cases: list[tuple[str, str]] = []
     judged_count = 0
     try:
         with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
                       console=console, transient=True) as progress:
             task = progress.add_task("validating", total=len(cases))
-            items = [(case, names, reference, options) for case in cases]
+            items = [(case, names, reference, options, args.weights) for case in cases]
             if args.executor == "local" and args.workers == 1:
                 judged_cases = ((item, _judge_case(item), "") for item in items)     # here, one at a time
             else:
@@ -167,28 +215,31 @@ def _run(args: argparse.Namespace) -> int:
                                 for r in run_tasks(args.executor, args.workers, _judge_case, items, timeout=limit))
             for (case, *_), judged, lost in judged_cases:
                 label = f"{case['dataset']} n={case['n']}" + (f" seed={case['seed']}" if case["seed"] is not None else "")
+                label += f" weights={family}" if family else ""
                 progress.update(task, description=f"validated {label}")
                 progress.advance(task)
                 if lost:                        # its worker died (twice): every implementation's row says so
                     lost_cases.append((label, lost))
-                    records += [dict(dataset=case["dataset"], n=case["n"], seed=case["seed"], exact_peer=None,
+                    records += [dict(dataset=case["dataset"], weights=family, n=case["n"], seed=case["seed"],
+                                     exact_peer=None,
                                      impl=name, reference=reference, verdict="crashed", passed=False, certified=None,
                                      reference_certified=None, message=f"case lost: {lost}", blame="unknown",
                                      n_sites=0, seconds=0.0) for name in names]
                     continue
                 judged_count += 1
-                sites, checks = judged
+                sites, checks, site_weights = judged
                 for name, v, peer in checks:
-                    records.append(dict(dataset=case["dataset"], n=case["n"], seed=case["seed"], exact_peer=peer,
-                                        **v.to_dict()))
+                    records.append(dict(dataset=case["dataset"], weights=family, n=case["n"], seed=case["seed"],
+                                        exact_peer=peer, **v.to_dict()))
                     if not v.passed:
-                        failures.append((dict(case, impl=name, label=label, exact_peer=peer), v, sites))
+                        failures.append((dict(case, impl=name, label=label, exact_peer=peer), v, sites, site_weights))
         # Witnesses, through a judge of this process (sandboxed like the cases were).
         witnesses = []
         shrink_judge = shared_judge(names, reference, **dict(options))
-        for case, verdict, sites in failures:
+        for case, verdict, sites, site_weights in failures:
             name = case["impl"]
             stem = f"{name}-{case['dataset']}-n{case['n']}" + (f"-s{case['seed']}" if case["seed"] is not None else "")
+            stem += f"-w{family.rpartition('/')[2]}" if family else ""
             stem = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in stem)
             peer = case["exact_peer"]
             if peer:
@@ -196,13 +247,23 @@ def _run(args: argparse.Namespace) -> int:
             # A hang or an exhausted memory costs its whole allowance per try: not shrunk.
             shrinkable = not args.no_shrink and verdict.verdict not in ("timeout", "oom")
             with console.status(f"shrinking {name} on {case['label']} ({sites.shape[0]} points)"):
-                small = sites if not shrinkable else shrink_case(
-                    name, sites, verdict, reference=reference, exact_peer=peer, probes=min(args.probes, 2000),
-                    time_budget=args.shrink_seconds, judge=shrink_judge)
-                w = write_witness(out / "witnesses", stem, name, small, reference=reference, exact_peer=peer,
-                                  probes=min(args.probes, 2000), judge=shrink_judge,
-                                  verdict=None if shrinkable else verdict)
-            witnesses.append(dict(impl=name, dataset=case["dataset"], n=case["n"], seed=case["seed"],
+                if site_weights is None:
+                    small = sites if not shrinkable else shrink_case(
+                        name, sites, verdict, reference=reference, exact_peer=peer, probes=min(args.probes, 2000),
+                        time_budget=args.shrink_seconds, judge=shrink_judge)
+                    w = write_witness(out / "witnesses", stem, name, small, reference=reference, exact_peer=peer,
+                                      probes=min(args.probes, 2000), judge=shrink_judge,
+                                      verdict=None if shrinkable else verdict)
+                else:
+                    from vorobench.harness.weighted_witness import shrink_weighted, write_weighted_witness
+
+                    small, small_weights = (sites, site_weights) if not shrinkable else shrink_weighted(
+                        name, sites, site_weights, verdict, reference=reference, exact_peer=peer,
+                        probes=min(args.probes, 2000), time_budget=args.shrink_seconds, judge=shrink_judge)
+                    w = write_weighted_witness(out / "witnesses", stem, name, small, small_weights,
+                                               reference=reference, exact_peer=peer, probes=min(args.probes, 2000),
+                                               judge=shrink_judge, verdict=None if shrinkable else verdict)
+            witnesses.append(dict(impl=name, dataset=case["dataset"], weights=family, n=case["n"], seed=case["seed"],
                                   verdict=verdict.verdict, points=str(w.points), command=str(w.command),
                                   picture=str(w.picture) if w.picture else None, n_points=w.n_points,
                                   shrunk_verdict=w.verdict.verdict))
@@ -211,7 +272,8 @@ def _run(args: argparse.Namespace) -> int:
     # The matrix: implementation x dataset (datasets as rows so that many fit on a terminal),
     # worst verdict over sizes and seeds.
     datasets = list(dict.fromkeys(r["dataset"] for r in records))
-    table = Table(title=f"cross-validation against {reference} ({len(cases)} cases)")
+    table = Table(title=f"cross-validation against {reference} ({len(cases)} cases"
+                        + (f"; power diagrams, {family} weights)" if family else ")"))
     table.add_column("dataset")
     for name in names:
         table.add_column(escape(name) + (" (ref)" if name == reference else ""))
@@ -250,7 +312,7 @@ def _run(args: argparse.Namespace) -> int:
         notes.append(f"{len(blamed)} difference(s) were the reference's failure (see the {reference} row).")
     for note in notes:
         console.print(f"[dim]note:[/] {note}")
-    for case, verdict, _ in failures:
+    for case, verdict, *_ in failures:
         against = f" vs {case['exact_peer']}" if case["exact_peer"] else ""
         console.print(f"[red]FAIL[/] {escape(case['impl'])}{escape(against)} on {escape(case['label'])}: "
                       f"{verdict.verdict}: {escape(verdict.message[:400])}")
@@ -259,16 +321,22 @@ def _run(args: argparse.Namespace) -> int:
     for w in witnesses:
         console.print(f"  witness: {w['n_points']} points -> {w['points']}  (picture: {w['picture']}; "
                       f"command in {w['command']})")
-    # An implementation that declared every case unsupported was never judged: no pass.
-    never_judged = sorted({r["impl"] for r in records} - {r["impl"] for r in records if r["verdict"] != "unsupported"})
+    # An implementation that declared every case unsupported was never judged: no pass. One that
+    # does not take weights, on a weighted run, is declared so up front: it is not held against it.
+    never_judged = sorted({r["impl"] for r in records if r["impl"] not in unweighted}
+                          - {r["impl"] for r in records if r["verdict"] != "unsupported"})
+    if unweighted:
+        notes.append(f"{', '.join(unweighted)} {'does' if len(unweighted) == 1 else 'do'} not take weights: "
+                     f"unsupported on every weighted case, and not part of the gate.")
     if never_judged:
         notes.append(f"{', '.join(never_judged)} declared every case unsupported: nothing of "
                      f"{'it' if len(never_judged) == 1 else 'them'} was judged, so the gate does not pass.")
         console.print(f"[red]NOT JUDGED[/] {escape(', '.join(never_judged))}: unsupported on every case")
     # The gate: every planned case judged, and every verdict a pass.
     ok = not failures and not lost_cases and judged_count == len(cases) and not never_judged
-    failed_impls = sorted({case["impl"] for case, _, _ in failures})
-    summary = dict(reference=reference, impls=names, datasets=datasets, cases=len(cases), judged=judged_count,
+    failed_impls = sorted({case["impl"] for case, *_ in failures})
+    summary = dict(reference=reference, impls=names, datasets=datasets, weights=family or None,
+                   unweighted=unweighted, cases=len(cases), judged=judged_count,
                    complete=judged_count == len(cases), passed=ok, failures=len(failures), lost=len(lost_cases),
                    failed_impls=failed_impls, never_judged=never_judged, timeout=args.timeout, notes=notes, witnesses=witnesses,
                    results=records)

@@ -24,7 +24,8 @@ __all__ = ["write_junit", "write_markdown", "write_compare_junit", "write_compar
 def _case_name(row: dict[str, Any]) -> str:
     seed = "" if row.get("seed") is None else f" seed={row['seed']}"
     peer = f" vs {row['exact_peer']}" if row.get("exact_peer") else ""
-    return f"{row['impl']}{peer} on {row['dataset']} n={row['n']}{seed}"
+    weights = f" ({row['weights']} weights)" if row.get("weights") else ""
+    return f"{row['impl']}{peer} on {row['dataset']}{weights} n={row['n']}{seed}"
 
 
 def write_junit(summary: dict[str, Any], path: str | Path) -> Path:

@@ -1,6 +1,8 @@
 """Fuzz campaigns: many small random and degenerate cases, each cross-validated on an executor, failures shrunk to witnesses.
 
-The command line is :mod:`vorobench.cli.fuzz`; its help text describes the behaviour."""
+The command line is :mod:`vorobench.cli.fuzz`; its help text describes the behaviour. A campaign
+with a weight family judges the power diagram of every case's points with weights of that
+family (drawn with the case's seed); its witnesses keep their weights."""
 
 from __future__ import annotations
 
@@ -22,7 +24,8 @@ from vorobench.core.prepare import prepare
 from vorobench.harness.atomic import replace_atomically
 from vorobench.harness.campaign import INT_BOX, LOG_NAME, Budget, parse_budget
 from vorobench.harness.executors import run_tasks
-from vorobench.judge.engine import shared_judge
+from vorobench.harness.weighted_witness import judge_weighted, shrink_weighted, write_weighted_witness
+from vorobench.judge.engine import prepare_case, shared_judge
 from vorobench.judge.shrink import judge, shrink_case, write_witness
 
 __all__ = ["Budget", "parse_budget", "FuzzCase", "plan", "generate", "check_fuzz_case",
@@ -47,6 +50,8 @@ class FuzzCase:
     plugins: tuple[str, ...] = ()
     timeout: float = 60.0
     memory_limit_mb: Optional[float] = None
+    #: The weight family of a power-diagram campaign ("" for ordinary diagrams).
+    weights: str = ""
 
     def judge(self):
         """This process's judge for the case's implementations and options."""
@@ -58,7 +63,14 @@ class FuzzCase:
         return (self.generator, self.n, self.seed)
 
     def __str__(self) -> str:
-        return f"{self.generator} n={self.n} seed={self.seed}"
+        weights = f" weights={self.weights}" if self.weights else ""
+        return f"{self.generator} n={self.n} seed={self.seed}{weights}"
+
+    def input(self) -> tuple[np.ndarray, Optional[np.ndarray]]:
+        """The case's points and their weights (None for an ordinary case)."""
+        points = generate(self.generator, self.n, self.seed)
+        weights = datasets_gen.weights(self.weights, points, seed=self.seed) if self.weights else None
+        return points, weights
 
 
 def int_box(n: int, seed: int) -> np.ndarray:
@@ -102,10 +114,10 @@ def check_fuzz_case(case: FuzzCase) -> dict[str, Any]:
     (isolated builds, the reference certified once); a JSON-ready record."""
     t0 = time.perf_counter()
     with plugins_registered(case.plugins):
-        points = generate(case.generator, case.n, case.seed)
-        judged = case.judge().judge(points)
+        points, weights = case.input()
+        judged = case.judge().judge(points, weights=weights)
     results = [_verdict_record(v, peer) for _, v, peer in judged.rows]
-    return {"generator": case.generator, "n": case.n, "seed": case.seed, "status": "checked",
+    return {"generator": case.generator, "n": case.n, "seed": case.seed, "weights": case.weights, "status": "checked",
             "n_points": int(points.shape[0]), "n_sites": int(judged.sites.shape[0]), "results": results,
             "passed": judged.passed, "seconds": time.perf_counter() - t0, "host": socket.gethostname()}
 
@@ -120,13 +132,23 @@ class ShrinkTask:
     seconds: float = 30.0
 
 
-def shrink_failure(task: ShrinkTask) -> np.ndarray:
+def shrink_failure(task: ShrinkTask):
     """Run on a worker: the case's points shrunk by ddmin to a small set that still fails the
-    same way (the points unshrunk if the failure does not reproduce in this process)."""
+    same way (the points unshrunk if the failure does not reproduce in this process); for a
+    weighted case, (points, weights) shrunk together."""
     case = task.case
     with plugins_registered(case.plugins):
-        sites, _ = prepare(generate(case.generator, case.n, case.seed))
+        points, weights = case.input()
         engine = case.judge()
+        if weights is not None:
+            sites, site_weights = prepare_case(points, weights)
+            verdict = judge_weighted(task.impl, sites, site_weights, reference=case.reference, exact_peer=task.peer,
+                                     probes=case.probes, judge=engine)
+            if verdict.passed or verdict.verdict in ("timeout", "oom"):
+                return sites, site_weights
+            return shrink_weighted(task.impl, sites, site_weights, verdict, reference=case.reference,
+                                   exact_peer=task.peer, probes=case.probes, time_budget=task.seconds, judge=engine)
+        sites, _ = prepare(points)
         verdict = judge(task.impl, sites, reference=case.reference, exact_peer=task.peer, probes=case.probes,
                         judge=engine)
         if verdict.passed or verdict.verdict in ("timeout", "oom"):   # each try would cost the whole allowance
@@ -185,8 +207,9 @@ def write_json(path: Path, data: dict) -> None:
     replace_atomically(path, lambda f: json.dump(data, f, indent=1, default=_json_default))
 
 
-def _witness_stem(key: tuple[str, int, int], impl: str, peer: Optional[str]) -> str:
-    stem = f"{impl}-{key[0]}-n{key[1]}-s{key[2]}" + (f"-vs-{peer}" if peer else "")
+def _witness_stem(key: tuple[str, int, int], impl: str, peer: Optional[str], weights: str = "") -> str:
+    stem = f"{impl}-{key[0]}-n{key[1]}-s{key[2]}" + (f"-w{weights}" if weights else "")
+    stem += f"-vs-{peer}" if peer else ""
     return "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in stem)
 
 
@@ -194,9 +217,10 @@ def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], bud
                  executor: str = "local", workers: int = 1, reference: str = impls.DEFAULT_REFERENCE, min_n: int = 3,
                  max_n: int = 40, campaign_seed: int = 0, probes: int = 500, plugins: Sequence[str] = (),
                  shrink: bool = True, shrink_seconds: float = 30.0, console=None, timeout: float = 60.0,
-                 memory_limit_mb: Optional[float] = None) -> CampaignSummary:
+                 memory_limit_mb: Optional[float] = None, weights: str = "") -> CampaignSummary:
     """Check cases until the budget is spent, skipping those already in ``out/cases.jsonl``;
-    then shrink every failure not yet witnessed. Returns what this run did."""
+    then shrink every failure not yet witnessed. Returns what this run did. ``weights``: a
+    weight family of ``datasets_gen`` (power diagrams), or "" (ordinary diagrams)."""
     out.mkdir(parents=True, exist_ok=True)
     log_path = out / LOG_NAME
     earlier = _read_log(log_path)
@@ -205,6 +229,8 @@ def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], bud
     setup = {"kind": "setup", "impls": sorted(impls), "reference": reference, "probes": probes,
              "plugins": sorted(str(Path(p).resolve()) if p.endswith(".py") else p for p in plugins),
              "min_n": min_n, "max_n": max_n, "campaign_seed": campaign_seed}
+    if weights:         # only then: the logs of ordinary campaigns stay valid
+        setup["weights"] = weights
     logged = [r for r in earlier if r.get("kind") == "setup"]
     if logged and {k: v for k, v in logged[0].items()} != setup:
         raise ValueError(f"{log_path} was made with another setup ({_setup_text(logged[0])}); "
@@ -225,7 +251,8 @@ def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], bud
             if deadline is not None and time.monotonic() >= deadline:
                 return
             if (gen, n, seed) not in done:
-                yield FuzzCase(gen, n, seed, tuple(impls), reference, probes, tuple(plugins), timeout, memory_limit_mb)
+                yield FuzzCase(gen, n, seed, tuple(impls), reference, probes, tuple(plugins), timeout, memory_limit_mb,
+                               weights)
 
     failures: list[tuple[FuzzCase, str, Optional[str]]] = []
     for r in earlier:   # failures of earlier runs that were not shrunk yet
@@ -233,7 +260,7 @@ def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], bud
             for v in r.get("results", []):
                 if not v["passed"] and (r["generator"], r["n"], r["seed"], v["impl"], v["peer"]) not in witnessed:
                     failures.append((FuzzCase(r["generator"], r["n"], r["seed"], tuple(impls), reference, probes,
-                                              tuple(plugins), timeout, memory_limit_mb), v["impl"], v["peer"]))
+                                              tuple(plugins), timeout, memory_limit_mb, weights), v["impl"], v["peer"]))
     summary.failed_before = sum(1 for r in earlier if r.get("kind", "case") == "case" and not r.get("passed"))
     limit = None
     if mp.current_process().daemon or not executor.startswith("local"):
@@ -253,7 +280,7 @@ def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], bud
                 summary.failed += not record["passed"]
             else:
                 # The worker died (every try) or the task raised: recorded, never dropped.
-                record = {"generator": case.generator, "n": case.n, "seed": case.seed,
+                record = {"generator": case.generator, "n": case.n, "seed": case.seed, "weights": case.weights,
                           "status": "lost" if res.lost else "error", "error": res.lost or res.error,
                           "attempts": res.attempts, "results": [], "passed": False}
                 summary.lost += bool(res.lost)
@@ -274,9 +301,15 @@ def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], bud
                             console.print(f"[yellow]could not shrink[/] {task.impl} on {task.case}: "
                                           f"{res.lost or res.error}")
                         continue
-                    stem = _witness_stem(task.case.key, task.impl, task.peer)
-                    w = write_witness(out / "witnesses", stem, task.impl, res.value, reference=reference,
-                                      exact_peer=task.peer, probes=probes, judge=task.case.judge())
+                    stem = _witness_stem(task.case.key, task.impl, task.peer, weights)
+                    if weights:
+                        small, small_weights = res.value
+                        w = write_weighted_witness(out / "witnesses", stem, task.impl, small, small_weights,
+                                                   reference=reference, exact_peer=task.peer, probes=probes,
+                                                   judge=task.case.judge())
+                    else:
+                        w = write_witness(out / "witnesses", stem, task.impl, res.value, reference=reference,
+                                          exact_peer=task.peer, probes=probes, judge=task.case.judge())
                     entry = {"kind": "witness", "generator": task.case.generator, "n": task.case.n,
                              "seed": task.case.seed, "impl": task.impl, "peer": task.peer,
                              "n_points": w.n_points, "verdict": w.verdict.verdict, "points": str(w.points)}

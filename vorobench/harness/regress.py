@@ -199,8 +199,10 @@ def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05
                    seed: int = 0, history=None) -> list[CaseChange]:
     """Every case present in either table, with its flags. ``history``: earlier runs' rows
     (several ``run_id``) of the same machine, from which each case's own run-to-run noise is
-    measured (:func:`case_noise`)."""
+    measured (:func:`case_noise`). A weighted case (``weights`` column) is a dataset of its own
+    (:func:`vorobench.harness.results.weighted_label`): never compared with the ordinary one."""
     rng = np.random.default_rng(seed)
+    base_df, new_df = results.with_weights_in_dataset(base_df), results.with_weights_in_dataset(new_df)
     stat_cols = counter_columns(set(base_df.columns) | set(new_df.columns))
     base_groups = {k: g for k, g in base_df.groupby(KEY, sort=True)}
     new_groups = {k: g for k, g in new_df.groupby(KEY, sort=True)}
@@ -273,6 +275,7 @@ def case_noise(history) -> dict[tuple, tuple[float, int]]:
     memory-bound builds on a shared machine), which no single pair of runs can show."""
     if history is None or history.empty or "run_id" not in history.columns:
         return {}
+    history = results.with_weights_in_dataset(history)
     ok = history[(history["status"] == "ok") & history["time_s"].notna()]
     medians = ok.groupby(KEY + ["run_id"])["time_s"].median()
     out = {}

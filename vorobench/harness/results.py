@@ -3,6 +3,9 @@
 Layout: fixed leading columns (:data:`COLUMNS`), then the implementations' counters
 (``stat_<name>``, integers) and the parts of the build time (``time_<phase>_s``) in sorted
 order; :mod:`vorobench.judge.outcomes` says what each kind of column is. A failed case has one row with its status and no time.
+A weighted case (a power diagram, ``bench --weights FAMILY``) names its weight family in the
+``weights`` column, empty for an ordinary case and absent from files written before it: it is
+part of the case key, so weighted and ordinary cases never meet in a comparison.
 Every append is flushed and fsynced before the next case starts, and a change of columns
 rewrites the file atomically. A crash (or a full disk) in the middle of an append can still
 leave a torn last row: readers ignore it together with the rest of its case, and the next
@@ -43,6 +46,9 @@ __all__ = [
     "update_run_metadata",
     "to_parquet",
     "case_key",
+    "CASE_KEY",
+    "weighted_label",
+    "with_weights_in_dataset",
 ]
 
 #: Outcome of a case (:class:`vorobench.judge.outcomes.Status`). "skipped": not run because a smaller n
@@ -52,23 +58,57 @@ STATUSES = tuple(s.value for s in Status)
 
 #: Leading columns, in order; ``stat_*`` columns follow.
 COLUMNS = (
-    "run_id", "impl", "dataset", "n", "seed", "repeat", "status", "verdict", "check_passed", "blame",
+    "run_id", "impl", "dataset", "weights", "n", "seed", "repeat", "status", "verdict", "check_passed", "blame",
     "time_s", "warmup_s", "setup_s", "check_s", "case_s",
     "n_points", "n_sites", "V", "E",
     "rss_base_mb", "peak_rss_mb", "mem_mb",
     "phase", "error", "verdict_detail", "finished_at", "host",
 )
 
-_TEXT = {"run_id", "impl", "dataset", "status", "verdict", "check_passed", "blame", "phase", "error",
+_TEXT = {"run_id", "impl", "dataset", "weights", "status", "verdict", "check_passed", "blame", "phase", "error",
          "verdict_detail", "finished_at", "host"}
 
-#: The columns that identify a case.
+#: The columns every results table has (and that identify an ordinary case).
 KEY = ("impl", "dataset", "n", "seed")
+
+#: The columns that identify a case: ``weights`` (the weight family, "" for none) may be absent.
+CASE_KEY = KEY + ("weights",)
+
+
+def _family(value: Any) -> str:
+    """A ``weights`` cell as a family name: "" for none (missing, empty, NaN)."""
+    if value is None or (isinstance(value, float) and value != value):
+        return ""
+    return str(value)
 
 
 def case_key(row: dict) -> tuple[str, str, int, int]:
-    """(impl, dataset, n, seed) of a row, typed (CSV gives strings back)."""
-    return (str(row["impl"]), str(row["dataset"]), int(float(row["n"])), int(float(row["seed"])))
+    """(impl, dataset, n, seed) of a row, typed (CSV gives strings back); the dataset of a
+    weighted case is named with its weight family (:func:`weighted_label`)."""
+    return (str(row["impl"]), weighted_label(str(row["dataset"]), _family(row.get("weights"))),
+            int(float(row["n"])), int(float(row["seed"])))
+
+
+def weighted_label(dataset: str, weights: str) -> str:
+    """How reports and comparisons name the dataset of a case: ``uniform``, or
+    ``uniform (radii weights)`` for the power diagram of its points with ``radii`` weights."""
+    return f"{dataset} ({weights} weights)" if weights else dataset
+
+
+def with_weights_in_dataset(df):
+    """``df`` with the ``dataset`` of every weighted row renamed by :func:`weighted_label`, for
+    the views that group cases by dataset (report, compare, trend): a weighted case is then a
+    dataset of its own, never mixed with the ordinary one. Returns a copy."""
+    df = df.copy()
+    if "weights" not in df.columns or df.empty:
+        return df
+    family = df["weights"].map(_family)
+    weighted = family != ""
+    if weighted.any():
+        df["dataset"] = df["dataset"].astype(object)
+        df.loc[weighted, "dataset"] = [weighted_label(str(d), w)
+                                       for d, w in zip(df.loc[weighted, "dataset"], family[weighted])]
+    return df
 
 
 def _ordered(columns: Iterable[str]) -> list[str]:
@@ -133,7 +173,7 @@ def _intact_length(data: bytes) -> int:
         return len(data)
     if len(records) == 1:                          # the header itself is torn
         return 0
-    where = [header.index(c) for c in ("run_id",) + KEY if c in header]
+    where = [header.index(c) for c in ("run_id",) + CASE_KEY if c in header]
 
     def group(fields: list[str]) -> Optional[tuple[str, ...]]:
         # The last key field is complete only if the field after it was started.
@@ -291,6 +331,9 @@ def _with_all_columns(df):
     for column in COLUMNS:
         if column not in df.columns:
             df[column] = pd.Series(float("nan"), index=df.index, dtype=object if column in _TEXT else float)
+    # "" rather than NaN for an ordinary case: the family is part of the case key, and pandas
+    # groupby drops NaN keys.
+    df["weights"] = df["weights"].map(_family).astype(object)
     return df
 
 

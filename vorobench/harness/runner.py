@@ -1,6 +1,8 @@
 """Run benchmark cases, each in its own worker process, and turn every outcome into rows.
 
-A case is one (implementation, dataset, n, seed). Its worker (:mod:`vorobench.harness.worker`) is a
+A case is one (implementation, dataset, n, seed, weight family): with a weight family (``bench
+--weights``) it times the power diagram of the dataset's points, and an implementation that
+does not take weights is recorded as ``unsupported`` without being started. Its worker (:mod:`vorobench.harness.worker`) is a
 fresh process, so a hard crash (segfault, ``os._exit``), a hang or running out of memory ends
 that case only: the parent records the status and goes on. Workers are forked from a
 ``forkserver`` that has imported numpy, scipy, numba and the implementations once (a fresh
@@ -32,18 +34,17 @@ from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeEl
 
 import datasets_gen
 import impls
-from vorobench.core.prepare import prepare
 from vorobench.harness.analysis import loglog_fit
 from vorobench.harness.executors import LOCAL, parse_spec, run_tasks
-from vorobench.harness.results import case_key
+from vorobench.harness.results import case_key, weighted_label
 from vorobench.harness.worker import MAX_REPEAT, reference_path, run_and_report, store_reference, worker_main
 from vorobench.judge import isolation
-from vorobench.judge.engine import shared_judge
+from vorobench.judge.engine import NO_WEIGHTS, prepare_case, shared_judge
 from vorobench.judge.isolation import FORKSERVER_PRELOAD, default_start_method
 from vorobench.judge.outcomes import Status, Verdict, status_rank, verdict_rank
 
 __all__ = ["Case", "RunConfig", "CaseOutcome", "plan_cases", "run_case", "run_case_in_process", "run_cases",
-           "exit_status"]
+           "exit_status", "case_input", "takes_weights"]
 
 #: Allowance for starting the worker, importing, and generating the input (not the impl's time).
 STARTUP_TIMEOUT = 180.0
@@ -52,19 +53,28 @@ STARTUP_TIMEOUT = 180.0
 
 @dataclass(frozen=True)
 class Case:
-    """One benchmark case."""
+    """One benchmark case; ``weights``: the weight family of a power-diagram case ("" for none)."""
 
     impl: str
     dataset: str
     n: int
     seed: int = 0
+    weights: str = ""
 
     @property
     def key(self) -> tuple[str, str, int, int]:
-        return (self.impl, self.dataset, self.n, self.seed)
+        """(impl, dataset, n, seed), the dataset named with its weight family if any (as
+        :func:`~vorobench.harness.results.case_key` names a row's)."""
+        return (self.impl, weighted_label(self.dataset, self.weights), self.n, self.seed)
+
+    @property
+    def history_key(self) -> tuple[str, str, int]:
+        """The case without its size: the smaller sizes it is extrapolated from share it."""
+        return (self.impl, weighted_label(self.dataset, self.weights), self.seed)
 
     def __str__(self) -> str:
-        return f"{self.impl} {self.dataset} n={self.n} seed={self.seed}"
+        weights = f" weights={self.weights}" if self.weights else ""
+        return f"{self.impl} {self.dataset}{weights} n={self.n} seed={self.seed}"
 
 
 @dataclass(frozen=True)
@@ -138,14 +148,31 @@ def _distinct_sizes(dataset: str, sizes: Sequence[int]) -> list[int]:
 
 
 def plan_cases(impls: Sequence[str], datasets: Sequence[str], sizes: Sequence[int],
-               seeds: Sequence[int], reference: Optional[str] = None) -> list[Case]:
+               seeds: Sequence[int], reference: Optional[str] = None, weights: str = "") -> list[Case]:
     """All combinations, smallest n first: an interrupted run has covered every pair early,
     and a size is only reached after the smaller ones it is extrapolated from. Within a
-    (size, dataset, seed) the reference comes last, so it knows whether anyone needs it."""
+    (size, dataset, seed) the reference comes last, so it knows whether anyone needs it.
+    ``weights``: the weight family of every case ("" for ordinary diagrams)."""
     ordered = [i for i in impls if i != reference] + [i for i in impls if i == reference]
     per_dataset = {d: set(_distinct_sizes(d, sizes)) for d in datasets}
-    return [Case(i, d, n, s) for n in sorted(set(sizes)) for d in datasets if n in per_dataset[d]
+    return [Case(i, d, n, s, weights or "") for n in sorted(set(sizes)) for d in datasets if n in per_dataset[d]
             for s in seeds for i in ordered]
+
+
+def takes_weights(impl: str) -> Optional[bool]:
+    """Whether implementation ``impl`` builds power diagrams (None: it cannot be loaded here;
+    its worker reports why)."""
+    try:
+        return impls.get(impl).weighted
+    except Exception:  # a broken plugin is the worker's to report
+        return None
+
+
+def case_input(case: Case):
+    """(sites, site weights or None) of a case, generated and prepared as its worker does."""
+    points = datasets_gen.generate(case.dataset, case.n, seed=case.seed)
+    weights = datasets_gen.weights(case.weights, points, seed=case.seed) if case.weights else None
+    return prepare_case(points, weights)
 
 
 def _context(method: str, impl: str):
@@ -184,15 +211,17 @@ def prepare_reference(case: Case, config: RunConfig) -> Optional[str]:
     cache = _reference_cache(config)
     if case.impl == config.reference:
         return cache                        # its own case: judged on its own timed build
-    path = reference_path(cache, config.reference, case.dataset, case.n, case.seed)
+    if case.weights and takes_weights(case.impl) is False:
+        return cache                        # the case is unsupported: nothing to check
+    path = reference_path(cache, config.reference, case.dataset, case.n, case.seed, case.weights)
     if path.exists():
         return cache
     # Not stored: build it here (a failure is then passed on to this case, never cached).
     try:
-        sites, _ = prepare(datasets_gen.generate(case.dataset, case.n, seed=case.seed))
+        sites, weights = case_input(case)
         judge = shared_judge([], config.reference, timeout=config.timeout, warmup_timeout=config.warmup_timeout,
                              memory_limit_mb=config.memory_limit_mb, plugins=config.plugins)
-        result = judge.build(config.reference, sites)
+        result = judge.build(config.reference, sites, weights=weights)
         if result.diagram is not None or result.unsupported:
             store_reference(path, result)   # a failure is not kept: a later run must try again
     except Exception:  # the input cannot be generated: the case's own worker reports why
@@ -202,6 +231,8 @@ def prepare_reference(case: Case, config: RunConfig) -> Optional[str]:
 
 def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], None]] = None) -> CaseOutcome:
     """Run one case in a fresh worker process and return its rows, whatever happens to it."""
+    if case.weights and takes_weights(case.impl) is False:
+        return _no_weights(case, config)
     started = time.perf_counter()
     if on_step and config.check and config.reference and case.impl != config.reference:
         on_step(f"reference {config.reference}")
@@ -271,6 +302,8 @@ def run_case_in_process(case: Case, config: RunConfig) -> CaseOutcome:
     """Run one case in this process (a Dask worker: one case per worker thread, no per-step
     timeout, no memory cap). A hard crash takes this process down; the executor sees the
     worker die, and the parent retries the case or records it as lost."""
+    if case.weights and takes_weights(case.impl) is False:
+        return _no_weights(case, config)
     started = time.perf_counter()
     info: dict = {}
     repeats: list[dict] = []
@@ -291,12 +324,22 @@ def run_case_in_process(case: Case, config: RunConfig) -> CaseOutcome:
     return CaseOutcome(case, status, _rows(case, config, status, state["step"], info, repeats), seconds)
 
 
+def _no_weights(case: Case, config: RunConfig) -> CaseOutcome:
+    """The record of a weighted case of an implementation that does not take weights: declared
+    out of its scope (``unsupported``), like sites it refuses; no worker is started."""
+    row = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "weights": case.weights,
+           "n": case.n, "seed": case.seed, "status": Status.UNSUPPORTED, "verdict": Verdict.UNSUPPORTED,
+           "error": f"{NO_WEIGHTS}: {case.impl} builds ordinary Voronoi diagrams only",
+           "host": socket.gethostname(), "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
+    return CaseOutcome(case, Status.UNSUPPORTED, [row], 0.0)
+
+
 def lost_outcome(case: Case, config: RunConfig, why: str, status: str = "lost") -> CaseOutcome:
     """The record of a case whose worker died on every try (status ``lost``), whose task failed
     outside the case (``error``) or overstayed (``timeout``): nothing came back, but the case is
     never dropped."""
-    row = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "n": case.n,
-           "seed": case.seed, "status": status,
+    row = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "weights": case.weights,
+           "n": case.n, "seed": case.seed, "status": status,
            "verdict": Verdict.TIMEOUT if status == Status.TIMEOUT else Verdict.CRASHED,
            "error": why, "host": "",
            "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
@@ -310,8 +353,8 @@ def _once_per_case(column: str) -> bool:
 
 
 def _rows(case: Case, config: RunConfig, status: str, step: str, info: dict, repeats: list[dict]) -> list[dict]:
-    common = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "n": case.n,
-              "seed": case.seed, "status": status, "host": socket.gethostname(),
+    common = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "weights": case.weights,
+              "n": case.n, "seed": case.seed, "status": status, "host": socket.gethostname(),
               "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
     common.update({k: v for k, v in info.items() if k not in ("status",)})
     if status == Status.OK:
@@ -347,8 +390,8 @@ def _growth_exponent(timed: list[tuple[int, float]]) -> float:
 
 
 def _skip_reason(case: Case, history: dict, config: RunConfig) -> Optional[str]:
-    """Why ``case`` need not run, judging from smaller n of the same impl/dataset/seed."""
-    done = sorted(history.get((case.impl, case.dataset, case.seed), []))
+    """Why ``case`` need not run, judging from smaller n of the same impl/dataset/seed/weights."""
+    done = sorted(history.get(case.history_key, []))
     smaller = [(n, st, t) for n, st, t in done if n < case.n]
     if not smaller:
         return None
@@ -362,7 +405,7 @@ def _skip_reason(case: Case, history: dict, config: RunConfig) -> Optional[str]:
     if case.impl == config.reference:
         # The reference runs wherever another implementation did: their ratios need it.
         others = [st for (impl, ds, seed), entries in history.items()
-                  if impl != case.impl and ds == case.dataset and seed == case.seed
+                  if impl != case.impl and ds == case.history_key[1] and seed == case.seed
                   for n, st, _ in entries if n == case.n]
         if "ok" in others:
             return None
@@ -375,14 +418,15 @@ def _skip_reason(case: Case, history: dict, config: RunConfig) -> Optional[str]:
 
 
 def _skipped(case: Case, config: RunConfig, reason: str) -> CaseOutcome:
-    row = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "n": case.n,
-           "seed": case.seed, "status": Status.SKIPPED, "verdict": Verdict.SKIPPED, "error": reason,
+    row = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "weights": case.weights,
+           "n": case.n, "seed": case.seed, "status": Status.SKIPPED, "verdict": Verdict.SKIPPED, "error": reason,
            "host": socket.gethostname(), "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
     return CaseOutcome(case, Status.SKIPPED, [row], 0.0)
 
 
 def history_from_rows(rows: Iterable[dict]) -> dict:
-    """(impl, dataset, seed) -> [(n, status, median time)] from rows already on file."""
+    """(impl, dataset, seed) -> [(n, status, median time)] from rows already on file (the dataset
+    of a weighted case named with its weight family)."""
     by_case: dict = {}
     for r in rows:
         key = case_key(r)
@@ -440,7 +484,7 @@ def run_cases(cases: Sequence[Case], config: RunConfig, sink: Callable[[list[dic
             case = outcome.case
             sink(outcome.rows)
             outcomes.append(outcome)
-            history.setdefault((case.impl, case.dataset, case.seed), []).append(
+            history.setdefault(case.history_key, []).append(
                 (case.n, outcome.status, outcome.median_time))
             bar.update(task, advance=_case_weight(case, config), count=f"{len(outcomes)}/{len(todo)} cases")
             if verbose:

@@ -129,7 +129,7 @@ class Store:
         """File one run (its rows and metadata) in one transaction; False if it is already filed."""
         run_id = str(meta.get("run_id") or rows["run_id"].iloc[0])
         rows = rows.assign(run_id=run_id).reset_index(drop=True)
-        cases = rows.drop_duplicates(["impl", "dataset", "n", "seed"])
+        cases = rows.drop_duplicates([c for c in results.CASE_KEY if c in rows.columns])
         failed = int((cases["status"] != "ok").sum() - cases["status"].isin(["unsupported", "skipped"]).sum())
         record = {
             "run_id": run_id, "date": meta.get("date"), "commit": meta.get("commit"),

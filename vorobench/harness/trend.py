@@ -18,6 +18,7 @@ from plotly.offline import get_plotlyjs
 from plotly.subplots import make_subplots
 
 from vorobench.harness.changepoints import counter_steps, time_steps
+from vorobench.harness.results import with_weights_in_dataset
 from vorobench.judge.outcomes import counter_columns
 
 __all__ = ["Run", "Series", "Machine", "ChangePoint", "load", "detect", "render",
@@ -136,7 +137,7 @@ def load(store, machine: Optional[str] = None, impls: Optional[list[str]] = None
     if runs.empty:
         raise ValueError(f"{store.path}: holds no run" + (f" of a machine {machine}*" if machine else "")
                          + "; file runs with `vorobench bench --store`")
-    rows = store.results()
+    rows = with_weights_in_dataset(store.results())      # a weighted case: a dataset of its own
     rows = rows[rows["run_id"].astype(str).isin(set(runs["run_id"].astype(str)))]
     held_impls, held_datasets = sorted(rows["impl"].dropna().unique()), sorted(rows["dataset"].dropna().unique())
     if impls:

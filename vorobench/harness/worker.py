@@ -1,6 +1,8 @@
 """The worker side of a benchmark case: runs in its own process and reports step by step.
 
-The parent (:mod:`vorobench.harness.runner`) starts one worker per (implementation, dataset, n, seed).
+The parent (:mod:`vorobench.harness.runner`) starts one worker per (implementation, dataset, n, seed,
+weight family); a weighted case builds the power diagram of the points with weights of that
+family (:func:`datasets_gen.weights`), drawn with the points, before anything is timed.
 The worker announces each step before it starts (``("step", name)``) and sends its measurements
 as it gets them (``("data", dict)``), then ``("done", None)`` or ``("failed", dict)``. So when the
 worker dies or hangs, the parent knows in which step and keeps what was measured before.
@@ -31,13 +33,12 @@ import datasets_gen
 import impls
 from impls.base import InputMutated
 from impls.plugins import load_plugin
-from vorobench.core.prepare import prepare
 from vorobench.harness import peakmem
 from vorobench.harness.atomic import replace_atomically
 from vorobench.judge import engine as crossval
 from vorobench.judge import isolation
 from vorobench.judge.certificate import certify
-from vorobench.judge.engine import diagram_arrays
+from vorobench.judge.engine import NO_WEIGHTS, diagram_arrays, prepare_case
 from vorobench.judge.outcomes import COUNTER_PREFIX, timing_column
 
 __all__ = ["worker_main", "run_and_report", "check_against_reference",
@@ -52,9 +53,10 @@ WARMUP_N = 64
 MAX_REPEAT = 25
 
 
-def reference_path(cache_dir: str, reference: str, dataset: str, n: int, seed: int) -> Path:
-    """Where the reference's judged build of one (dataset, n, seed) is kept for the run."""
-    return Path(cache_dir) / f"{reference}-{dataset}-{n}-{seed}.pkl"
+def reference_path(cache_dir: str, reference: str, dataset: str, n: int, seed: int, weights: str = "") -> Path:
+    """Where the reference's judged build of one (dataset, n, seed, weight family) is kept for the run."""
+    family = f"-w-{weights}" if weights else ""
+    return Path(cache_dir) / f"{reference}-{dataset}-{n}-{seed}{family}.pkl"
 
 
 def store_reference(path: Path, result) -> None:
@@ -63,9 +65,10 @@ def store_reference(path: Path, result) -> None:
     replace_atomically(path, lambda f: pickle.dump(result, f, protocol=pickle.HIGHEST_PROTOCOL), binary=True)
 
 
-def load_reference(path: Path, sites):
-    """The stored reference build of ``sites`` (a :class:`~vorobench.judge.engine.BuildResult`), or
-    None when there is none or it belongs to other sites."""
+def load_reference(path: Path, sites, weights=None):
+    """The stored reference build of ``sites`` with ``weights`` (a
+    :class:`~vorobench.judge.engine.BuildResult`), or None when there is none or it belongs to
+    other sites or weights."""
     try:
         with open(path, "rb") as f:
             result = pickle.load(f)
@@ -74,11 +77,16 @@ def load_reference(path: Path, sites):
     diagram = getattr(result, "diagram", None)
     if diagram is not None and not (diagram.sites.shape == sites.shape and np.array_equal(diagram.sites, sites)):
         return None
+    stored = None if diagram is None else diagram.weights
+    if diagram is not None and ((stored is None) != (weights is None)
+                                or (weights is not None and not np.array_equal(stored, weights))):
+        return None
     return result
 
 
 def _same_diagram(a, b) -> bool:
-    return all(np.array_equal(x, y) for x, y in zip(diagram_arrays(a).values(), diagram_arrays(b).values()))
+    first, second = diagram_arrays(a), diagram_arrays(b)
+    return first.keys() == second.keys() and all(np.array_equal(first[k], second[k]) for k in first)
 
 
 def check_against_reference(impl_name: str, diagram, reference: str, reference_result=None) -> dict:
@@ -112,7 +120,7 @@ def _first_line(obj: object) -> str:
     return text[0][:300] if text else ""
 
 
-def _timed_build(impl, sites, stats, timings) -> tuple[object, int, float, float]:
+def _timed_build(impl, sites, stats, timings, weights=None) -> tuple[object, int, float, float]:
     """One build: (diagram, wall ns, peak resident MiB during it, own peak above the start)."""
     gc.collect()
     peakmem.reset_peak()
@@ -121,7 +129,7 @@ def _timed_build(impl, sites, stats, timings) -> tuple[object, int, float, float
     try:
         t0 = time.perf_counter_ns()
         # A read-only copy; a change of it, or a counter that is not an integer, is an error.
-        diagram = impl.run(sites, stats, timings=timings, check_supports=False)
+        diagram = impl.run(sites, stats, timings=timings, check_supports=False, weights=weights)
         elapsed = time.perf_counter_ns() - t0
     finally:
         gc.enable()
@@ -144,12 +152,22 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
         load_plugin(spec)
 
     impl = impls.get(case["impl"])
+    family = case.get("weights") or ""
+    if family and not impl.weighted:
+        send("failed", {"status": "unsupported", "error": f"{NO_WEIGHTS}: {impl.name} builds ordinary Voronoi "
+                                                           f"diagrams only"})
+        return
     send("data", {"rss_base_mb": peakmem.current_rss_mb()})
+
+    def case_input(n: int):
+        """(points, sites, site weights or None) of the case's dataset at size ``n``."""
+        points = datasets_gen.generate(case["dataset"], n, seed=case["seed"])
+        weights = datasets_gen.weights(family, points, seed=case["seed"]) if family else None
+        return (points, *prepare_case(points, weights))
 
     send("step", "generate")
     t0 = time.perf_counter_ns()
-    points = datasets_gen.generate(case["dataset"], case["n"], seed=case["seed"])
-    sites, _ = prepare(points)
+    points, sites, weights = case_input(case["n"])
     send("data", {"setup_s": (time.perf_counter_ns() - t0) / 1e9,
                   "n_points": int(points.shape[0]), "n_sites": int(sites.shape[0])})
     del points
@@ -163,8 +181,8 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
     t0 = time.perf_counter_ns()
     if impl.warmup is not None:
         impl.warmup()
-    small = datasets_gen.generate(case["dataset"], min(case["n"], WARMUP_N), seed=case["seed"])
-    impl.run(prepare(small)[0], {})
+    _, small, small_weights = case_input(min(case["n"], WARMUP_N))
+    impl.run(small, {}, weights=small_weights)
     send("data", {"warmup_s": (time.perf_counter_ns() - t0) / 1e9})
 
     # Everything alive now (libraries, inputs) is moved out of the collector's reach, so the
@@ -180,7 +198,7 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
         stats: dict = {}
         timings: dict = {}
         diagram = None                      # free the previous result before the next build
-        diagram, ns, peak, own = _timed_build(impl, sites, stats, timings)
+        diagram, ns, peak, own = _timed_build(impl, sites, stats, timings, weights)
         timed_ns += ns
         row = {"time_s": ns / 1e9, "peak_rss_mb": peak, "mem_mb": own} | _measured_columns({}, timings)
         if i == 0:
@@ -196,7 +214,8 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
             stored = None
             if config.get("reference_cache"):
                 stored = load_reference(reference_path(config["reference_cache"], config["reference"],
-                                                       case["dataset"], case["n"], case["seed"]), sites)
+                                                       case["dataset"], case["n"], case["seed"], family),
+                                        sites, weights)
             verdict = check_against_reference(impl.name, diagram, config["reference"], stored)
         except Exception as exc:                    # a failing check is reported, not fatal
             verdict = {"verdict": "check_error", "verdict_detail": _first_line(f"{type(exc).__name__}: {exc}")}

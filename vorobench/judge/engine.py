@@ -11,7 +11,8 @@ witness shrinking and the CI tests go through it; the benchmark worker's check s
 * A failure of the implementation is its own verdict and nobody else's: ``crashed`` (an
   exception, a signal such as SIGSEGV, or an exit with any status, 0 included), ``timeout``,
   ``oom``, ``mutated_input`` (it changed the sites it was given). An implementation that
-  declares it cannot take the sites is ``unsupported``.
+  declares it cannot take the sites is ``unsupported``; so is one without weights
+  (:data:`NO_WEIGHTS`) on a weighted case, which builds the power diagram of the sites.
 * An implementation must certify: exactly if it is exact, within tolerance if it is a
   floating-point library (``Implementation.exact`` is False, e.g. qhull).
 * Two exact implementations must agree ``exact``-ly; against a floating-point library,
@@ -38,7 +39,7 @@ import impls
 from impls import DEFAULT_REFERENCE
 from impls.base import InputMutated, UnsupportedInput
 from vorobench.core.diagram import Diagram
-from vorobench.core.prepare import prepare
+from vorobench.core.prepare import prepare, prepare_weighted
 from vorobench.core.scaling import OutsideExactRange
 from vorobench.judge.certificate import DEFAULT_PROBES, Certificate, certify
 from vorobench.judge.comparison import Comparison, compare
@@ -47,7 +48,7 @@ from vorobench.judge.outcomes import Verdict
 from vorobench.judge.sandbox import WARMUP_TIMEOUT, Sandbox
 
 __all__ = ["CaseVerdict", "BuildResult", "CaseJudgement", "Judge", "judge_case", "build_only", "certify_result", "build_and_certify", "build_in_sandbox", "diagram_arrays", "diagram_from_arrays", "check_case",
-           "decide", "agree_exactly", "is_exact", "VERDICTS", "PASSING", "FAILURES",
+           "decide", "agree_exactly", "is_exact", "prepare_case", "VERDICTS", "PASSING", "FAILURES", "NO_WEIGHTS",
            "DEFAULT_TIMEOUT", "shared_judge", "close_shared_judges"]
 
 
@@ -62,6 +63,19 @@ FAILURES = ("not_certified", "wrong_sites", "mutated_input", "oom", "timeout", "
 
 #: Verdicts that pass (``differs`` passes only when the reference is to blame: see ``passed``).
 PASSING = ("exact", "within_tolerance", "certified", "unsupported")
+
+#: Why an implementation without ``build_weighted`` is ``unsupported`` on a weighted case.
+NO_WEIGHTS = "does not take weights"
+
+
+def prepare_case(points: ArrayLike, weights: Optional[ArrayLike] = None
+                 ) -> tuple[np.ndarray, Optional[np.ndarray]]:
+    """The sites of a case and their weights (None: an ordinary case): duplicate rows merged,
+    the largest weight kept (:func:`~vorobench.core.prepare.prepare_weighted`)."""
+    if weights is None:
+        return prepare(points)[0], None
+    sites, site_weights, _ = prepare_weighted(points, weights)
+    return sites, site_weights
 
 
 @dataclass
@@ -95,15 +109,19 @@ class BuildResult:
         return None if self.certificate is None else self.certificate.ok
 
 
-def build_only(impl_name: str, sites: np.ndarray) -> BuildResult:
+def build_only(impl_name: str, sites: np.ndarray, weights: Optional[np.ndarray] = None) -> BuildResult:
     """Build prepared ``sites`` with ``impl_name`` in this process; every failure is recorded in
     the result, not raised. No certificate yet: that is the judge's, outside the implementation's
-    process."""
+    process. ``weights`` (one per site) asks for the power diagram; an implementation that
+    does not take weights is ``unsupported`` (:data:`NO_WEIGHTS`)."""
     try:
         impl = impls.get(impl_name)
     except Exception as exc:  # unknown or broken plugin: recorded like a crash
         return BuildResult(impl_name, True, error=f"{type(exc).__name__}: {exc}", failure="crashed")
     result = BuildResult(impl_name, bool(impl.exact))
+    if weights is not None and not impl.weighted:
+        result.unsupported = f"{NO_WEIGHTS} (it builds ordinary Voronoi diagrams only)"
+        return result
     try:
         reason = impl.unsupported_reason(sites)
     except Exception as exc:  # a supports() that raises is the implementation's crash
@@ -114,7 +132,7 @@ def build_only(impl_name: str, sites: np.ndarray) -> BuildResult:
         return result
     t0 = time.perf_counter_ns()
     try:
-        result.diagram = impl.run(sites, None, check_supports=False)
+        result.diagram = impl.run(sites, None, check_supports=False, weights=weights)
         if type(result.diagram) is not Diagram:
             raise TypeError(f"build returned {type(result.diagram).__name__}, not a Diagram")
     except InputMutated as exc:
@@ -134,9 +152,10 @@ def build_only(impl_name: str, sites: np.ndarray) -> BuildResult:
 
 
 def certify_result(result: BuildResult, sites: np.ndarray, *, probes: int = DEFAULT_PROBES,
-                   seed: int = 0) -> BuildResult:
-    """Certify ``result``'s diagram, which must be the diagram of exactly ``sites``: a diagram
-    of other sites (moved, dropped, relabelled) is a failure, however well it certifies."""
+                   seed: int = 0, weights: Optional[np.ndarray] = None) -> BuildResult:
+    """Certify ``result``'s diagram, which must be the diagram of exactly ``sites`` (with
+    exactly ``weights``, or none): a diagram of other sites (moved, dropped, relabelled) or
+    other weights is a failure, however well it certifies."""
     d = result.diagram
     if d is None:
         return result
@@ -146,6 +165,14 @@ def certify_result(result: BuildResult, sites: np.ndarray, *, probes: int = DEFA
                         + (f"{d.sites.shape[0]} sites for the {sites.shape[0]} it was given"
                            if d.sites.shape != sites.shape else "some of them moved"))
         return result
+    got = None if d.weights is None else np.asarray(d.weights)
+    if (got is None) != (weights is None) or (got is not None and not (
+            got.shape == weights.shape and np.array_equal(got, weights))):
+        result.diagram, result.failure = None, "wrong_sites"
+        result.error = ("returned the diagram of other weights" if got is not None and weights is not None else
+                        "returned an ordinary diagram for weighted sites" if got is None else
+                        "returned a power diagram for unweighted sites")
+        return result
     try:
         result.certificate = certify(d, probes=probes, seed=seed)
     except Exception as exc:  # a diagram the certifier cannot even read certifies nothing
@@ -154,30 +181,36 @@ def certify_result(result: BuildResult, sites: np.ndarray, *, probes: int = DEFA
     return result
 
 
-def build_and_certify(impl_name: str, sites: ArrayLike, *, probes: int = DEFAULT_PROBES, seed: int = 0) -> BuildResult:
-    """Build ``sites`` with ``impl_name`` in this process and certify the result. Call it
-    directly only where a hard crash of the implementation may take the calling process
-    down; :class:`Judge` isolates the build."""
-    sites, _ = prepare(sites)
-    return certify_result(build_only(impl_name, sites), sites, probes=probes, seed=seed)
+def build_and_certify(impl_name: str, sites: ArrayLike, *, probes: int = DEFAULT_PROBES, seed: int = 0,
+                      weights: Optional[ArrayLike] = None) -> BuildResult:
+    """Build ``sites`` (with ``weights``: the power diagram) with ``impl_name`` in this process
+    and certify the result. Call it directly only where a hard crash of the implementation may
+    take the calling process down; :class:`Judge` isolates the build."""
+    sites, weights = prepare_case(sites, weights)
+    return certify_result(build_only(impl_name, sites, weights), sites, probes=probes, seed=seed, weights=weights)
 
 
 _DIAGRAM_FIELDS = ("sites", "vertices", "origin", "twin", "next", "site")
 
 
 def diagram_arrays(d: Diagram) -> dict[str, np.ndarray]:
-    """The DCEL's arrays by field name: what a sandbox sends instead of an object."""
-    return {f: np.asarray(getattr(d, f)) for f in _DIAGRAM_FIELDS}
+    """The DCEL's arrays by field name, and ``weights`` for a power diagram: what a sandbox
+    sends instead of an object."""
+    arrays = {f: np.asarray(getattr(d, f)) for f in _DIAGRAM_FIELDS}
+    if d.weights is not None:
+        arrays["weights"] = np.asarray(d.weights)
+    return arrays
 
 
 def diagram_from_arrays(arrays: dict[str, np.ndarray]) -> Diagram:
-    """A :class:`Diagram` of the judge's own class from arrays a sandbox sent."""
-    return Diagram(*(arrays[f] for f in _DIAGRAM_FIELDS))
+    """A :class:`Diagram` of the judge's own class from arrays a sandbox sent (a power
+    diagram when they hold ``weights``)."""
+    return Diagram(*(arrays[f] for f in _DIAGRAM_FIELDS), weights=arrays.get("weights"))
 
 
-def build_in_sandbox(impl_name: str, sites: np.ndarray) -> tuple[dict, dict]:
+def build_in_sandbox(impl_name: str, sites: np.ndarray, weights: Optional[np.ndarray] = None) -> tuple[dict, dict]:
     """Runs in a sandbox: :func:`build_only` as plain data and arrays (nothing to unpickle)."""
-    res = build_only(impl_name, sites)
+    res = build_only(impl_name, sites, weights)
     data = {"exact": res.exact, "error": res.error, "unsupported": res.unsupported, "seconds": res.seconds,
             "failure": res.failure, "has_diagram": res.diagram is not None}
     arrays = diagram_arrays(res.diagram) if res.diagram is not None else None
@@ -246,8 +279,9 @@ def _failed_checks(res: BuildResult) -> str:
 def check_case(impl_name: str, sites: ArrayLike, reference_diagram: Optional[Diagram] = None,
                reference_certificate: Optional[Certificate] = None, *, reference: str = DEFAULT_REFERENCE,
                reference_result: Optional[BuildResult] = None, probes: int = DEFAULT_PROBES,
-               seed: int = 0, judge: Optional["Judge"] = None) -> CaseVerdict:
-    """Build, certify and compare ``impl_name`` on ``sites`` against ``reference``.
+               seed: int = 0, judge: Optional["Judge"] = None, weights: Optional[ArrayLike] = None) -> CaseVerdict:
+    """Build, certify and compare ``impl_name`` on ``sites`` (with ``weights``: their power
+    diagram) against ``reference``.
 
     Builds go through ``judge`` (isolated workers) when given, else run in this process. The
     reference is built and certified here unless given (as ``reference_result``, or as a
@@ -255,12 +289,12 @@ def check_case(impl_name: str, sites: ArrayLike, reference_diagram: Optional[Dia
     several implementations.
     """
     t0 = time.perf_counter_ns()
-    sites, _ = prepare(sites)
+    sites, weights = prepare_case(sites, weights)
     judge = judge or Judge(isolate=False, reference=reference, probes=probes, seed=seed)
     if impl_name == reference and reference_result is not None:
         res = reference_result                    # the reference's own row: judged on its certificate
     else:
-        res = judge.build(impl_name, sites)
+        res = judge.build(impl_name, sites, weights=weights)
     if reference_result is None:
         if reference_diagram is not None:
             cert = reference_certificate or certify(reference_diagram, probes=probes, seed=seed)
@@ -268,11 +302,20 @@ def check_case(impl_name: str, sites: ArrayLike, reference_diagram: Optional[Dia
         elif impl_name == reference:
             reference_result = res
         else:
-            reference_result = judge.build(reference, sites)
+            reference_result = judge.build(reference, sites, weights=weights)
     verdict = decide(impl_name, reference, res, reference_result)
     verdict.n_sites = int(sites.shape[0])
     verdict.seconds = (time.perf_counter_ns() - t0) / 1e9
     return verdict
+
+
+def _declares_no_weights(name: str) -> bool:
+    """Whether implementation ``name`` is known here not to take weights (False when it cannot
+    be loaded here: its sandbox then reports what it can)."""
+    try:
+        return not impls.get(name).weighted
+    except Exception:  # unknown or broken plugin: its sandbox says why
+        return False
 
 
 def is_exact(name: str) -> bool:
@@ -291,6 +334,8 @@ def decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) -
                            result=res, reference_result=ref, comparison=comparison)
 
     if res.unsupported:
+        if res.unsupported.startswith(NO_WEIGHTS):
+            return make("unsupported", True, f"{impl_name} {res.unsupported}")
         return make("unsupported", True, f"{impl_name} does not support these sites: {res.unsupported}")
     if res.crashed:
         kind = res.failure or "crashed"
@@ -373,10 +418,11 @@ def agree_exactly(first: BuildResult, second: BuildResult) -> CaseVerdict:
 @dataclass
 class CaseJudgement:
     """Every verdict of one case: ``rows`` holds (implementation, verdict, exact peer or None);
-    the reference's own row comes first."""
+    the reference's own row comes first. ``weights``: the sites' weights (None: ordinary)."""
 
     sites: np.ndarray
     rows: list[tuple[str, CaseVerdict, Optional[str]]]
+    weights: Optional[np.ndarray] = None
 
     @property
     def passed(self) -> bool:
@@ -417,37 +463,44 @@ class Judge:
             box.close()
         self._sandboxes.clear()
 
-    def build(self, name: str, sites: np.ndarray, *, probes: Optional[int] = None) -> BuildResult:
-        """``name``'s diagram of ``sites`` with its certificate; any failure is in the result."""
+    def build(self, name: str, sites: np.ndarray, *, probes: Optional[int] = None,
+              weights: Optional[np.ndarray] = None) -> BuildResult:
+        """``name``'s diagram of prepared ``sites`` (with ``weights``, one per site: the power
+        diagram) with its certificate; any failure is in the result."""
         probes = self.probes if probes is None else probes
         if not self.isolate:
-            return build_and_certify(name, sites, probes=probes, seed=self.seed)
+            return build_and_certify(name, sites, probes=probes, seed=self.seed, weights=weights)
+        if weights is not None and _declares_no_weights(name):
+            return build_only(name, sites, weights)      # unsupported: no sandbox (nor warm-up) for it
 
         box = self._sandboxes.get(name)
         if box is None:
             box = self._sandboxes[name] = Sandbox(name, plugins=self.plugins, memory_limit_mb=self.memory_limit_mb,
                                                   warmup_timeout=self.warmup_timeout)
         t0 = time.perf_counter_ns()
-        outcome = box.call(build_in_sandbox, name, sites, timeout=self.timeout, step="build")
+        outcome = box.call(build_in_sandbox, name, sites, weights, timeout=self.timeout, step="build")
         if outcome.ok:
-            return certify_result(_result_from_sandbox(name, *outcome.value), sites, probes=probes, seed=self.seed)
+            return certify_result(_result_from_sandbox(name, *outcome.value), sites, probes=probes, seed=self.seed,
+                                  weights=weights)
         failure = "crashed" if outcome.kind == "error" else outcome.kind
         return BuildResult(name, is_exact(name), error=outcome.message, failure=failure,
                            seconds=(time.perf_counter_ns() - t0) / 1e9)
 
-    def judge(self, sites: ArrayLike, names: Optional[Sequence[str]] = None) -> CaseJudgement:
-        """Every implementation on ``sites``: the reference's own row first, then each against
-        the reference, and each exact one also against the first exact one (exactly)."""
-        sites, _ = prepare(sites)
+    def judge(self, sites: ArrayLike, names: Optional[Sequence[str]] = None, *,
+              weights: Optional[ArrayLike] = None) -> CaseJudgement:
+        """Every implementation on ``sites`` (with ``weights``, one per point: the power
+        diagram): the reference's own row first, then each against the reference, and each
+        exact one also against the first exact one (exactly)."""
+        sites, weights = prepare_case(sites, weights)
         names = list(dict.fromkeys(names if names is not None else self.names))
         reference = self.reference
         t0 = time.perf_counter_ns()
-        ref = self.build(reference, sites)
+        ref = self.build(reference, sites, weights=weights)
         rows: list[tuple[str, CaseVerdict, Optional[str]]] = []
         anchor: Optional[BuildResult] = None
         for name in [reference] + [n for n in names if n != reference]:
             started = time.perf_counter_ns()
-            res = ref if name == reference else self.build(name, sites)
+            res = ref if name == reference else self.build(name, sites, weights=weights)
             verdict = decide(name, reference, res, ref)
             verdict.n_sites = int(sites.shape[0])
             verdict.seconds = ((time.perf_counter_ns() - (t0 if name == reference else started)) / 1e9)
@@ -457,14 +510,15 @@ class Judge:
                     anchor = res
                 else:
                     rows.append((name, agree_exactly(anchor, res), anchor.impl))
-        return CaseJudgement(sites, rows)
+        return CaseJudgement(sites, rows, weights)
 
 
-def judge_case(sites: ArrayLike, names: Sequence[str], reference: str = DEFAULT_REFERENCE,
-               **options: Any) -> CaseJudgement:
-    """One case through a fresh :class:`Judge` (``options`` as for Judge), its sandboxes closed after."""
+def judge_case(sites: ArrayLike, names: Sequence[str], reference: str = DEFAULT_REFERENCE, *,
+               weights: Optional[ArrayLike] = None, **options: Any) -> CaseJudgement:
+    """One case (with ``weights``: the power diagram) through a fresh :class:`Judge`
+    (``options`` as for Judge), its sandboxes closed after."""
     with Judge(names, reference, **options) as judge:
-        return judge.judge(sites)
+        return judge.judge(sites, weights=weights)
 
 
 #: Judges kept for the life of this process (a pool worker judges many cases), one per setup.
