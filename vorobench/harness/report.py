@@ -25,6 +25,7 @@ from vorobench.harness.analysis import (
     mixed_hosts_note,
 )
 from vorobench.harness.markdown_text import one_line, text
+from vorobench.harness.power_figure import plot_power_case
 from vorobench.harness.report_html import PageInput, plotly_styles, render
 from vorobench.harness.results import load_checked, metadata_path, read_metadata, with_weights_in_dataset
 from vorobench.harness.units import factor_text, percent_text, seconds_text, size_text
@@ -37,6 +38,7 @@ FIGURES = {
     "ratio": "speed_ratio.png",
     "memory": "memory_vs_n.png",
     "correctness": "correctness.png",
+    "power": "power_diagram.png",
 }
 
 
@@ -266,6 +268,7 @@ def write_report(results_path: str | Path, out: str | Path, title: Optional[str]
     """
     results_path, out = Path(results_path), Path(out)
     df = load_checked(results_path)            # ValueError naming the file if it holds no results
+    raw = df
     df = with_weights_in_dataset(df)            # weighted cases: datasets of their own, named so
     meta = read_metadata(results_path)
     out.mkdir(parents=True, exist_ok=True)
@@ -291,6 +294,8 @@ def write_report(results_path: str | Path, out: str | Path, title: Optional[str]
         "memory": figures.plot_memory(sizes, out / FIGURES["memory"], styles, order),
         "correctness": figures.plot_correctness(matrix, out / FIGURES["correctness"], order),
     }
+    power = plot_power_case(raw, out / FIGURES["power"], reference)
+    drawn["power"] = power[0] if power else None
     figs = {key: path for key, path in drawn.items() if path is not None}
     for key in set(drawn) - set(figs):
         (out / FIGURES[key]).unlink(missing_ok=True)       # an earlier report's figure would be stale
@@ -304,6 +309,10 @@ def write_report(results_path: str | Path, out: str | Path, title: Optional[str]
                 copied.append(dst.name)
 
     md = _markdown(title, data, figs, meta, results_path)
+    if power:
+        md = md.rstrip("\n") + ("\n\n## A power diagram of this run\n\n" + _text(power[1]) + ". Red crosses: hidden "
+                                 "sites (empty power cells); grey circles: each weight w as a circle of radius "
+                                 f"sqrt(w).\n\n![power diagram]({FIGURES['power']})\n")
     md_path = out / "README.md"
     md_path.write_text(md)
     html_path = out / "report.html"
