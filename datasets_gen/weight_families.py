@@ -55,7 +55,7 @@ def local_spacing(points: NDArray[np.float64]) -> NDArray[np.float64]:
     k = min(NEIGHBOURS, n - 1)
     if k < 1:
         return np.full(n, mean_spacing(points))
-    from scipy.spatial import cKDTree   # imported here: generating points does not need scipy
+    from scipy.spatial import cKDTree  # imported here: generating points does not need scipy
 
     _, nearest = cKDTree(points).query(points, k + 1)
     # Distances recomputed with correctly rounded operations, sorted (ties are equal anyway),

@@ -48,8 +48,14 @@ from impls.incremental.triangulate import STAT_NAMES, triangulate
 from vorobench.core.builder import collinear_diagram
 from vorobench.core.delaunay_dual import power_dcel, voronoi_dcel
 from vorobench.core.diagram import Diagram
-from vorobench.core.predicates import (INCIRCLE_CALLS, INCIRCLE_EXACT, ORIENT_CALLS, ORIENT_EXACT, POWER_TEST_CALLS,
-                                       POWER_TEST_EXACT)
+from vorobench.core.predicates import (
+    INCIRCLE_CALLS,
+    INCIRCLE_EXACT,
+    ORIENT_CALLS,
+    ORIENT_EXACT,
+    POWER_TEST_CALLS,
+    POWER_TEST_EXACT,
+)
 from vorobench.core.spatial_order import brio_order
 
 __all__ = ["build", "build_weighted", "delaunay", "regular", "IMPLEMENTATION"]

@@ -16,8 +16,8 @@ import tomllib
 from pathlib import Path
 
 import pytest
-
 from installing import environment_with, pip_install_into
+
 from vorobench.harness.sysinfo import git_commit
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -24,7 +24,7 @@ from hypothesis import strategies as st
 from numba import njit
 
 from vorobench.core import predicates as P
-from vorobench.core.scaling import OutsideExactRange
+from vorobench.core.scaling import WEIGHT_MAX_EXPONENT, WEIGHT_MIN_EXPONENT, OutsideExactRange, check_weight_range
 
 RNG_SEED = 20250301
 UNDECIDED = 2
@@ -295,6 +295,11 @@ def bisector_cases():
     aw = rng.uniform(-1, 1, k2)
     bw = ((p - b) ** 2).sum(axis=1) - ((p - a) ** 2).sum(axis=1) + aw
     cases["float_near_bisector"] = [p, weighted(a, aw), weighted(b, bw)]
+    # each point at its own magnitude 10**[-6, 6]: coordinate and weight differences round
+    p, a, b = (rng.uniform(-1, 1, (k2, 2)) * 10.0 ** rng.integers(-6, 7, (k2, 1)) for _ in range(3))
+    aw = rng.uniform(-1, 1, k2) * 10.0 ** rng.integers(-6, 7, k2)
+    bw = ((p - b) ** 2).sum(axis=1) - ((p - a) ** 2).sum(axis=1) + aw
+    cases["float_near_bisector_mixed"] = [p, weighted(a, aw), weighted(b, bw)]
     base = -1e9 + rng.uniform(-1, 1, (k2, 2)) * 1e3
     p, a, b = (base + rng.uniform(-1, 1, (k2, 2)) for _ in range(3))
     aw = rng.uniform(0, 1, k2)
@@ -353,6 +358,7 @@ MIN_BISECTOR_EXACT_SHARE = {
     "on_bisector_far_nudged": 0.12,   # at 1e9 most one-ulp moves of p are clear to the filter
     "float_near_bisector": 0.5,
     "float_near_bisector_far": 0.5,
+    "float_near_bisector_mixed": 0.5,
     "mirror_wide": 0.95,
 }
 
@@ -502,7 +508,7 @@ def test_plain_floats_are_wrong_where_the_power_filter_abstains(name):
 
 
 @pytest.mark.parametrize("name", ["on_bisector_far_nudged", "float_near_bisector", "float_near_bisector_far",
-                                  "mirror_wide"])
+                                  "float_near_bisector_mixed", "mirror_wide"])
 def test_plain_floats_are_wrong_where_the_bisector_filter_abstains(name):
     arrs = BISECTOR_CASES[name]
     filt, fast = _filter_and_fast(_bisector_filter_and_fast, arrs)
@@ -687,13 +693,13 @@ def test_extreme_magnitudes():
 
 
 def test_check_weight_range():
-    assert P.check_weight_range([0.0, 2.0**-200, -3.0, float(np.nextafter(2.0**200, 0.0))]) == (
-        float(np.nextafter(2.0**200, 0.0)), 2.0**-200)
-    assert P.check_weight_range(np.zeros(3)) == (0.0, math.inf)
-    for bad in ([1.0, 2.0**200], [float(np.nextafter(2.0**-200, 0.0))], [-2.0**201], [math.inf]):
+    sites = np.array([[0.0, 0.0], [1.0, 1.0], [0.5, 2.0], [3.0, 0.25]])
+    check_weight_range(sites, [0.0, 2.0**-200, -3.0, float(np.nextafter(2.0**200, 0.0))])
+    check_weight_range(sites, np.zeros(4))
+    for bad in ([1.0, 2.0**200, 0, 0], [float(np.nextafter(2.0**-200, 0.0)), 0, 0, 0], [-2.0**201, 0, 0, 0]):
         with pytest.raises(OutsideExactRange):
-            P.check_weight_range(bad)
-    assert (P.WEIGHT_MIN_EXPONENT, P.WEIGHT_MAX_EXPONENT) == (math.frexp(2.0**-200)[1], math.frexp(2.0**199)[1])
+            check_weight_range(sites, bad)
+    assert (WEIGHT_MIN_EXPONENT, WEIGHT_MAX_EXPONENT) == (math.frexp(2.0**-200)[1], math.frexp(2.0**199)[1])
 
 
 def test_counted_variants_and_layout():

@@ -9,10 +9,10 @@ import sys
 import textwrap
 
 import pytest
+from installing import pip_install_into
 
 import impls
 from impls.base import Implementation
-from installing import pip_install_into
 from vorobench.harness.sysinfo import code_provenance
 
 NAME = "partial-qhull"

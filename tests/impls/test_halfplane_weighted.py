@@ -17,7 +17,6 @@ from vorobench.core.circumcentre import power_centre
 from vorobench.core.predicates import N_POWER_COUNTERS
 from vorobench.core.prepare import prepare_weighted
 
-
 # ------------------------------------------------------------------------------------------
 # Brute force: for every pair (a, b), the part of their power bisector where both have the
 # smallest power is a 1-D linear program, solved in exact rational arithmetic; O(n^3).

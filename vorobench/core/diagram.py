@@ -358,7 +358,7 @@ class Diagram:
     def to_shapely(self, box: Optional[tuple[float, float, float, float]] = None) -> list:
         """One shapely ``Polygon`` per site, its cell clipped to ``box`` = (xmin, ymin, xmax, ymax)
         (default: around the sites); an empty polygon where the cell misses the box."""
-        from vorobench.core.export import to_shapely   # shapely is optional; export imports this module
+        from vorobench.core.export import to_shapely  # shapely is optional; export imports this module
 
         return to_shapely(self, box)
 
@@ -372,7 +372,7 @@ class Diagram:
     def plot(self, ax: Any = None, box: Optional[tuple[float, float, float, float]] = None, **kwargs: Any) -> Any:
         """Draw sites, edges (clipped to ``box``, default around the sites) and vertices on a
         matplotlib axes (a new figure's when ``ax`` is None); returns the axes."""
-        from vorobench.core.drawing import draw        # matplotlib loads only when drawing
+        from vorobench.core.drawing import draw  # matplotlib loads only when drawing
 
         return draw(self, ax=ax, box=box, **kwargs)
 

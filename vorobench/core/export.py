@@ -50,7 +50,7 @@ def to_shapely(diagram: HasCells, box: Optional[Sequence[float]] = None) -> list
     ``box`` = (xmin, ymin, xmax, ymax), default around the sites; an empty polygon where the
     cell has no area in the box. Needs shapely (the ``peers`` extra)."""
     try:
-        import shapely           # optional: only this function needs it
+        import shapely  # optional: only this function needs it
     except ImportError as exc:
         raise ImportError("to_shapely needs shapely: pip install shapely (or pip install 'vorobench[peers]')") from exc
     return [shapely.Polygon() if ring is None else shapely.Polygon(ring) for ring in cell_rings(diagram, box)]

@@ -11,12 +11,12 @@ from importlib.metadata import entry_points
 
 import numpy as np
 import pytest
+from vorobench_scipy_delaunay import IMPLEMENTATION
 
 import datasets_gen
 import impls
 from vorobench.judge.engine import Judge
 from vorobench.plugin import BuildFunction, Diagram
-from vorobench_scipy_delaunay import IMPLEMENTATION
 
 NAME = IMPLEMENTATION.name
 #: An exact construction: a verdict against it says whether Qhull's diagram is the true one.

@@ -33,7 +33,7 @@ Every result is the exact sign of the determinant (or difference) in real arithm
 given float64 values, for finite inputs where every nonzero coordinate has magnitude in
 [2**-100, 2**100) (the project's range, :mod:`vorobench.core.scaling`) and every nonzero
 weight magnitude in [2**-200, 2**200): weights have the dimension of squared coordinates, so
-this is the coordinate range squared (:func:`check_weight_range` checks it; scaling the
+this is the coordinate range squared (:func:`vorobench.core.scaling.check_weight_range` checks it; scaling the
 coordinates by 2**k must scale the weights by 2**(2k), which keeps every sign here). In that
 range no product of the evaluations underflows or overflows: the power test's exact stage
 forms products of up to four coordinate differences (bits from 2**-608 to 2**408) and a weight
@@ -51,9 +51,10 @@ and weight *differences*, which ``two_diff`` gives exactly as two components. Wh
 single floats (nearby points, by Sterbenz's lemma; lattices) the power test first checks the
 float evaluation for any rounding at all (small integer or dyadic lattices, the usual exactly
 degenerate inputs, are decided there without allocating), then expands the products of the
-float differences in one short buffer; the bisector test sums four exact squares. Otherwise
-every difference is a two-component expansion and the products are formed and compressed in a
-scratch pool (the slowest path, ~2x incircle's exact stage).
+float differences in one short buffer. Otherwise every difference is a two-component expansion
+and the products are formed and compressed in a scratch pool (the slowest path: ~2.5x
+incircle's exact stage, a few microseconds). The bisector test sums four exact squares, or
+with inexact differences expands |p-a|**2 - |p-b|**2 in the original coordinates.
 
 Counters: the ``*_counted`` variants add to an int64 array at POWER_TEST_CALLS,
 POWER_TEST_EXACT, POWER_BISECTOR_CALLS, POWER_BISECTOR_EXACT (4..7, after the orient2d and
@@ -92,11 +93,10 @@ from vorobench.core.predicates.expansion import (
     two_sum,
 )
 from vorobench.core.predicates.orient_incircle import _common_length
-from vorobench.core.scaling import EXACT_MAX_EXPONENT, EXACT_MIN_EXPONENT, OutsideExactRange, magnitude_range
 
 __all__ = ["POWER_ERRBOUND_A", "POWER_BISECTOR_ERRBOUND_A", "POWER_TEST_CALLS", "POWER_TEST_EXACT",
-           "POWER_BISECTOR_CALLS", "POWER_BISECTOR_EXACT", "N_POWER_COUNTERS", "WEIGHT_MIN_EXPONENT",
-           "WEIGHT_MAX_EXPONENT", "check_weight_range", "power_test_filter", "power_test",
+           "POWER_BISECTOR_CALLS", "POWER_BISECTOR_EXACT", "N_POWER_COUNTERS", 
+           "power_test_filter", "power_test",
            "power_test_counted", "power_test_fast", "power_test_many", "power_bisector_side_filter",
            "power_bisector_side", "power_bisector_side_counted", "power_bisector_side_fast",
            "power_bisector_side_many"]
@@ -129,29 +129,6 @@ POWER_TEST_EXACT = 5
 POWER_BISECTOR_CALLS = 6
 POWER_BISECTOR_EXACT = 7
 N_POWER_COUNTERS = 8
-
-
-#: frexp exponents e (|w| in [2**(e-1), 2**e)) of nonzero weights where the power predicates are
-#: exact: the coordinate range squared, |w| in [2**-200, 2**200).
-WEIGHT_MIN_EXPONENT = 2 * EXACT_MIN_EXPONENT - 1
-WEIGHT_MAX_EXPONENT = 2 * EXACT_MAX_EXPONENT
-
-
-def check_weight_range(weights: ArrayLike) -> tuple[float, float]:
-    """(largest, smallest nonzero |w|) of finite ``weights``; :class:`OutsideExactRange` when one is
-    outside [2**-200, 2**200), where the power predicates are not guaranteed exact."""
-    w = np.asarray(weights, dtype=np.float64).reshape(-1)
-    if not np.all(np.isfinite(w)):
-        raise OutsideExactRange("weights must be finite")
-    hi, lo = magnitude_range(w)
-    if hi == 0.0:
-        return hi, lo
-    if np.frexp(hi)[1] > WEIGHT_MAX_EXPONENT or np.frexp(lo)[1] < WEIGHT_MIN_EXPONENT:
-        raise OutsideExactRange(
-            f"weight magnitudes from {lo:.6g} to {hi:.6g}: the power predicates are exact for nonzero "
-            "weights of magnitude in [2**-200, 2**200) (the coordinate range [2**-100, 2**100) squared; "
-            "scale coordinates by 2**k and weights by 2**(2k) together)")
-    return hi, lo
 
 
 @njit(cache=True)
@@ -428,29 +405,29 @@ def power_bisector_side_filter(px, py, ax, ay, aw, bx, by, bw):
 
 @njit(cache=True)
 def _power_bisector_side_exact(px, py, ax, ay, aw, bx, by, bw):
-    # exact |p-a|**2 - |p-b|**2 - (aw - bw): with float differences of the coordinates, four
-    # two-component squares and the weight difference in one short buffer (<= 10 components);
-    # otherwise from the differences as expansions, in a scratch pool
+    # exact |p-a|**2 - |p-b|**2 - (aw - bw) in one short buffer: with float differences of the
+    # coordinates, four exact squares and the weight difference (<= 10 components); otherwise
+    # expanded in the original coordinates, 2 p.(b - a) + |a|**2 - |b|**2 - aw + bw: eight exact
+    # products (2 p is exact) and the weight difference (<= 18 components)
     pax, e0 = two_diff(px, ax)
     pay, e1 = two_diff(py, ay)
     pbx, e2 = two_diff(px, bx)
     pby, e3 = two_diff(py, by)
+    h = np.empty(18)
+    n = diff_expansion(bw, aw, h)
     if e0 == 0.0 and e1 == 0.0 and e2 == 0.0 and e3 == 0.0:
-        h = np.empty(10)
-        n = diff_expansion(bw, aw, h)
         for d, sign in ((pax, 1.0), (pay, 1.0), (pbx, -1.0), (pby, -1.0)):
             hi, lo = two_product(d, d)
             n = grow_expansion(h, n, sign * lo, h)
             n = grow_expansion(h, n, sign * hi, h)
         return expansion_sign(h, n)
-    w = _new_pool()
-    dax = _xd(px, ax, w)
-    day = _xd(py, ay, w)
-    dbx = _xd(px, bx, w)
-    dby = _xd(py, by, w)
-    sa = _xadd(_xmul(dax, dax, w), _xmul(day, day, w), w)
-    sb = _xadd(_xmul(dbx, dbx, w), _xmul(dby, dby, w), w)
-    return _xsign(_xsub(_xsub(sa, sb, w), _xd(aw, bw, w), w))
+    px2 = 2.0 * px
+    py2 = 2.0 * py
+    for f, g in ((px2, bx), (-px2, ax), (py2, by), (-py2, ay), (ax, ax), (ay, ay), (-bx, bx), (-by, by)):
+        hi, lo = two_product(f, g)
+        n = grow_expansion(h, n, lo, h)
+        n = grow_expansion(h, n, hi, h)
+    return expansion_sign(h, n)
 
 
 @njit(_SIG8, cache=True)
