@@ -16,18 +16,22 @@ import impls
 from impls import DEFAULT_REFERENCE
 from vorobench.judge.engine import Judge, agree_exactly, decide, prepare_case
 
-SIZES = (2, 3, 10, 120)
+SIZES = (2, 3, 10, 120, 1000)
 SEED = 0
 PROBES = 2000
 WEIGHTED = impls.weighted()
 EXACT = [name for name in WEIGHTED if name != DEFAULT_REFERENCE and impls.get(name).exact]
 ANCHOR = EXACT[0] if EXACT else None
 UNWEIGHTED = [name for name in impls.available() if name not in WEIGHTED]
-#: Inputs where the floating-point reference is known to decide nearly degenerate lifts
-#: differently from the exact constructions (which agree with each other and certify there):
-#: the exact ones are then held to agreeing with each other, not with the reference.
-REFERENCE_UNRELIABLE = {("near_grid", family) for family in datasets_gen.WEIGHT_FAMILIES} | {
-    ("tiny_spacing", "integer")}
+#: Inputs the floating-point reference cannot decide: integer weights (0 or 1) on sites 1e-9
+#: apart, where the lifted heights |p|^2 - w differ by 1e-18 against 1 and Qhull's doubles
+#: lose them (it is not certified there); and a grid perturbed by 1e-12 (``near_grid``), where
+#: Qhull merges nearly coplanar lifts (23 into one vertex 5e11 away with integer weights), hides
+#: sites whose exact cell is a sliver (compare has no tolerance for "hidden" against "a cell of
+#: no visible size") and, at n = 1000 with ``hidden`` weights, a hull corner. The exact
+#: constructions are judged there by their certificates and by agreeing exactly with each
+#: other, not by the reference.
+REFERENCE_UNRELIABLE = {("tiny_spacing", "integer")} | {("near_grid", family) for family in datasets_gen.WEIGHT_FAMILIES}
 
 JUDGE = Judge(WEIGHTED + UNWEIGHTED[:1], DEFAULT_REFERENCE, probes=PROBES, timeout=120.0)
 
@@ -60,13 +64,16 @@ def test_weighted_implementations_agree(dataset, family):
     for n in SIZES:
         ref = _built(DEFAULT_REFERENCE, dataset, family, n)
         anchor = _built(ANCHOR, dataset, family, n) if ANCHOR else None
+        unreliable = (dataset, family) in REFERENCE_UNRELIABLE
         for name in WEIGHTED:
+            if unreliable and name == DEFAULT_REFERENCE:
+                continue
             res = _built(name, dataset, family, n)
             if not res.certified:
                 failures.append(f"{name} n={n}: not certified: {res.certificate}")
-            if (dataset, family) not in REFERENCE_UNRELIABLE or name == DEFAULT_REFERENCE:
+            if not unreliable:
                 verdict = decide(name, DEFAULT_REFERENCE, res, ref)
-                if not verdict.passed and not (name == DEFAULT_REFERENCE and (dataset, family) in REFERENCE_UNRELIABLE):
+                if not verdict.passed:
                     failures.append(f"{name} n={n}: {verdict.verdict}: {verdict.message}")
             if anchor is not None and name in EXACT and name != ANCHOR:
                 agreement = agree_exactly(anchor, res)
