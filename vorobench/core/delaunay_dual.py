@@ -227,6 +227,37 @@ def voronoi_edges(pts, ids, tri, opp, ntri, counters):
 
 
 @njit(cache=True)
+def _linked_half_edges(hid, H, tri, opp, ids, vid):
+    """(origin, twin, next, site) of the H Voronoi half-edges numbered ``hid`` on the
+    triangulation's half-edges (-1: none). Delaunay half-edge e = u -> v gives cell u's half-edge
+    from the centre of the triangle across e to the centre of e's own; around cell u it is
+    followed by the half-edge of the next Delaunay half-edge out of u that has one, turning
+    through the triangles (past ghosts and merged neighbours)."""
+    m = hid.size
+    origin = np.empty(H, dtype=np.int32)
+    nxt = np.empty(H, dtype=np.int32)
+    site = np.empty(H, dtype=np.int32)
+    for e in range(m):
+        h = hid[e]
+        if h < 0:
+            continue
+        t = e // 3
+        origin[h] = vid[opp[e] // 3]
+        site[h] = ids[tri[e]]
+        f = opp[3 * t + (e - 3 * t + 2) % 3]
+        for _ in range(m):
+            if hid[f] >= 0:
+                break
+            g = f // 3
+            f = opp[3 * g + (f - 3 * g + 2) % 3]
+        if hid[f] < 0:
+            raise RuntimeError("the dual of the triangulation: a cell does not close up")
+        nxt[h] = hid[f]
+    twin = np.arange(H, dtype=np.int32) ^ 1
+    return origin, twin, nxt, site
+
+
+@njit(cache=True)
 def voronoi_dcel(pts, ids, tri, opp, ntri, counters):
     """The Voronoi diagram dual to a Delaunay triangulation as DCEL arrays, in one pass over
     the triangulation's half-edges (no sort): (vertices, origin, twin, next, site, merged).
@@ -258,27 +289,7 @@ def voronoi_dcel(pts, ids, tri, opp, ntri, counters):
         hid[e] = 2 * pairs
         hid[oe] = 2 * pairs + 1
         pairs += 1
-    H = 2 * pairs
-    origin = np.empty(H, dtype=np.int32)
-    nxt = np.empty(H, dtype=np.int32)
-    site = np.empty(H, dtype=np.int32)
-    for e in range(m):
-        h = hid[e]
-        if h < 0:
-            continue
-        t = e // 3
-        origin[h] = vid[opp[e] // 3]
-        site[h] = ids[tri[e]]
-        f = opp[3 * t + (e - 3 * t + 2) % 3]
-        for _ in range(m):
-            if hid[f] >= 0:
-                break
-            g = f // 3
-            f = opp[3 * g + (f - 3 * g + 2) % 3]
-        if hid[f] < 0:
-            raise RuntimeError("voronoi_dcel: a cell does not close up")
-        nxt[h] = hid[f]
-    twin = np.arange(H, dtype=np.int32) ^ 1
+    origin, twin, nxt, site = _linked_half_edges(hid, 2 * pairs, tri, opp, ids, vid)
     return vertices, origin, twin, nxt, site, merged
 
 
@@ -557,25 +568,5 @@ def power_dcel(pts, w, ids, tri, opp, ntri, counters):
     for v in range(n):
         if state[v] != VISIBLE:
             degenerate += 1
-    H = 2 * pairs
-    origin = np.empty(H, dtype=np.int32)
-    nxt = np.empty(H, dtype=np.int32)
-    site = np.empty(H, dtype=np.int32)
-    for e in range(m):
-        h = hid[e]
-        if h < 0:
-            continue
-        t = e // 3
-        origin[h] = vid[opp[e] // 3]
-        site[h] = ids[tri[e]]
-        f = opp[3 * t + (e - 3 * t + 2) % 3]
-        for _ in range(m):
-            if hid[f] >= 0:
-                break
-            g = f // 3
-            f = opp[3 * g + (f - 3 * g + 2) % 3]
-        if hid[f] < 0:
-            raise RuntimeError("power_dcel: a cell does not close up")
-        nxt[h] = hid[f]
-    twin = np.arange(H, dtype=np.int32) ^ 1
+    origin, twin, nxt, site = _linked_half_edges(hid, 2 * pairs, tri, opp, ids, vid)
     return vertices, origin, twin, nxt, site, merged, degenerate
