@@ -97,3 +97,34 @@ def test_hull_corners_keep_their_cells_whatever_the_weights():
     wrong.validate()
     cert = certify(wrong)
     assert not cert.ok and {"hull", "probes"} <= set(cert.failed)
+
+
+def _kuzmin_radii():
+    """Heavy-tailed points whose largest weight is 10^7 times the median: a certificate that
+    judged powers by the largest weight would let errors of the small cells through."""
+    import datasets_gen
+
+    pts = datasets_gen.generate("kuzmin", 300, seed=2)
+    return pts, datasets_gen.weights("radii", pts, seed=2)
+
+
+def test_a_wide_weight_range_does_not_blunt_the_certificate():
+    pts, w = _kuzmin_radii()
+    assert w.max() > 1e6 * np.median(w)
+    d = _power_build(pts, w)
+    assert certify(d).ok
+    rng = np.random.default_rng(1)
+    judged = 0
+    for _ in range(15):
+        i, j = rng.choice(pts.shape[0], size=2, replace=False)
+        swapped = w.copy()
+        swapped[[i, j]] = swapped[[j, i]]
+        wrong = impls.build("incremental", pts, weights=swapped).with_weights(w)
+        if compare(d, wrong).equal:
+            continue                                 # the swap changed nothing
+        judged += 1
+        assert certify(wrong).verdict == "not_certified", (i, j)
+    assert judged >= 5
+    visible = np.setdiff1d(np.arange(pts.shape[0]), d.hidden)
+    for k in visible[::5]:
+        assert certify(_hidden_by_force(d, int(k)), probes=1000).verdict == "not_certified", int(k)

@@ -28,14 +28,19 @@ range (1.0 with 1e-300) cannot be judged exactly: the structure check fails, say
 Messages give coordinates in the diagram's own units.
 
 Power diagrams (a diagram with varying ``weights``): every check is the power version.
-Distances become *lifted distances* sqrt(|x - p|^2 - w + W), W the largest weight, whose
-order is the order of the powers |x - p|^2 - w (a k-d tree over (p_x, p_y, sqrt(W - w))
-finds the site of smallest power); vertices have equal power from their sites and no site
-of smaller power (the empty power circle: orthogonality), edge ends lie on the power
-bisector, Euler's relation counts the visible sites, the unbounded cells are the visible
-sites on the hull boundary and no hull corner is hidden, and probes (random points and the
-hidden sites' own positions) lie in the cell of their smallest power. A site need not lie in
-its own power cell, so that probe is left out.
+Powers |x - p|^2 - w are compared directly, and a power difference dp at a point x is judged
+as the length dp / (2R), R = sqrt(|x - p|^2 + |w|) the local radius of the sites concerned
+(their distance, in an ordinary diagram), so one heavy site elsewhere never widens the
+tolerance of the small cells. The sites of smallest power come from a k-d tree over the
+lifted points (p_x, p_y, sqrt(W - w)), W the largest weight, whose candidates are then
+ranked by their powers. Vertices have equal power from their sites and no site of smaller
+power (the empty power circle: orthogonality), edge ends lie on the power bisector, Euler's
+relation counts the visible sites, the unbounded cells are the visible sites on the hull
+boundary and no hull corner is hidden, and probes (random points and the hidden sites' own
+positions) lie in the cell of their smallest power. A wrongly hidden site has smaller power
+than its surroundings at some vertex of the diagram (the region where it wins is convex and
+the lower envelope of the others is concave), so the vertex check sees it. A site need not
+lie in its own power cell, so that probe is left out.
 
 Geometric tolerances come from :mod:`vorobench.core.tolerances`. O(n log n).
 """
@@ -257,26 +262,61 @@ def _check_structure(ctx: _Context) -> Check:
 
 
 @njit(cache=True)
-def _lifted_distance(px, py, sites, x, lift2, weighted):
-    """|p - site x|, or its lifted distance sqrt(|p - x|^2 + W - w_x) in a power diagram."""
-    if weighted:
-        dx, dy = px - sites[x, 0], py - sites[x, 1]
-        return np.sqrt(dx * dx + dy * dy + lift2[x])
-    return np.hypot(px - sites[x, 0], py - sites[x, 1])
-
-
-@njit(cache=True)
-def _vertex_kernel(xy, sites, ptr, s, r_min, r_max, magnitude, lift2, weighted):
-    """Per vertex: smallest and largest (lifted) distance to its sites, and the largest coordinate."""
+def _vertex_kernel(xy, sites, ptr, s, r_min, r_max, magnitude):
+    """Per vertex: smallest and largest distance to its sites, and the largest coordinate."""
     for v in range(ptr.size - 1):
         lo, hi = np.inf, 0.0
         mag = max(abs(xy[v, 0]), abs(xy[v, 1]))
         for j in range(ptr[v], ptr[v + 1]):
             x = s[j]
-            d = _lifted_distance(xy[v, 0], xy[v, 1], sites, x, lift2, weighted)
+            d = np.hypot(xy[v, 0] - sites[x, 0], xy[v, 1] - sites[x, 1])
             lo, hi = min(lo, d), max(hi, d)
             mag = max(mag, abs(sites[x, 0]), abs(sites[x, 1]))
         r_min[v], r_max[v], magnitude[v] = lo, hi, mag
+
+
+@njit(cache=True)
+def _power(px, py, sites, weights, x):
+    """|p - site x|^2 - w_x."""
+    dx, dy = px - sites[x, 0], py - sites[x, 1]
+    return dx * dx + dy * dy - weights[x]
+
+
+@njit(cache=True)
+def _local_radius(px, py, sites, weights, x):
+    """sqrt(|p - x|^2 + |w_x|): the length by which a power difference at p is judged; the
+    distance itself in an ordinary diagram, and never inflated by other sites' weights."""
+    dx, dy = px - sites[x, 0], py - sites[x, 1]
+    return np.sqrt(dx * dx + dy * dy + abs(weights[x]))
+
+
+@njit(cache=True)
+def _power_vertex_kernel(xy, sites, weights, ptr, s, p_min, p_max, radius, magnitude):
+    """Per vertex of a power diagram: smallest and largest power of its sites there, the local
+    radius (largest of theirs) that turns a power difference dp into a length dp / (2 radius),
+    and the largest coordinate."""
+    for v in range(ptr.size - 1):
+        lo, hi, r = np.inf, -np.inf, 0.0
+        mag = max(abs(xy[v, 0]), abs(xy[v, 1]))
+        for j in range(ptr[v], ptr[v + 1]):
+            x = s[j]
+            p = _power(xy[v, 0], xy[v, 1], sites, weights, x)
+            lo, hi = min(lo, p), max(hi, p)
+            r = max(r, _local_radius(xy[v, 0], xy[v, 1], sites, weights, x))
+            mag = max(mag, abs(sites[x, 0]), abs(sites[x, 1]))
+        p_min[v], p_max[v], radius[v], magnitude[v] = lo, hi, r, mag
+
+
+def _smallest_powers(ctx: "_Context", pts: NDArray[np.float64], k: int) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """The k sites of smallest power at each point, by power (float, recomputed for the
+    candidates the lifted k-d tree returns), as (powers, site ids), each (m, k)."""
+    k = min(k, ctx.n)
+    _, near = ctx.query(pts, k=k)
+    near = np.asarray(near, dtype=np.int64).reshape(pts.shape[0], k)
+    diff = pts[:, None, :] - ctx.sites[near]
+    powers = (diff ** 2).sum(axis=2) - ctx.weights[near]
+    order = np.argsort(powers, axis=1, kind="stable")
+    return np.take_along_axis(powers, order, axis=1), np.take_along_axis(near, order, axis=1)
 
 
 def _check_vertices(ctx: _Context) -> Check:
@@ -287,8 +327,17 @@ def _check_vertices(ctx: _Context) -> Check:
         return Check("vertices", True, "no vertices")
     few = used[deg[used] < 3]
     r_min, r_max, mag = np.empty(ctx.V), np.empty(ctx.V), np.empty(ctx.V)
-    _vertex_kernel(ctx.xy, ctx.sites, ptr, s, r_min, r_max, mag, ctx.lift2, ctx.weighted)
-    r_min, r_max, mag = r_min[used], r_max[used], ctx.magnitude(mag[used])
+    if ctx.weighted:
+        # Powers become lengths by the vertex's own local radius R: f(p) = R + (p - p_max) / (2R),
+        # so that the ordinary rules below read "equal power" and "no smaller power".
+        p_min, p_max = np.empty(ctx.V), np.empty(ctx.V)
+        _power_vertex_kernel(ctx.xy, ctx.sites, ctx.weights, ptr, s, p_min, p_max, r_max, mag)
+        p_min, p_max = p_min[used], p_max[used]
+        radius = np.maximum(r_max[used], 1e-300)
+        r_min, r_max, mag = radius + (p_min - p_max) / (2 * radius), radius, ctx.magnitude(mag[used])
+    else:
+        _vertex_kernel(ctx.xy, ctx.sites, ptr, s, r_min, r_max, mag)
+        r_min, r_max, mag = r_min[used], r_max[used], ctx.magnitude(mag[used])
     # Strict: relative to the vertex's own radius. Near-degenerate (a floating-point library
     # merging nearly cocircular sites): relative to the data scale.
     tol = length_tolerance(EQUIDISTANCE_REL_TOL, r_max, mag)
@@ -297,7 +346,11 @@ def _check_vertices(ctx: _Context) -> Check:
     # Empty circle: no site strictly closer than the vertex's own (k-d tree nearest site).
     nearest = np.full(used.size, np.nan)
     finite = np.isfinite(ctx.xy[used]).all(axis=1)
-    nearest[finite] = ctx.query(ctx.xy[used[finite]])[0]
+    if ctx.weighted:
+        smallest = _smallest_powers(ctx, ctx.xy[used[finite]], 6)[0][:, 0]
+        nearest[finite] = (radius + (smallest - p_max) / (2 * radius))[finite]
+    else:
+        nearest[finite] = ctx.query(ctx.xy[used[finite]])[0]
     closer = ~(nearest >= r_min - tol)
     spread = (r_max - r_min) / np.maximum(r_max, 1e-300)
     problems = []
@@ -322,7 +375,7 @@ def _check_vertices(ctx: _Context) -> Check:
 
 
 @njit(cache=True)
-def _edge_kernel(sites, xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, magnitude, lift2, weighted):
+def _edge_kernel(sites, xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, magnitude, weights, weighted):
     """Per edge k (a's half-edge from vertex u to v, -1 = infinity):
     wrong_way[k]: not oriented along perp(b - a): some other site of u is not strictly right of
     a->b, or some other site of v not strictly left (exact); worst[k]: the largest distance of
@@ -343,11 +396,15 @@ def _edge_kernel(sites, xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, m
                     dist = abs((bx - ax) * (sites[x, 1] - ay) - (by - ay) * (sites[x, 0] - ax)) / length
                     worst[k] = max(worst[k], dist)
             px, py = xy[w, 0], xy[w, 1]
-            da = _lifted_distance(px, py, sites, aa, lift2, weighted)
-            db = _lifted_distance(px, py, sites, bb, lift2, weighted)
-            if not abs(da - db) <= gap[k]:          # NaN (a non-finite vertex) sticks
-                gap[k] = abs(da - db)
-                radius[k] = max(da, db)
+            if weighted:        # the power difference as a length, by the local radius
+                r = max(_local_radius(px, py, sites, weights, aa), _local_radius(px, py, sites, weights, bb))
+                off = abs(_power(px, py, sites, weights, aa) - _power(px, py, sites, weights, bb)) / (2 * max(r, 1e-300))
+            else:
+                da, db = np.hypot(px - ax, py - ay), np.hypot(px - bx, py - by)
+                off, r = abs(da - db), max(da, db)
+            if not off <= gap[k]:          # NaN (a non-finite vertex) sticks
+                gap[k] = off
+                radius[k] = r
                 magnitude[k] = max(abs(px), abs(py), abs(ax), abs(ay), abs(bx), abs(by))
 
 
@@ -360,7 +417,8 @@ def _check_edges(ctx: _Context) -> Check:
     ptr, s = ctx.vertex_sites
     wrong_way = np.zeros(e.size, dtype=bool)
     worst, gap, radius, mag = (np.zeros(e.size) for _ in range(4))
-    _edge_kernel(ctx.sites, ctx.xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, mag, ctx.lift2, ctx.weighted)
+    wt = ctx.weights if ctx.weighted else np.zeros(ctx.n)
+    _edge_kernel(ctx.sites, ctx.xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, mag, wt, ctx.weighted)
     mag = ctx.magnitude(mag)
     off = ~(gap <= length_tolerance(EQUIDISTANCE_REL_TOL, radius, mag))     # NaN is off
     off_far = ~(gap <= length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(ctx.scale, radius), mag))
@@ -584,9 +642,17 @@ def _check_probes(ctx: _Context) -> Check:
             return Check("probes", False, f"the diagram has no edge, but {owner.size} different sites have the "
                          f"smallest power among {random.shape[0]} probes", _ids(owner), "site")
     k = min(n, 1 + _PROBE_NEIGHBOURS)
-    dist, near = ctx.query(random, k=k)
-    dist = dist.reshape(random.shape[0], k)
-    near = near.reshape(random.shape[0], k).astype(np.int64)
+    if ctx.weighted:
+        # by power, recomputed for the tree's candidates; differences as lengths by the local
+        # radius of the smallest (never by the largest weight anywhere)
+        powers, near = _smallest_powers(ctx, random, k)
+        diff0 = random - ctx.sites[near[:, 0]]
+        local = np.sqrt((diff0 ** 2).sum(axis=1) + np.abs(ctx.weights[near[:, 0]]))
+        dist = (powers - powers[:, :1]) / (2 * np.maximum(local, 1e-300))[:, None]
+    else:
+        dist, near = ctx.query(random, k=k)
+        dist = dist.reshape(random.shape[0], k)
+        near = near.reshape(random.shape[0], k).astype(np.int64)
     # Sites as near as the nearest one, to float precision, are ties: the probe may be in any
     # of their cells (on their common boundary, as far as floats can tell).
     slack = length_tolerance(PROBE_REL_TOL, ctx.scale, ctx.magnitude(np.abs(random).max(1)))
