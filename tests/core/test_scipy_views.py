@@ -213,3 +213,12 @@ def test_assemble_names_ids_out_of_range():
         assemble(sites, [[1.0, 1.0]], [[0, 1], [1, 2], [2, 0]], [[-1, 4], [-1, 0], [-1, 0]], oriented=False)
     with pytest.raises(ValueError, match="integer ids"):
         assemble(sites, [[1.0, 1.0]], [[0.5, 1], [1, 2], [2, 0]], [[-1, 0], [-1, 0], [-1, 0]])
+
+
+def test_the_arrays_of_a_diagram_cannot_be_written_through_it():
+    d = impls.build("incremental", _points("uniform", 50, 0))
+    regions = d.regions
+    for name in ("sites", "vertices", "origin", "twin", "next", "site"):
+        with pytest.raises(ValueError, match="read-only"):
+            getattr(d, name)[0] = 0
+    assert d.regions is regions

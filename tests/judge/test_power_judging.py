@@ -128,3 +128,12 @@ def test_a_wide_weight_range_does_not_blunt_the_certificate():
     visible = np.setdiff1d(np.arange(pts.shape[0]), d.hidden)
     for k in visible[::5]:
         assert certify(_hidden_by_force(d, int(k)), probes=1000).verdict == "not_certified", int(k)
+
+
+def test_a_swap_of_two_weights_is_reported_as_those_two_sites():
+    pts, w = _weighted(100, 8)
+    d = _power_build(pts, w)
+    swapped = w.copy()
+    swapped[[0, 1]] = swapped[[1, 0]]
+    c = compare(d, d.with_weights(swapped))
+    assert c.counts["weight_mismatch"] == 2 and {x.sites for x in c.differences} == {(0,), (1,)}

@@ -77,6 +77,14 @@ class Diagram:
                 raise ValueError(f"input_site has shape {np.shape(self.input_site)}, input_points has {rows} rows")
         if self.weights is not None and np.shape(self.weights) != (np.shape(self.sites)[0],):
             raise ValueError(f"weights has shape {np.shape(self.weights)}, there are {np.shape(self.sites)[0]} sites")
+        # Immutable through the diagram: its arrays are read-only views (whoever built them keeps
+        # their own, writeable), so the cached views can never go stale.
+        for name in _FIELDS + _INPUT_FIELDS:
+            value = getattr(self, name)
+            if isinstance(value, np.ndarray) and value.flags.writeable:
+                view = value.view()
+                view.setflags(write=False)
+                object.__setattr__(self, name, view)
 
     def with_input(self, points: NDArray[np.float64], inverse: NDArray[np.integer]) -> "Diagram":
         """The same diagram remembering the caller's rows ``points`` and the site ``inverse[i]``
@@ -120,7 +128,8 @@ class Diagram:
         vertices = np.asarray(vor.vertices, dtype=np.float64).reshape(-1, 2)
         ridge_sites = inverse[np.asarray(vor.ridge_points, dtype=np.int64).reshape(-1, 2)]
         ridge_vertices = np.asarray(vor.ridge_vertices, dtype=np.int64).reshape(-1, 2)
-        keep = ridge_vertices[:, 0] != ridge_vertices[:, 1]       # a ridge collapsed to a point
+        # a ridge collapsed to a point, or between two rows of one site (duplicates under "QJ")
+        keep = (ridge_vertices[:, 0] != ridge_vertices[:, 1]) & (ridge_sites[:, 0] != ridge_sites[:, 1])
         if sites.shape[0] <= 1 or not keep.any():
             raise ValueError(f"from_scipy needs a diagram with ridges; this one has {sites.shape[0]} distinct points")
         arrays = link_edges(sites.shape[0], vertices, ridge_sites[keep], ridge_vertices[keep], sites=sites,

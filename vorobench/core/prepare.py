@@ -11,23 +11,25 @@ from vorobench.core.scaling import check_exact_range, check_weight_range
 __all__ = ["prepare", "prepare_weighted"]
 
 
-def _as_real_array(points: ArrayLike) -> NDArray[np.float64]:
-    """Convert to a float64 array without silently accepting strings, complex or objects."""
+def _as_real_array(points: ArrayLike, what: str = "points") -> NDArray[np.float64]:
+    """Convert to a float64 array without silently accepting strings, complex or objects;
+    messages name ``what`` (points or weights)."""
+    shape = "(n, 2)" if what == "points" else "(n,)"
     if isinstance(points, (str, bytes)):
-        raise ValueError("points must be an array of shape (n, 2) of real numbers, got a string")
+        raise ValueError(f"{what} must be an array of shape {shape} of real numbers, got a string")
     try:
         arr = np.asarray(points)
     except (ValueError, TypeError) as exc:  # ragged nested sequences
-        raise ValueError(f"points could not be read as an (n, 2) array: {exc}") from None
+        raise ValueError(f"{what} could not be read as an {shape} array: {exc}") from None
     kind = arr.dtype.kind
     if kind == "c":
-        raise ValueError("points must be real numbers, got complex values")
+        raise ValueError(f"{what} must be real numbers, got complex values")
     if kind in "USV":
-        raise ValueError(f"points must be real numbers, got {arr.dtype} (strings or bytes)")
+        raise ValueError(f"{what} must be real numbers, got {arr.dtype} (strings or bytes)")
     if kind == "O":
-        raise ValueError("points must be real numbers, got Python objects (ragged rows or mixed types?)")
+        raise ValueError(f"{what} must be real numbers, got Python objects (ragged rows or mixed types?)")
     if kind not in "biuf":
-        raise ValueError(f"points must be real numbers, got dtype {arr.dtype}")
+        raise ValueError(f"{what} must be real numbers, got dtype {arr.dtype}")
     return arr
 
 
@@ -117,7 +119,7 @@ def prepare_weighted(points: ArrayLike, weights: ArrayLike
     the problem and the first offending row.
     """
     sites, inverse = prepare(points)
-    w = _as_real_array(weights)
+    w = _as_real_array(weights, "weights")
     if w.ndim != 1 or w.shape[0] != inverse.shape[0]:
         raise ValueError(f"weights must have shape ({inverse.shape[0]},), one per point, got shape {w.shape}")
     w = np.asarray(w, dtype=np.float64)

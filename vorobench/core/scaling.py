@@ -211,5 +211,5 @@ def check_weight_range(sites: ArrayLike, weights: ArrayLike) -> None:
     bad = hi if _exponent(hi) + 2 * k > WEIGHT_MAX_EXPONENT else lo
     row = int(np.flatnonzero(np.abs(w) == bad)[0])
     raise OutsideExactRange(
-        f"weight {bad:.6g} (site {row}) is outside the exact range of weights: with the sites scaled "
-        f"by 2**{k}, nonzero weight magnitudes must lie in [2**-200, 2**200) after scaling by 2**{2 * k}")
+        f"weight {bad:.6g} (site {row}) is outside the exact range of weights: nonzero weight magnitudes, "
+        f"scaled by 2**{2 * k} with the sites (by 2**{k}), must lie in [2**-200, 2**200)")

@@ -719,7 +719,9 @@ def _common_weights(a: Diagram, b: Diagram, site_map: NDArray[np.int64], labels:
     if wb is not None:
         common_b[site_map] = wb
     offset = common_a - common_b
-    bad = np.flatnonzero(offset != offset[0])
+    # the constant is the offset most sites share, so a swap of two weights names those two
+    values, counts = np.unique(offset, return_counts=True)
+    bad = np.flatnonzero(offset != values[np.argmax(counts)])
     if bad.size == 0:
         return common_a, []
     la, lb = labels
