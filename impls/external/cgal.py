@@ -56,15 +56,16 @@ Library part: one ``Regular_triangulation_2().insert(weighted points)`` (random 
 spatial sort, then insertion by flips; a point whose lifted point (x, y, x^2 + y^2 - w) lies
 above the lower hull is *hidden*: kept in a face's list, in no triangle).
 Conversion: as above, through the same file writer (each point ``x y w``, hidden ones too,
-in no face); the weights read back are checked against the given ones. The dual
-(:func:`power_edges`): one vertex per face of the lower hull of the lifted points (neighbouring
-triangles with exact ``power_test == 0`` merged), at :func:`vorobench.core.circumcentre.power_centre`
-of the three smallest site ids among the face's corners; the orientation of each edge comes
-from the triangulation (no coordinates involved). CGAL keeps as vertices the sites whose lifted
-point lies exactly on the lower hull without being a corner of it (inside a face: a cell that is
-one point; on a crease between two faces or on the hull's side: a segment or a ray); they have
-no area and are hidden here, as in :func:`vorobench.core.builder.collinear_diagram`: the pieces
-of a crease or of a hull side are joined into one edge between the corners at its ends.
+in no face); the weights read back are checked against the given ones. The dual is the one
+the weighted ``incremental`` uses, :func:`vorobench.core.delaunay_dual.power_dcel`, on the same
+ghost-triangle layout as the ordinary path: one vertex per face of the lower hull of the lifted
+points (neighbouring triangles with exact ``power_test == 0`` merged), at
+:func:`vorobench.core.circumcentre.power_centre` of the three smallest site ids among the face's
+corners; the orientation of each edge comes from the triangulation. CGAL keeps as vertices the
+sites whose lifted point lies exactly on the lower hull without being a corner of it (inside a
+face: a cell that is one point; on a crease between two faces or on the hull's side: a segment
+or a ray); they have no area and are hidden there, as in
+:func:`vorobench.core.builder.collinear_diagram`.
 Collinear sites (CGAL's dimension < 2; a site off the line would be a corner of the hull,
 never hidden): :func:`~vorobench.core.builder.collinear_diagram` with the weights.
 Exactness: ``Regular_triangulation_2<Epick>`` in these bindings (SWIG_CGAL/Triangulation_2/
@@ -93,9 +94,8 @@ from numpy.typing import NDArray
 
 from impls.base import Implementation
 from impls.external.clock import BuildClock
-from vorobench.core.builder import assemble, collinear_diagram
-from vorobench.core.circumcentre import power_centre
-from vorobench.core.delaunay_dual import voronoi_dcel
+from vorobench.core.builder import collinear_diagram
+from vorobench.core.delaunay_dual import power_dcel, voronoi_dcel
 from vorobench.core.diagram import Diagram
 from vorobench.core.predicates import (
     INCIRCLE_CALLS,
@@ -103,14 +103,11 @@ from vorobench.core.predicates import (
     N_POWER_COUNTERS,
     POWER_TEST_CALLS,
     POWER_TEST_EXACT,
-    orient2d,
-    power_test_counted,
 )
 from vorobench.core.scaling import exact_range_sites
-from vorobench.core.union_find import find
 
 __all__ = ["build", "build_weighted", "supports", "read_triangulation", "read_regular_triangulation", "half_edges",
-           "power_edges", "cgal_version", "DIGITS", "IMPLEMENTATION"]
+           "cgal_version", "DIGITS", "IMPLEMENTATION"]
 
 #: Significant digits of CGAL's file output: 17 make every double round-trip.
 DIGITS = 17
@@ -552,256 +549,6 @@ def _weighted_points(sites: NDArray[np.float64], weights: NDArray[np.float64]) -
     return list(map(make, sites[:, 0].tolist(), sites[:, 1].tolist(), weights.tolist()))
 
 
-@njit(cache=True)
-def _coplanar_groups(pts, tri, opp, ntri, counters):
-    """The faces of the lower hull of the lifted points as groups of CGAL's finite triangles:
-    union-find over neighbours whose four lifted corners are coplanar (exact
-    ``power_test == 0``). Returns (group id of each triangle, -1 for ghosts; groups; merged
-    triangles). ``pts`` rows are (x, y, w); corners counter-clockwise, as CGAL writes them."""
-    inf = pts.shape[0]
-    parent = np.arange(ntri)
-    ghost = np.zeros(ntri, dtype=np.bool_)
-    for t in range(ntri):
-        ghost[t] = tri[3 * t] == inf or tri[3 * t + 1] == inf or tri[3 * t + 2] == inf
-    merged = 0
-    for e in range(3 * ntri):
-        oe = opp[e]
-        if oe < e:
-            continue
-        t = e // 3
-        t2 = oe // 3
-        if ghost[t] or ghost[t2]:
-            continue
-        a = tri[3 * t]
-        b = tri[3 * t + 1]
-        c = tri[3 * t + 2]
-        d = tri[3 * t2 + (oe - 3 * t2 + 2) % 3]        # the corner of t2 off the shared edge
-        if power_test_counted(pts[a, 0], pts[a, 1], pts[a, 2], pts[b, 0], pts[b, 1], pts[b, 2],
-                              pts[c, 0], pts[c, 1], pts[c, 2], pts[d, 0], pts[d, 1], pts[d, 2], counters) == 0:
-            r1 = find(parent, t)
-            r2 = find(parent, t2)
-            if r1 != r2:
-                parent[max(r1, r2)] = min(r1, r2)
-                merged += 1
-    vid = np.full(ntri, -1, dtype=np.int64)
-    groups = 0
-    for t in range(ntri):
-        if not ghost[t] and find(parent, t) == t:
-            vid[t] = groups
-            groups += 1
-    if merged:
-        for t in range(ntri):
-            if not ghost[t]:
-                vid[t] = vid[find(parent, t)]
-    return vid, groups, merged
-
-
-@njit(cache=True)
-def _lex_less(pts, p, q):
-    """Whether point p comes before q in (x, y) order: monotone along any line."""
-    return pts[p, 0] < pts[q, 0] or (pts[p, 0] == pts[q, 0] and pts[p, 1] < pts[q, 1])
-
-
-@njit(cache=True)
-def _hull_rays(pts, tri, opp, ntri, vid):
-    """The rays of the power diagram, one per run of convex-hull edges of the triangulation:
-    (sites (R, 2), start vertices (R,)), as point indices, each ray ``a``'s half-edge from its
-    vertex out to infinity. Consecutive hull edges a -> b -> c (clockwise, each with its ghost
-    triangle on the left) form one run when they are collinear (exact orient2d) and their
-    finite triangles lie in one lower-hull face: b's lifted point is then on the segment of
-    a's and c's, and b's cell has no area (it is hidden)."""
-    inf = pts.shape[0]
-    # the hull edges in order: ghost triangle t (corners x, y, inf counter-clockwise) holds
-    # the hull edge x -> y; the ghost across its edge y -> inf holds the edge starting at y
-    first = -1
-    h = 0
-    for t in range(ntri):
-        if tri[3 * t] == inf or tri[3 * t + 1] == inf or tri[3 * t + 2] == inf:
-            h += 1
-            if first < 0:
-                first = t
-    xs = np.empty(h, dtype=np.int64)
-    ys = np.empty(h, dtype=np.int64)
-    vs = np.empty(h, dtype=np.int64)
-    t = first
-    for i in range(h):
-        j = 0
-        while tri[3 * t + j] != inf:
-            j += 1
-        e = 3 * t + (j + 1) % 3            # x -> y
-        xs[i] = tri[e]
-        ys[i] = tri[3 * t + (j + 2) % 3]
-        vs[i] = vid[opp[e] // 3]
-        t = opp[3 * t + (j + 2) % 3] // 3  # across y -> inf
-    if t != first:
-        raise RuntimeError("cgal: the ghost triangles do not form one cycle around the hull")
-    # joined[i]: hull edge i continues the run of edge i - 1
-    joined = np.zeros(h, dtype=np.bool_)
-    for i in range(h):
-        p = (i - 1) % h
-        if vs[p] == vs[i]:
-            a, b, c = xs[p], xs[i], ys[i]
-            joined[i] = orient2d(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1]) == 0
-    start = 0
-    while start < h and joined[start]:
-        start += 1
-    if start == h:
-        raise RuntimeError("cgal: every hull edge is collinear with the next")
-    ray_sites = np.empty((h, 2), dtype=np.int64)
-    ray_vertex = np.empty(h, dtype=np.int64)
-    r = -1
-    for k in range(h):
-        i = (start + k) % h
-        if not joined[i]:
-            r += 1
-            ray_sites[r, 0] = xs[i]
-            ray_vertex[r] = vs[i]
-        ray_sites[r, 1] = ys[i]
-    return ray_sites[:r + 1], ray_vertex[:r + 1]
-
-
-@njit(cache=True)
-def _crease_edges(pts, tri, opp, ntri, vid, merged):
-    """The bounded edges of the power diagram: (sites (E, 2), (start, end) vertices (E, 2)),
-    point indices, ``a``'s half-edge from start to end along perp(b - a).
-
-    Triangulation edge a -> b with triangles t (left) and t2 (right) in different faces gives
-    a's half-edge from t2's vertex to t's (the orientation of a regular triangulation's dual).
-    When faces were merged, two faces can meet along several collinear triangulation edges
-    a = s0, s1, ..., sk = b (the inner sites' lifted points lie on the crease between the two
-    lifted faces, so their cells have no area): they become the one edge (s0, sk)."""
-    inf = pts.shape[0]
-    m = 3 * ntri
-    sites = np.empty((m // 2, 2), dtype=np.int64)
-    ends = np.empty((m // 2, 2), dtype=np.int64)
-    ne = 0
-    for e in range(m):
-        oe = opp[e]
-        t = e // 3
-        t2 = oe // 3
-        left = vid[t]
-        right = vid[t2]
-        # each edge once, from the side whose left face has the larger id
-        if left < 0 or right < 0 or left <= right:
-            continue
-        a = tri[e]
-        b = tri[3 * t + (e - 3 * t + 1) % 3]
-        if a == inf or b == inf:
-            continue
-        sites[ne, 0] = a
-        sites[ne, 1] = b
-        ends[ne, 0] = right
-        ends[ne, 1] = left
-        ne += 1
-    sites = sites[:ne]
-    ends = ends[:ne]
-    if merged == 0 or ne == 0:
-        return sites, ends
-    # ---- join the collinear pieces between the same two faces
-    groups = np.int64(ends.max()) + 1
-    key = ends[:, 0] * groups + ends[:, 1]
-    order = np.argsort(key, kind="mergesort")
-    out_sites = np.empty_like(sites)
-    out_ends = np.empty_like(ends)
-    k = 0
-    i = 0
-    while i < ne:
-        j = i
-        while j + 1 < ne and key[order[j + 1]] == key[order[i]]:
-            j += 1
-        e0 = order[i]
-        lo = sites[e0, 0]
-        hi = sites[e0, 0]
-        for q in range(i, j + 1):
-            for s in (sites[order[q], 0], sites[order[q], 1]):
-                if _lex_less(pts, s, lo):
-                    lo = s
-                if _lex_less(pts, hi, s):
-                    hi = s
-        # every piece runs the same way along the crease (the same face on its left)
-        if _lex_less(pts, sites[e0, 0], sites[e0, 1]):
-            out_sites[k, 0] = lo
-            out_sites[k, 1] = hi
-        else:
-            out_sites[k, 0] = hi
-            out_sites[k, 1] = lo
-        out_ends[k, 0] = ends[e0, 0]
-        out_ends[k, 1] = ends[e0, 1]
-        k += 1
-        i = j + 1
-    return out_sites[:k], out_ends[:k]
-
-
-@njit(cache=True)
-def _power_vertices(pts, ids, tri, ntri, vid, groups, merged, edge_sites, edge_ends):
-    """The coordinates of each face's power-diagram vertex: :func:`power_centre` of the three
-    smallest site ids among the sites whose cells touch it (a single triangle's corners; for a
-    merged face, the ends of its edges: the corners of the lifted face, no three collinear)."""
-    inf = pts.shape[0]
-    low = np.full((groups, 3), -1, dtype=np.int64)
-    if merged == 0:
-        for t in range(ntri):
-            g = vid[t]
-            if g >= 0:
-                low[g, 0] = tri[3 * t]
-                low[g, 1] = tri[3 * t + 1]
-                low[g, 2] = tri[3 * t + 2]
-    else:
-        for e in range(edge_sites.shape[0]):
-            for side in range(2):
-                g = edge_ends[e, side]
-                if g < 0:
-                    continue
-                for s in (edge_sites[e, 0], edge_sites[e, 1]):
-                    # keep the three smallest site ids in low[g]
-                    if s == low[g, 0] or s == low[g, 1] or s == low[g, 2]:
-                        continue
-                    if low[g, 0] < 0 or ids[s] < ids[low[g, 0]]:
-                        low[g, 2] = low[g, 1]
-                        low[g, 1] = low[g, 0]
-                        low[g, 0] = s
-                    elif low[g, 1] < 0 or ids[s] < ids[low[g, 1]]:
-                        low[g, 2] = low[g, 1]
-                        low[g, 1] = s
-                    elif low[g, 2] < 0 or ids[s] < ids[low[g, 2]]:
-                        low[g, 2] = s
-    vertices = np.empty((groups, 2), dtype=np.float64)
-    for g in range(groups):
-        a, b, c = low[g, 0], low[g, 1], low[g, 2]
-        if a < 0 or b < 0 or c < 0 or a == inf or b == inf or c == inf:
-            raise RuntimeError("cgal: a face of the lower hull with fewer than three corners")
-        if ids[a] > ids[b]:
-            a, b = b, a
-        if ids[b] > ids[c]:
-            b, c = c, b
-        if ids[a] > ids[b]:
-            a, b = b, a
-        x, y = power_centre(pts[a, 0], pts[a, 1], pts[a, 2], pts[b, 0], pts[b, 1], pts[b, 2],
-                            pts[c, 0], pts[c, 1], pts[c, 2])
-        vertices[g, 0] = x
-        vertices[g, 1] = y
-    return vertices
-
-
-def power_edges(pts: NDArray[np.float64], ids: NDArray[np.int64], tri: NDArray[np.int64],
-                opp: NDArray[np.int64], counters: NDArray[np.int64]
-                ) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64], int]:
-    """The power diagram dual to a regular triangulation (``tri``/``opp`` from
-    :func:`half_edges`; ``pts`` rows (x, y, w), ``ids`` their site ids): (vertices, edge sites
-    as site ids, edge (start, end) vertices, merged triangles), in the form
-    :func:`vorobench.core.builder.assemble` takes with ``oriented=True``. One vertex per face
-    of the lower hull of the lifted points; sites whose lifted point is no corner of it get no
-    edge (their cells have no area)."""
-    ntri = tri.shape[0] // 3
-    vid, groups, merged = _coplanar_groups(pts, tri, opp, ntri, counters)
-    ray_sites, ray_vertex = _hull_rays(pts, tri, opp, ntri, vid)
-    crease_sites, crease_ends = _crease_edges(pts, tri, opp, ntri, vid, merged)
-    edge_sites = np.concatenate([crease_sites, ray_sites])
-    edge_ends = np.concatenate([crease_ends, np.stack([ray_vertex, np.full_like(ray_vertex, -1)], axis=1)])
-    vertices = _power_vertices(pts, ids, tri, ntri, vid, groups, merged, edge_sites, edge_ends)
-    return vertices, ids[edge_sites], edge_ends, int(merged)
-
-
 def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64],
                    stats: Optional[dict] = None) -> Diagram:
     """The power diagram of prepared ``sites`` with ``weights`` (power |x - p|^2 - w, CGAL's
@@ -810,7 +557,7 @@ def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64],
     Library part: one ``insert`` of the list of all weighted points. Conversion: the
     triangulation read back through CGAL's file writer (each point ``x y w``, hidden vertices
     included but in no face), every vertex matched to its site by its coordinates' bits and
-    its weight checked, then :func:`power_edges` and the DCEL builder. Hidden sites: CGAL's,
+    its weight checked, then :func:`~vorobench.core.delaunay_dual.power_dcel`. Hidden sites: CGAL's,
     plus the sites CGAL keeps whose cells have no area (lifted point exactly on a face or an
     edge of the lower hull, not a corner): one diagram per input, whatever the insertion order.
     Dimension < 2 (all sites collinear, decided exactly by CGAL):
@@ -869,8 +616,9 @@ def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64],
     tri, opp = half_edges(faces, neighbours, n)
     counters = np.zeros(N_POWER_COUNTERS, dtype=np.int64)
     # the points in CGAL's vertex order (spatially sorted: the passes stay local)
-    vertices, edge_sites, edge_ends, merged = power_edges(coords, ids, tri, opp, counters)
-    diagram = assemble(sites, vertices, edge_sites, edge_ends, oriented=True, weights=weights)
+    vertices, origin, twin, nxt, site, merged, _ = power_dcel(xy, np.ascontiguousarray(coords[:, 2]), ids, tri, opp,
+                                                              faces.shape[0], counters)
+    diagram = Diagram(sites, vertices, origin, twin, nxt, site, weights=weights)
     clock.report()
     if stats is not None:
         finite = int(np.count_nonzero((faces != 0).all(axis=1)))

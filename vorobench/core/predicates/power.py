@@ -92,7 +92,7 @@ from vorobench.core.predicates.expansion import (
     two_product,
     two_sum,
 )
-from vorobench.core.predicates.orient_incircle import _common_length
+from vorobench.core.predicates.orient_incircle import _common_length, _sign
 
 __all__ = ["POWER_ERRBOUND_A", "POWER_BISECTOR_ERRBOUND_A", "POWER_TEST_CALLS", "POWER_TEST_EXACT",
            "POWER_BISECTOR_CALLS", "POWER_BISECTOR_EXACT", "N_POWER_COUNTERS", 
@@ -129,11 +129,6 @@ POWER_TEST_EXACT = 5
 POWER_BISECTOR_CALLS = 6
 POWER_BISECTOR_EXACT = 7
 N_POWER_COUNTERS = 8
-
-
-@njit(cache=True)
-def _sign(x):
-    return (x > 0.0) - (x < 0.0)
 
 
 @njit(cache=True)
