@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from impls.incremental.triangulate import _WALK_CAP_FACTOR, _cell, _ghost_edge, _strictly_between
+from impls.incremental.triangulate import _WALK_CAP_FACTOR, _cell, _ghost_edge, _strictly_between, _walk_grid
 from vorobench.core.predicates import N_POWER_COUNTERS, orient2d_counted, power_test_counted
 
 __all__ = ["regular_triangulation", "STAT_NAMES", "N_COUNTERS"]
@@ -347,14 +347,7 @@ def regular_triangulation(pts, w, counters):
     # walk starts: as in :mod:`.triangulate`, the previous insertion's triangle facing this point,
     # or a triangle at the last vertex inserted into p's cell of a coarse grid when nearer
     vertex_tri = np.zeros(n + 1, dtype=np.int32)
-    side = max(1, int(np.sqrt(n / 4.0)))
-    x0 = pts[:, 0].min()
-    y0 = pts[:, 1].min()
-    span = max(pts[:, 0].max() - x0, pts[:, 1].max() - y0)
-    cell_scale = side / span if span > 0.0 else 0.0
-    cell_vertex = np.full(side * side, -1, dtype=np.int64)
-    for k in range(3):
-        cell_vertex[_cell(pts[seed[k], 0], pts[seed[k], 1], x0, y0, cell_scale, side)] = seed[k]
+    side, x0, y0, cell_scale, cell_vertex = _walk_grid(pts, seed)
     last = 0
     previous = i2
     for p in range(2, n):

@@ -110,6 +110,22 @@ def _cell(x, y, x0, y0, scale, side):
 
 
 @njit(cache=True)
+def _walk_grid(pts, seed):
+    """The coarse grid of walk starts: (side, x0, y0, cell_scale, last vertex of each cell), about
+    four sites a cell, the three seed vertices filed in their cells."""
+    n = pts.shape[0]
+    side = max(1, int(np.sqrt(n / 4.0)))
+    x0 = pts[:, 0].min()
+    y0 = pts[:, 1].min()
+    span = max(pts[:, 0].max() - x0, pts[:, 1].max() - y0)
+    cell_scale = side / span if span > 0.0 else 0.0
+    cell_vertex = np.full(side * side, -1, dtype=np.int64)
+    for k in range(3):
+        cell_vertex[_cell(pts[seed[k], 0], pts[seed[k], 1], x0, y0, cell_scale, side)] = seed[k]
+    return side, x0, y0, cell_scale, cell_vertex
+
+
+@njit(cache=True)
 def triangulate(pts, order, counters):
     """Delaunay triangulation of ``pts`` inserted in ``order``.
 
@@ -173,14 +189,7 @@ def triangulate(pts, order, counters):
     # (between the arms of a parabola, say), and a straight walk across slivers is long; the
     # grid hands the walk a nearby vertex. ``vertex_tri[v]``: a finite triangle at vertex v.
     vertex_tri = np.zeros(n + 1, dtype=np.int32)
-    side = max(1, int(np.sqrt(n / 4.0)))
-    x0 = pts[:, 0].min()
-    y0 = pts[:, 1].min()
-    span = max(pts[:, 0].max() - x0, pts[:, 1].max() - y0)
-    cell_scale = side / span if span > 0.0 else 0.0
-    cell_vertex = np.full(side * side, -1, dtype=np.int64)
-    for k in range(3):
-        cell_vertex[_cell(pts[seed[k], 0], pts[seed[k], 1], x0, y0, cell_scale, side)] = seed[k]
+    side, x0, y0, cell_scale, cell_vertex = _walk_grid(pts, seed)
     last = 0
     previous = i2
     for m in range(2, n):
