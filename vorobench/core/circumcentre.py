@@ -52,22 +52,9 @@ def _cross_numerator(p, plen, s, slen, q, qlen, t, tlen):
 
 @njit(cache=True)
 def _exact_offsets(ax, ay, bx, by, cx, cy):
-    """Centre minus a, from exact numerators and denominator (rounded once at the end)."""
-    ebx = np.empty(2)
-    eby = np.empty(2)
-    ecx = np.empty(2)
-    ecy = np.empty(2)
-    nbx = diff_expansion(bx, ax, ebx)
-    nby = diff_expansion(by, ay, eby)
-    ncx = diff_expansion(cx, ax, ecx)
-    ncy = diff_expansion(cy, ay, ecy)
-    b2, nb2 = _square_sum(ebx, nbx, eby, nby)
-    c2, nc2 = _square_sum(ecx, ncx, ecy, ncy)
-    num_x = _cross_numerator(ecy, ncy, b2, nb2, eby, nby, c2, nc2)
-    num_y = _cross_numerator(ebx, nbx, c2, nc2, ecx, ncx, b2, nb2)
-    h = np.empty(ORIENT2D_EXPANSION_MAX)
-    det = estimate(h, orient2d_expansion(ax, ay, bx, by, cx, cy, h))
-    return num_x / (2.0 * det), num_y / (2.0 * det)
+    """Centre minus a, from exact numerators and denominator (rounded once at the end): the
+    power centre's with no weights."""
+    return _exact_power_offsets(ax, ay, 0.0, bx, by, 0.0, cx, cy, 0.0)
 
 
 @njit(cache=True)
