@@ -24,8 +24,6 @@ def _weighted(n: int, seed: int, spread: float = 0.6) -> tuple[np.ndarray, np.nd
 
 
 def _power_build(pts, w) -> Diagram:
-    if not impls.get(REFERENCE).weighted:
-        pytest.skip(f"{REFERENCE} does not take weights yet")
     return impls.build(REFERENCE, pts, weights=w)
 
 
