@@ -14,7 +14,8 @@ from vorobench.core.counters import CounterError, check_counters
 from vorobench.core.diagram import Diagram
 from vorobench.core.scaling import check_weight_range, exact_shift, scale_back_vertices, scale_points, scale_weights
 
-__all__ = ["Implementation", "KINDS", "BuildFunction", "WeightedBuildFunction", "UnsupportedInput", "InputMutated", "CounterError", "record_timing"]
+__all__ = ["Implementation", "KINDS", "BuildFunction", "WeightedBuildFunction", "UnsupportedInput", "InputMutated",
+           "BuildRaised", "CounterError", "record_timing"]
 
 
 @runtime_checkable
@@ -86,6 +87,11 @@ class InputMutated(RuntimeError):
     """The implementation changed the sites it was given: a failure of that implementation."""
 
 
+class BuildRaised(RuntimeError):
+    """An exception raised by the build itself (its ``__cause__``), of whatever class: for the
+    judge a crash, never a refusal (only ``supports`` declines sites)."""
+
+
 @dataclass(frozen=True)
 class Implementation:
     """One Voronoi construction behind the common interface.
@@ -132,7 +138,7 @@ class Implementation:
 
     def run(self, sites: NDArray[np.float64], stats: Optional[dict] = None, *,
             timings: Optional[dict] = None, check_supports: bool = True,
-            weights: Optional[NDArray[np.float64]] = None) -> Diagram:
+            weights: Optional[NDArray[np.float64]] = None, wrap_build_errors: bool = False) -> Diagram:
         """Build the diagram of prepared ``sites``.
 
         ``stats`` (a dict) receives the build's counters, ``timings`` the seconds of the parts
@@ -156,6 +162,10 @@ class Implementation:
         back, raise :class:`~vorobench.core.scaling.OutsideExactRange` (a ``ValueError``); see
         :mod:`vorobench.core.scaling` for the rule. Inside the range this costs one pass over the
         coordinates.
+
+        ``wrap_build_errors``: an exception the build raises (an ``UnsupportedInput`` among
+        them) comes out as :class:`BuildRaised` from it, so a caller can tell the build's own
+        failures from this method's refusals.
         """
         if weights is not None and self.build_weighted is None:
             raise UnsupportedInput(f"{self.name} does not support weighted sites (it builds ordinary diagrams only)")
@@ -180,10 +190,15 @@ class Implementation:
             if reason:
                 raise UnsupportedInput(f"{self.name} does not support these sites: {reason}")
         with _collecting_times(timings):
-            if weights is None:
-                diagram = self.build(given, stats)
-            else:
-                diagram = self.build_weighted(given, given_weights, stats)
+            try:
+                if weights is None:
+                    diagram = self.build(given, stats)
+                else:
+                    diagram = self.build_weighted(given, given_weights, stats)
+            except Exception as exc:
+                if not wrap_build_errors or isinstance(exc, MemoryError):
+                    raise
+                raise BuildRaised(f"{type(exc).__name__} raised inside the build") from exc
         if stats:
             stats.update(check_counters(stats, who=self.name))
         if not np.array_equal(given, expected):

@@ -59,19 +59,46 @@ def test_the_store_is_queryable_with_pandas(store):
     assert (timed["time_library_s"] > 0).all() and (timed["stat_calls"] == 1).all()
 
 
-def test_compare_accepts_store_references(store, capsys):
-    runs = Store(store).runs()
-    assert main(["compare", f"{store}@latest~1", f"{store}@latest"]) == 0
-    assert main(["compare", f"{store}@{runs['run_id'].iloc[0]}", f"{store}@latest"]) == 0
-    commit = runs["commit"].iloc[-1]
-    if commit:                                           # a git checkout: runs are found by commit
-        assert Store(store).resolve(commit[:8]) == runs["run_id"].iloc[-1]
+def _recorded_run(run_id: str, calls: int) -> pd.DataFrame:
+    """Recorded rows of a run (no timing run): two cases, the same times in every run, and a
+    counter that tells the runs apart."""
+    return pd.DataFrame([{"run_id": run_id, "impl": impl, "dataset": "uniform", "n": 20, "seed": 0, "repeat": r,
+                          "status": "ok", "verdict": "exact", "time_s": 0.01 * (1 + r / 100), "stat_calls": calls}
+                         for impl in ("steady", "timed_parts") for r in range(5)])
+
+
+@pytest.fixture()
+def recorded_store(tmp_path) -> Path:
+    """A store of three recorded runs on one machine: the first counts 1 call, the others 2."""
+    path = tmp_path / "recorded"
+    for i, (run_id, calls) in enumerate([("run-a", 1), ("run-b", 2), ("run-c", 2)]):
+        meta = {"run_id": run_id, "date": f"2024-01-0{i + 1}T00:00:00", "commit": f"{i + 1}" * 40,
+                "machine_id": "m1"}
+        assert Store(path).add_run(_recorded_run(run_id, calls), meta)
+    return path
+
+
+def test_compare_accepts_store_references(recorded_store, capsys):
+    store = recorded_store
+    assert main(["compare", f"{store}@latest~1", f"{store}@latest"]) == 0          # run-b vs run-c: alike
+    assert "no regression in 2 compared case(s)" in capsys.readouterr().out
+    assert main(["compare", f"{store}@run-a", f"{store}@latest"]) == 1             # 1 call -> 2: flagged
+    assert "calls 1 -> 2" in capsys.readouterr().out
+    assert main(["compare", f"{store}@{'1' * 8}", f"{store}@{'3' * 8}"]) == 1       # runs named by commit
+    assert Store(store).resolve("2" * 8) == "run-b"
     capsys.readouterr()
     assert main(["compare", f"{store}@latest~3", f"{store}@latest"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "holds 3" in err
     assert main(["compare", f"{store}@nonsense", f"{store}@latest"]) == 2
     assert "no run matches 'nonsense'" in capsys.readouterr().err
+
+
+def test_benched_runs_are_found_by_commit(store):
+    runs = Store(store).runs()
+    commit = runs["commit"].iloc[-1]
+    if commit:                                           # a git checkout: runs are found by commit
+        assert Store(store).resolve(commit[:8]) == runs["run_id"].iloc[-1]
 
 
 def test_a_run_is_filed_once(store, tmp_path):

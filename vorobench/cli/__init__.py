@@ -13,11 +13,11 @@ from pathlib import Path
 from typing import Optional, Sequence
 
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
 import datasets_gen
 import impls
-from impls.plugins import plugins_registered
 from vorobench.cli.args import (
     OneLineParser,
     bounds,
@@ -53,19 +53,25 @@ def _console():
 
 
 def cmd_impls(args: argparse.Namespace) -> int:
-    """Table of the implementations that can run here, those of ``--plugin`` included."""
+    """Table of the implementations that can run here, those of ``--plugin`` included, as they
+    declare themselves in a sandbox (no implementation is imported in this process)."""
+    from vorobench.judge.declarations import PluginError, declare_in_sandbox
+    from vorobench.judge.wire import clean_text
+
+    available, declared, failed = declare_in_sandbox(None, tuple(args.plugin))
+    if "*" in failed:
+        raise PluginError(failed["*"].split("\n")[0])
     table = Table(title="implementations")
     for col in ("name", "exact", "weights", "complexity", "from", "description"):
         table.add_column(col)
-    with plugins_registered(args.plugin):
-        for name in impls.available():
-            try:
-                impl = impls.get(name)
-            except Exception as exc:  # an outside plugin that fails to load is listed, not fatal
-                table.add_row(name, "?", "?", "?", "?", f"[red]failed to load: {exc}[/red]")
-                continue
-            table.add_row(impl.name, "yes" if impl.exact else "no", "yes" if impl.weighted else "no",
-                          impl.complexity, impl.origin, impl.description)
+    for name in available:
+        d = declared.get(name)
+        if d is None:        # an outside plugin that fails to load is listed, not fatal
+            table.add_row(escape(name), "?", "?", "?", "?", f"[red]failed to load: {escape(failed.get(name, ''))}[/red]")
+            continue
+        table.add_row(*(escape(clean_text(x, 200)) for x in (d.name, "yes" if d.exact else "no",
+                                                            "yes" if d.weighted else "no", d.complexity, d.origin,
+                                                            d.description)))
     _console().print(table)
     return 0
 
@@ -107,7 +113,7 @@ def _build_in_sandbox(name: str, sites):
         return {"unsupported": reason}, None
     stats: dict = {}
     t0 = time.perf_counter_ns()
-    diagram = impl.run(sites, stats, check_supports=False)
+    diagram = impl.run(sites, stats, check_supports=False, wrap_build_errors=True)
     seconds = (time.perf_counter_ns() - t0) / 1e9
     if type(diagram) is not Diagram:
         raise TypeError(f"build returned {type(diagram).__name__}, not a Diagram")
@@ -123,20 +129,28 @@ def cmd_build(args: argparse.Namespace) -> int:
 
     if args.box is not None and not args.plot:
         raise ValueError("--box frames the picture: give --plot FILE too")
+    from vorobench.judge.declarations import resolve_declarations
+    from vorobench.judge.engine import diagram_schema
+
     points, label = load_points(args.dataset, args.n, args.seed, args.points)
     sites, _ = prepare(points)
-    with plugins_registered(args.plugin):
-        impls.get(args.impl)                                   # KeyError naming the available ones
-        box = Sandbox(args.impl, plugins=args.plugin, memory_limit_mb=args.memory_limit)
-        try:
-            outcome = box.call(_build_in_sandbox, args.impl, sites, timeout=args.timeout)
-        finally:
-            box.close()
+    declared = resolve_declarations([args.impl], tuple(args.plugin))[args.impl]   # names the available ones
+    box = Sandbox(args.impl, plugins=(declared.plugin,) if declared.plugin else (), memory_limit_mb=args.memory_limit,
+                  expected=declared)
+    try:
+        outcome = box.call(_build_in_sandbox, args.impl, sites, timeout=args.timeout,
+                           schema=diagram_schema(sites.shape[0]))
+    finally:
+        box.close()
     if not outcome.ok:
         print(f"vorobench build: {args.impl} failed on {label}: {outcome.kind}: {outcome.message}", file=sys.stderr)
         return 1
     data, arrays = outcome.value
-    if data["unsupported"]:
+    if not (isinstance(data, dict) and isinstance(data.get("stats", {}), dict)
+            and type(data.get("seconds", 0.0)) in (int, float)):
+        print(f"vorobench build: {args.impl} answered no build record on {label}", file=sys.stderr)
+        return 1
+    if data.get("unsupported"):
         raise ValueError(f"{args.impl} does not support {label}: {data['unsupported']}")
     from vorobench.judge.engine import diagram_from_arrays
 
@@ -144,7 +158,7 @@ def cmd_build(args: argparse.Namespace) -> int:
     if not (diagram.sites.shape == sites.shape and (diagram.sites == sites).all()):
         print(f"vorobench build: {args.impl} returned the diagram of other sites than {label}", file=sys.stderr)
         return 1
-    stats, elapsed = data["stats"], data["seconds"]
+    stats, elapsed = data.get("stats", {}), data.get("seconds", 0.0)
     diagram.validate()
     c = diagram.counts()
     print(f"{args.impl} on {label}: {points.shape[0]} points, {c['n']} distinct sites")

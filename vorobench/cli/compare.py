@@ -20,8 +20,12 @@ Timings gate statistically, per case (implementation, dataset, n, seed) and over
 
 Counters (``stat_*``, machine-independent integers) gate exactly: any change is flagged.
 So is a case that got a worse verdict or status, or that NEW lacks (a run that lost cases must
-not pass for having fewer to compare). Exit status 1 when anything is flagged, else 0; 2 when
-an input is not a results table with at least one case, or an option makes no sense.
+not pass for having fewer to compare), or that NEW no longer checks (``bench --no-check``)
+while BASE did, or that cannot be compared (no usable timing on a side: missing, zero). A
+NEW whose cases were not checked on either side passes on timings and counters alone, and
+says so. Exit status 1 when anything is flagged, else 0; 2 when an input is not a results
+table with at least one case, holds a case twice (run twice into one file), or an option
+makes no sense (an output path that cannot be written is one, found before comparing).
 """
 
 from __future__ import annotations
@@ -29,6 +33,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Optional
@@ -45,7 +50,7 @@ if TYPE_CHECKING:  # annotations only: the module itself is loaded when the comm
 # The harness and the judge are imported inside the functions that run the command, not here:
 # the parser imports every command module (start-up time, measured in vorobench.cli).
 
-__all__ = ["add_arguments", "run"]
+__all__ = ["add_arguments", "run", "check_outputs"]
 
 
 #: The options of ``compare`` besides its two inputs (``continuous`` passes them on).
@@ -73,6 +78,37 @@ def add_arguments(p, positional: bool = True) -> None:
                    help="also write a Markdown summary (for $GITHUB_STEP_SUMMARY or a pull-request comment)")
 
 
+def _shown(text: object) -> str:
+    """Text from the results or the command line as console markup that shows just its
+    characters: control characters as escapes (rich's ``escape`` passes ESC on to the terminal),
+    brackets escaped."""
+    from vorobench.harness.ci_outputs import printable
+
+    return escape(printable(text))
+
+
+def _check_output(option: str, value: Optional[str]) -> None:
+    """ValueError when ``option value`` names no file that can be written (a directory, a path
+    under a file, a folder or file without write permission)."""
+    if not value:
+        return
+    path = Path(value)
+    if path.is_dir():
+        raise ValueError(f"{option} {value}: is a directory; give a file name")
+    folder = next(p for p in (path.parent, *path.parent.parents) if p.exists())
+    if not folder.is_dir():
+        raise ValueError(f"{option} {value}: {folder} is a file, not a folder")
+    writable = os.access(path, os.W_OK) if path.exists() else os.access(folder, os.W_OK | os.X_OK)
+    if not writable:
+        raise ValueError(f"{option} {value}: not writable")
+
+
+def check_outputs(args: argparse.Namespace) -> None:
+    """Refuse, before anything is compared (or benchmarked), an output file that cannot be written."""
+    for option in ("json", "junit", "markdown"):
+        _check_output(f"--{option}", getattr(args, option, None))
+
+
 def _fmt_s(x: Optional[float]) -> str:
     if x is None:
         return "-"
@@ -86,10 +122,30 @@ _MISSING_LISTED = 5
 def _print_missing(console, missing: list[CaseChange]) -> None:
 
     console.print(f"[bold red]NEW lacks {len(missing)} case(s) that BASE has[/bold red]:")
-    for c in missing[:_MISSING_LISTED]:
-        console.print(f"  {c.name}", markup=False, highlight=False)
-    if len(missing) > _MISSING_LISTED:
-        console.print(f"  and {len(missing) - _MISSING_LISTED} more")
+    _print_some(console, [c.name for c in missing])
+
+
+def _print_some(console, lines: list[str]) -> None:
+    """The first :data:`_MISSING_LISTED` of ``lines``, indented, and how many more there are."""
+    for line in lines[:_MISSING_LISTED]:
+        console.print(f"  {_shown(line)}", highlight=False)
+    if len(lines) > _MISSING_LISTED:
+        console.print(f"  and {len(lines) - _MISSING_LISTED} more")
+
+
+def _print_not_comparable(console, cases: list[CaseChange]) -> None:
+    console.print(f"[bold red]{len(cases)} case(s) not comparable[/bold red] (this gate cannot judge them):")
+    _print_some(console, [f"{c.name}: {c.why_not_comparable}" for c in cases])
+
+
+def _print_unchecked(console, comparison: RunComparison) -> None:
+    """Say loudly that NEW's correctness was not checked, and what the gate judged instead."""
+    unchecked = comparison.unchecked
+    lost = [c for c in unchecked if c.check_lost]
+    console.print(f"[bold yellow]correctness not checked[/bold yellow] in {len(unchecked)} of "
+                  f"{len(comparison.compared)} compared case(s) of NEW (verdict skipped: bench --no-check?)"
+                  + (f"; {len(lost)} of them were checked in BASE (flagged)" if lost else
+                     "; they are judged on timings and counters only"))
 
 
 def _verdict_text(c: CaseChange) -> str:
@@ -118,7 +174,7 @@ def _overall_text(comparison: RunComparison) -> str:
 
 def _print_table(console, comparison: RunComparison, title: str, only_changes: bool) -> None:
 
-    table = Table(title=escape(title))
+    table = Table(title=_shown(title))
     table.add_column("case", no_wrap=True)
     for col in ("base", "new", "ratio", "95% CI", "p"):
         table.add_column(col, justify="right", no_wrap=True)
@@ -137,19 +193,23 @@ def _print_table(console, comparison: RunComparison, title: str, only_changes: b
         timing = f"[{colour}]{c.change}[/{colour}]" if colour else c.change
         ci = f"{c.ci_low:.2f}-{c.ci_high:.2f}" if c.ci_low is not None else "-"
         p = f"{c.p_value:.3g}" if c.p_value is not None else "-"
-        flags = escape("; ".join(c.flags))
-        table.add_row(escape(f"{c.impl} {c.dataset} n={c.n} s={c.seed}"), _fmt_s(c.base_median_s),
-                      _fmt_s(c.new_median_s), ratio, ci, p, timing, escape(_verdict_text(c)),
+        flags = _shown("; ".join(c.flags))
+        table.add_row(_shown(f"{c.impl} {c.dataset} n={c.n} s={c.seed}"), _fmt_s(c.base_median_s),
+                      _fmt_s(c.new_median_s), ratio, ci, p, timing, _shown(_verdict_text(c)),
                       f"[bold red]{flags}[/bold red]" if flags else "")
     if shown:
         console.print(table)
 
 
 def run(args: argparse.Namespace) -> int:
-    from vorobench.harness.regress import compare_runs, load_side, machine_warning, store_history
+    from vorobench.harness.regress import (compare_runs, load_side, machine_warning, refuse_duplicates,
+                                           store_history)
 
+    check_outputs(args)
     base_df, base_meta = load_side(args.base)
     new_df, new_meta = load_side(args.new)
+    refuse_duplicates(base_df, f"BASE {args.base}")
+    refuse_duplicates(new_df, f"NEW {args.new}")
     history = store_history(args.base, base_meta, new_df)
     comparison = compare_runs(base_df, new_df, threshold=args.threshold, alpha=args.alpha, seed=args.seed,
                               history=history)
@@ -158,13 +218,16 @@ def run(args: argparse.Namespace) -> int:
         console = Console(width=max(console.width, 140))     # logs (CI) are wide, keep rows on one line
     warning = machine_warning(base_meta, new_meta)
     if warning:
-        console.print(f"[yellow]warning[/yellow]: {escape(warning)}")
+        console.print(f"[yellow]warning[/yellow]: {_shown(warning)}")
     title = getattr(args, "title", None) or f"{args.new} vs {args.base}"
     _print_table(console, comparison, f"{title} (threshold {args.threshold:.0%})",
                  args.only_changes)
     if args.json:
+        Path(args.json).parent.mkdir(parents=True, exist_ok=True)
         Path(args.json).write_text(json.dumps({
             "passed": comparison.passed, "threshold": args.threshold, "alpha": args.alpha,
+            "compared": len(comparison.compared), "not_comparable": len(comparison.not_comparable),
+            "unchecked": len(comparison.unchecked),
             "overall": asdict(comparison.overall),
             "noise_band": None if comparison.noise is None else math.exp(comparison.noise),
             "cases": [asdict(c) | {"flagged": c.flagged} for c in comparison.changes]},
@@ -177,25 +240,31 @@ def run(args: argparse.Namespace) -> int:
         if args.markdown:
             ci_outputs.write_compare_markdown(comparison, args.markdown, str(args.base), str(args.new))
     compared, flagged, missing = comparison.compared, comparison.flagged, comparison.missing
-    console.print(escape(_overall_text(comparison)))
+    console.print(_shown(_overall_text(comparison)))
     inconclusive = comparison.inconclusive
     if inconclusive:
         console.print(f"[yellow]{len(inconclusive)} case(s) inconclusive[/yellow]: their timings cannot tell a "
-                      f"{args.threshold:.0%} change from noise (e.g. {escape(inconclusive[0].name)}: "
-                      f"{escape(inconclusive[0].why_inconclusive)}); more repeats (bench --repeat, --min-time) "
+                      f"{args.threshold:.0%} change from noise (e.g. {_shown(inconclusive[0].name)}: "
+                      f"{_shown(inconclusive[0].why_inconclusive)}); more repeats (bench --repeat, --min-time) "
                       "or a quieter machine would decide them")
     if not compared:
-        console.print(f"[bold red]no case in common[/bold red]: {escape(str(args.new))} has none of the cases of "
-                      f"{escape(str(args.base))}")
+        console.print(f"[bold red]no case in common[/bold red]: {_shown(args.new)} has none of the cases of "
+                      f"{_shown(args.base)} that can be compared")
     for flag in comparison.overall.flags:
-        console.print(f"[bold red]flagged[/bold red]: {escape(flag)}")
+        console.print(f"[bold red]flagged[/bold red]: {_shown(flag)}")
     if flagged:
         console.print(f"[bold red]{len(flagged)} of {len(compared)} compared case(s) flagged[/bold red]")
+    if comparison.not_comparable:
+        _print_not_comparable(console, comparison.not_comparable)
     if missing:
         _print_missing(console, missing)
+    if comparison.unchecked:
+        _print_unchecked(console, comparison)
     if not comparison.passed:
         return 1
     faster = sum(1 for c in comparison.changes if c.change == "faster")
     console.print(f"[green]no regression[/green] in {len(compared)} compared case(s)"
-                  + (f"; {faster} clearly faster" if faster else ""))
+                  + (f"; {faster} clearly faster" if faster else "")
+                  + ("; [bold yellow]correctness not checked[/bold yellow]: timings and counters only"
+                     if comparison.unchecked else ""))
     return 0

@@ -26,14 +26,13 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 from rich.table import Table
 
 import datasets_gen
-import impls
 from impls import DEFAULT_REFERENCE
-from impls.plugins import plugins_registered
 from vorobench.cli import args as cli_args
 from vorobench.cli.bench import weight_family
 from vorobench.judge.defaults import DEFAULT_PROBES, DEFAULT_TIMEOUT
 
 if TYPE_CHECKING:  # annotations only: the module itself is loaded when the command runs
+    from vorobench.judge.declarations import Declaration
     from vorobench.judge.engine import CaseVerdict
 
 # The harness and the judge are imported inside the functions that run the command, not here:
@@ -126,17 +125,24 @@ def _cases(args: argparse.Namespace) -> list[dict[str, Any]]:
             for s in args.seeds]
 
 
-def _impl_names(args: argparse.Namespace) -> list[str]:
+def _declared(args: argparse.Namespace) -> dict[str, "Declaration"]:
+    """The run's implementations, reference first, with what each declares: read once in a
+    sandbox (plugins are loaded there, never in this process) and pinned for the run."""
+    from vorobench.judge.declarations import resolve_declarations
+
     names = list(args.impls)
-    if not names or names == ["all"]:
-        names = impls.available()
-    for name in names + [args.reference]:
-        impls.get(name)  # KeyError naming the available ones
-    if args.weights is not None and not impls.get(args.reference).weighted:
+    every = not names or names == ["all"]
+    declared = resolve_declarations(None if every else names + [args.reference], tuple(args.plugin),
+                                    timeout=args.warmup_timeout)
+    if args.reference not in declared:
+        declared.update(resolve_declarations([args.reference], tuple(args.plugin), timeout=args.warmup_timeout))
+    if args.weights is not None and not declared[args.reference].weighted:
+        weighted = [n for n, d in declared.items() if d.weighted]
         raise ValueError(f"the reference {args.reference} does not take weights, so it cannot judge weighted cases; "
-                         f"choose one that does with --reference ({', '.join(impls.weighted()) or 'none here'})")
+                         f"choose one that does with --reference ({', '.join(weighted) or 'none here'})")
     # The reference is certified too: it always has a row, first.
-    return [args.reference] + [n for n in names if n != args.reference]
+    order = [args.reference] + [n for n in declared if n != args.reference and (every or n in names)]
+    return {n: declared[n] for n in order}
 
 
 def _judge_case(item: tuple) -> tuple[np.ndarray, list[tuple[str, CaseVerdict, Any]], Optional[np.ndarray]]:
@@ -145,12 +151,11 @@ def _judge_case(item: tuple) -> tuple[np.ndarray, list[tuple[str, CaseVerdict, A
     from vorobench.judge.engine import shared_judge
 
     case, names, reference, options, family = item
-    with plugins_registered(dict(options)["plugins"]):
-        points, weights = case["points"], case["weights"]
-        if points is None:
-            points = datasets_gen.generate(case["dataset"], case["n"], seed=case["seed"])
-            weights = datasets_gen.weights(family, points, seed=case["seed"]) if family else None
-        judged = shared_judge(names, reference, **dict(options)).judge(points, weights=weights)
+    points, weights = case["points"], case["weights"]
+    if points is None:
+        points = datasets_gen.generate(case["dataset"], case["n"], seed=case["seed"])
+        weights = datasets_gen.weights(family, points, seed=case["seed"]) if family else None
+    judged = shared_judge(names, reference, **dict(options)).judge(points, weights=weights)
     return judged.sites, judged.rows, judged.weights
 
 
@@ -167,33 +172,37 @@ def _worst(verdicts: list[str]) -> str:
     return max(verdicts, key=VERDICTS.index)
 
 
+def _mark_unfinished(out: Path) -> Path:
+    """Before anything else, the summary on disk says the run has not passed: a run killed at
+    any point (even while starting) leaves no earlier green gate behind."""
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / "summary.json"
+    _write_json(path, dict(complete=False, passed=False, note="validation started and has not finished (or was killed)"))
+    return path
+
+
 def run(args: argparse.Namespace) -> int:
-    with plugins_registered(args.plugin):
-        return _run(args)
-
-
-def _run(args: argparse.Namespace) -> int:
     from vorobench.harness.executors import parse_spec
     from vorobench.judge.engine import close_shared_judges, shared_judge
     from vorobench.judge.shrink import shrink_case, write_witness
 
     console = Console()
     parse_spec(args.executor)
-    names = _impl_names(args)
+    out = Path(args.out)
+    path = _mark_unfinished(out)
+    declared = _declared(args)
+    names = list(declared)
     cases = _cases(args)
     reference = args.reference
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    path = out / "summary.json"
-    # Until the run ends, the summary on disk says it did not pass: a killed run is no green gate.
     _write_json(path, dict(reference=reference, impls=names, cases=len(cases), complete=False, passed=False,
                            note="validation started and has not finished (or was killed)"))
     options = (("probes", args.probes), ("timeout", args.timeout), ("warmup_timeout", args.warmup_timeout),
-               ("memory_limit_mb", args.memory_limit), ("plugins", tuple(args.plugin)))
+               ("memory_limit_mb", args.memory_limit), ("plugins", tuple(args.plugin)),
+               ("declarations", tuple(declared.items())))
     records: list[dict[str, Any]] = []
     failures: list[tuple[dict[str, Any], CaseVerdict, np.ndarray, Optional[np.ndarray]]] = []
     family = args.weights or ""
-    unweighted = [n for n in names if family and not impls.get(n).weighted]
+    unweighted = [n for n in names if family and not declared[n].weighted]
     if unweighted:
         console.print(f"[dim]weights {escape(family)}: {escape(', '.join(unweighted))} "
                       f"{'does' if len(unweighted) == 1 else 'do'} not take weights: unsupported[/]")
@@ -295,7 +304,7 @@ def _run(args: argparse.Namespace) -> int:
         table.add_row(*row)
     console.print(table)
     notes = []
-    float_impls = [n for n in names if not impls.get(n).exact]
+    float_impls = [n for n in names if not declared[n].exact]
     if float_impls:
         notes.append(f"{', '.join(float_impls)} {'is' if len(float_impls) == 1 else 'are'} floating point: "
                      f"'within tolerance' against {'it' if len(float_impls) == 1 else 'them'} is a pass, and "
@@ -334,12 +343,13 @@ def _run(args: argparse.Namespace) -> int:
         console.print(f"[red]NOT JUDGED[/] {escape(', '.join(never_judged))}: unsupported on every case")
     # The gate: every planned case judged, and every verdict a pass.
     ok = not failures and not lost_cases and judged_count == len(cases) and not never_judged
-    failed_impls = sorted({case["impl"] for case, *_ in failures})
+    failed_impls = sorted({case["exact_peer"] if verdict.blame == "reference" and case["exact_peer"] else case["impl"]
+                           for case, verdict, *_ in failures})
     summary = dict(reference=reference, impls=names, datasets=datasets, weights=family or None,
                    unweighted=unweighted, cases=len(cases), judged=judged_count,
                    complete=judged_count == len(cases), passed=ok, failures=len(failures), lost=len(lost_cases),
                    failed_impls=failed_impls, never_judged=never_judged, timeout=args.timeout, notes=notes, witnesses=witnesses,
-                   results=records)
+                   declarations={n: d.to_dict() for n, d in declared.items()}, results=records)
     _write_json(path, summary)
     from vorobench.harness.ci_outputs import write_junit, write_markdown
 

@@ -5,20 +5,55 @@ validate: one JUnit test case per (dataset, n, seed, implementation[, exact peer
 ``unsupported`` row is ``<skipped>``. The Markdown digest (for ``$GITHUB_STEP_SUMMARY`` or a
 pull-request comment) says whether the gate passed and lists every failure. compare: one test
 case per case of BASE or NEW (a flag is a ``<failure>``, an inconclusive timing ``<skipped>``)
-plus one for the combined timing verdict. Text from the
-results is escaped: XML by the serializer, Markdown by :mod:`vorobench.harness.markdown_text`.
+plus one for the combined timing verdict, and a ``<skipped>`` one saying so when NEW did not
+check correctness. Text from the results is escaped: XML by the serializer, Markdown by
+:mod:`vorobench.harness.markdown_text`; characters no reader takes (control characters, lone
+surrogates) become visible escapes (:func:`printable`), and a Markdown table cell that a
+spreadsheet would run as a formula is quoted.
 """
 
 from __future__ import annotations
 
 import math
+import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Any
 
 from vorobench.harness.markdown_text import cell as _cell
 
-__all__ = ["write_junit", "write_markdown", "write_compare_junit", "write_compare_markdown"]
+__all__ = ["write_junit", "write_markdown", "write_compare_junit", "write_compare_markdown", "printable",
+           "formula_safe"]
+
+# What no reader should get raw: the characters XML 1.0 forbids (C0 controls but tab and line
+# breaks, surrogates, U+FFFE, U+FFFF), which also make a UTF-8 writer raise (a lone surrogate
+# from bytes read with surrogateescape) or a terminal obey (ESC), plus DEL and the C1 controls
+# (U+009B is a terminal's CSI too).
+_UNSHOWABLE = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f\ud800-\udfff\ufffe\uffff]")
+
+# A cell starting with one of these is a formula to a spreadsheet the table is pasted into.
+_FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+
+
+def printable(value: object) -> str:
+    """``value`` as text any file, XML parser or terminal takes: each character of
+    :data:`_UNSHOWABLE` shown as its escape (``\\x1b``, ``\\udcff``), so it stays readable."""
+    return _UNSHOWABLE.sub(lambda m: m.group().encode("unicode_escape").decode("ascii"), str(value))
+
+
+def formula_safe(text: str) -> str:
+    """``text`` with a leading quote when a spreadsheet would read it as a formula (``=HYPERLINK(``)."""
+    return "'" + text if text.startswith(_FORMULA_START) else text
+
+
+def _md(value: object) -> str:
+    """A value from the results as Markdown inline text."""
+    return _cell(printable(value))
+
+
+def _md_cell(value: object) -> str:
+    """A value from the results as a Markdown table cell, safe to paste into a spreadsheet."""
+    return _cell(formula_safe(printable(value)))
 
 
 def _case_name(row: dict[str, Any]) -> str:
@@ -57,8 +92,20 @@ def _write_suite(suite: ET.Element, path: str | Path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     root = ET.Element("testsuites", name="vorobench")
     root.append(suite)
+    _make_printable(root)
     ET.ElementTree(root).write(path, encoding="utf-8", xml_declaration=True)
     return path
+
+
+def _make_printable(root: ET.Element) -> None:
+    """Every text and attribute under ``root`` through :func:`printable`: the serializer escapes
+    markup but writes forbidden characters as they are, which no XML parser then reads."""
+    for element in root.iter():
+        element.attrib = {key: printable(value) for key, value in element.attrib.items()}
+        if element.text is not None:
+            element.text = printable(element.text)
+        if element.tail is not None:
+            element.tail = printable(element.tail)
 
 
 def write_markdown(summary: dict[str, Any], path: str | Path) -> Path:
@@ -68,14 +115,14 @@ def write_markdown(summary: dict[str, Any], path: str | Path) -> Path:
     verdict = "passed" if summary.get("passed") else "FAILED"
     lines = [f"## vorobench validate: {verdict}", "",
              f"{summary.get('judged', 0)} of {summary.get('cases', 0)} cases judged against "
-             f"`{_cell(summary.get('reference', '?'))}`; {len(rows)} verdicts, {len(failed)} failing, "
+             f"`{_md(summary.get('reference', '?'))}`; {len(rows)} verdicts, {len(failed)} failing, "
              f"{summary.get('lost', 0)} cases lost.", ""]
     if summary.get("never_judged"):
-        lines += [f"Never judged (unsupported on every case): {_cell(', '.join(summary['never_judged']))}", ""]
+        lines += [f"Never judged (unsupported on every case): {_md(', '.join(summary['never_judged']))}", ""]
     if failed:
         lines += ["| implementation | case | verdict | message |", "|---|---|---|---|"]
-        lines += [f"| {_cell(r['impl'])} | {_cell(_case_name(r))} | {_cell(r['verdict'])} | {_cell(r['message'])[:300]} |"
-                  for r in failed]
+        lines += [f"| {_md_cell(r['impl'])} | {_md_cell(_case_name(r))} | {_md_cell(r['verdict'])} | "
+                  f"{_md_cell(r['message'])[:300]} |" for r in failed]
         lines.append("")
     return _write_text(lines, path)
 
@@ -83,7 +130,8 @@ def write_markdown(summary: dict[str, Any], path: str | Path) -> Path:
 def _write_text(lines: list[str], path: str | Path) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    # printable() again: any text a caller did not pass through it still cannot break the file.
+    path.write_text(printable("\n".join(lines) + "\n"), encoding="utf-8")
     return path
 
 
@@ -99,14 +147,31 @@ def write_compare_junit(comparison, path: str | Path, base: str, new: str) -> Pa
                              time=f"{c.new_median_s or 0.0:.6f}")
         if c.flagged:
             message = "; ".join(c.flags)
-            ET.SubElement(case, "failure", type="regression", message=message[:500]).text = message
+            kind = "not_comparable" if c.why_not_comparable else "regression"
+            ET.SubElement(case, "failure", type=kind, message=message[:500]).text = message
         elif c.change == "inconclusive":
             ET.SubElement(case, "skipped", message=f"timing inconclusive: {c.why_inconclusive}"[:500])
     overall = ET.SubElement(suite, "testcase", classname="vorobench.all", name="all cases together (geometric mean)")
     if comparison.overall.flags:
         message = "; ".join(comparison.overall.flags)
         ET.SubElement(overall, "failure", type="regression", message=message[:500]).text = message
+    if comparison.unchecked:
+        _add_unchecked_case(suite, comparison)
     return _write_suite(suite, path)
+
+
+def _unchecked_text(comparison) -> str:
+    """One sentence on the compared cases whose correctness NEW did not check."""
+    return (f"correctness not checked in {len(comparison.unchecked)} of {len(comparison.compared)} compared "
+            "case(s) of NEW (verdict skipped: bench --no-check?): judged on timings and counters only")
+
+
+def _add_unchecked_case(suite: ET.Element, comparison) -> None:
+    """A skipped test case saying NEW's correctness was not checked, so a CI page shows it."""
+    case = ET.SubElement(suite, "testcase", classname="vorobench.all", name="correctness checked in NEW")
+    ET.SubElement(case, "skipped", message=_unchecked_text(comparison))
+    suite.set("tests", str(int(suite.get("tests")) + 1))
+    suite.set("skipped", str(int(suite.get("skipped")) + 1))
 
 
 def _ratio(c) -> str:
@@ -120,10 +185,15 @@ def write_compare_markdown(comparison, path: str | Path, base: str, new: str) ->
     """A :class:`vorobench.harness.regress.RunComparison` as a short Markdown digest; returns its path."""
     o = comparison.overall
     verdict = "no regression" if comparison.passed else "REGRESSION"
+    if comparison.unchecked:
+        verdict += " (correctness not checked)"
     lines = [f"## vorobench compare: {verdict}", "",
-             f"`{_cell(new)}` against `{_cell(base)}`, threshold {comparison.threshold:.0%}, alpha "
+             f"`{_md(new)}` against `{_md(base)}`, threshold {comparison.threshold:.0%}, alpha "
              f"{comparison.alpha:g}: {len(comparison.compared)} case(s) compared, {len(comparison.flagged)} "
-             f"flagged, {len(comparison.missing)} missing in NEW, {len(comparison.inconclusive)} inconclusive.", ""]
+             f"flagged, {len(comparison.missing)} missing in NEW, {len(comparison.not_comparable)} not comparable, "
+             f"{len(comparison.inconclusive)} inconclusive.", ""]
+    if comparison.unchecked:
+        lines += [f"**{_md(_unchecked_text(comparison))}**", ""]
     if o.geomean is not None:
         ci = f" (95% CI {o.ci_low:.3f}-{o.ci_high:.3f})" if o.ci_low is not None else ""
         lines += [f"All {o.cases} timed cases together: NEW / BASE = **{o.geomean:.3f}**{ci}, {o.change}.", ""]
@@ -133,9 +203,10 @@ def write_compare_markdown(comparison, path: str | Path, base: str, new: str) ->
     lines += ["| case | base | new | ratio (95% CI) | timing | verdict | flags |", "|---|---|---|---|---|---|---|"]
     for c in comparison.changes:
         verdict_cell = c.new_verdict if c.base_verdict == c.new_verdict else f"{c.base_verdict} -> {c.new_verdict}"
-        lines.append(f"| {_cell(c.name)} | {_seconds(c.base_median_s)} | {_seconds(c.new_median_s)} | {_ratio(c)} | "
-                     f"{_cell(c.change or '-')} | {_cell(verdict_cell or '-')} | "
-                     f"{_cell('; '.join(c.flags))[:300] or ''} |")
+        lines.append(f"| {_md_cell(c.name)} | {_seconds(c.base_median_s)} | {_seconds(c.new_median_s)} | "
+                     f"{_ratio(c)} | {_md_cell(c.change) if c.change else '-'} | "
+                     f"{_md_cell(verdict_cell) if verdict_cell else '-'} | "
+                     f"{_md_cell('; '.join(c.flags))[:300] or ''} |")
     return _write_text(lines, path)
 
 

@@ -10,13 +10,15 @@ from pathlib import Path
 from typing import Optional, Sequence
 
 import numpy as np
+import pandas as pd
 from scipy.stats import bootstrap, mannwhitneyu, median_abs_deviation, ttest_1samp
 
 from vorobench.harness import results, store
 from vorobench.judge.outcomes import counter_columns, status_rank, verdict_rank
 
 __all__ = ["CaseChange", "Overall", "RunComparison", "compare_frames", "compare_runs",
-           "compare_files", "load_side", "bootstrap_ratio_ci", "slowdown_p_value", "overall_change"]
+           "compare_files", "load_side", "bootstrap_ratio_ci", "slowdown_p_value", "overall_change",
+           "refuse_duplicates"]
 
 KEY = ["impl", "dataset", "n", "seed"]
 
@@ -44,6 +46,8 @@ class CaseChange:
     #: "slower", "faster", "same", "inconclusive", or "" (no timing on one side)
     change: str = ""
     why_inconclusive: str = ""
+    #: Why the case, present on both sides, cannot be judged (no usable timing on a side); "" if it can.
+    why_not_comparable: str = ""
     counters: dict[str, tuple] = field(default_factory=dict)
     flags: list[str] = field(default_factory=list)
 
@@ -54,6 +58,16 @@ class CaseChange:
     @property
     def name(self) -> str:
         return f"{self.impl} {self.dataset} n={self.n} seed={self.seed}"
+
+    @property
+    def unchecked(self) -> bool:
+        """NEW built the case but did not check its correctness (``bench --no-check``)."""
+        return _unchecked(self.new_status, self.new_verdict)
+
+    @property
+    def check_lost(self) -> bool:
+        """BASE built and checked the case; NEW built it without checking it."""
+        return self.base_status == "ok" and verdict_rank(self.base_verdict) is not None and self.unchecked
 
 
 @dataclass
@@ -85,19 +99,32 @@ class RunComparison:
 
     @property
     def compared(self) -> list[CaseChange]:
-        return [c for c in self.changes if c.base_status is not None and c.new_status is not None]
+        return [c for c in self.changes if c.base_status is not None and c.new_status is not None
+                and not c.why_not_comparable]
+
+    @property
+    def not_comparable(self) -> list[CaseChange]:
+        """Cases of both sides that cannot be judged: they fail the gate, and are not "compared"."""
+        return [c for c in self.changes if c.why_not_comparable]
 
     @property
     def flagged(self) -> list[CaseChange]:
-        return [c for c in self.changes if c.flagged and c.new_status is not None]
+        return [c for c in self.changes if c.flagged and c.new_status is not None and not c.why_not_comparable]
 
     @property
     def inconclusive(self) -> list[CaseChange]:
         return [c for c in self.changes if c.change == "inconclusive"]
 
     @property
+    def unchecked(self) -> list[CaseChange]:
+        """Compared cases whose correctness NEW did not check: the gate vouches for their
+        timings and counters only (flagged when BASE did check them)."""
+        return [c for c in self.compared if c.unchecked]
+
+    @property
     def passed(self) -> bool:
-        return bool(self.compared) and not (self.flagged or self.missing or self.overall.flags)
+        return bool(self.compared) and not (self.flagged or self.missing or self.not_comparable
+                                            or self.overall.flags)
 
 
 def bootstrap_ratio_ci(base: Sequence[float], new: Sequence[float], rng: np.random.Generator,
@@ -182,6 +209,60 @@ def overall_change(changes: Sequence[CaseChange], threshold: float, level: float
     return out
 
 
+def _unchecked(status: Optional[str], verdict: Optional[str]) -> bool:
+    """A built case with no verdict on its correctness ("skipped" or none at all)."""
+    return status == "ok" and verdict_rank(verdict) is None
+
+
+def _usable_times(rows) -> np.ndarray:
+    """The build times of ``rows`` that ran, as seconds a ratio can be taken of: a missing, zero,
+    negative or infinite time says nothing about speed (and a zero one divides by zero)."""
+    times = np.asarray(pd.to_numeric(rows.loc[rows["status"] == "ok", "time_s"], errors="coerce"), float)
+    return times[np.isfinite(times) & (times > 0)]
+
+
+def _why_not_comparable(change: CaseChange, base_times: np.ndarray, new_times: np.ndarray) -> str:
+    """Why a case both sides ran cannot be timed against itself; "" when it can (or need not)."""
+    if change.new_status == "ok" and not new_times.size:
+        return "NEW has no usable timing (time_s missing, zero, negative or infinite)"
+    if change.base_status == "ok" and change.new_status == "ok" and not base_times.size:
+        return "BASE has no usable timing (time_s missing, zero, negative or infinite)"
+    return ""
+
+
+def _case_label(key: dict) -> str:
+    """A case's key as compare names it (:attr:`CaseChange.name`)."""
+    weights = key.get("weights")
+    dataset = results.weighted_label(str(key["dataset"]), weights if isinstance(weights, str) else "")
+    return f"{key['impl']} {dataset} n={int(float(key['n']))} seed={int(float(key['seed']))}"
+
+
+def _cases_held_twice(df) -> list[dict]:
+    """The cases of ``df`` (each as a dict of its key) that hold one repeat twice, or rows of
+    more than one run: a case that was run twice into the same table."""
+    key = [c for c in results.CASE_KEY if c in df.columns]
+    twice: set[tuple] = set()
+    if "repeat" in df.columns:
+        numbered = df[df["repeat"].notna()]
+        again = numbered.duplicated(key + ["repeat"])
+        twice |= {tuple(k) for k in numbered.loc[again, key].itertuples(index=False)}
+    if "run_id" in df.columns:
+        runs = df[df["run_id"].notna()].groupby(key, dropna=False)["run_id"].nunique()
+        twice |= {tuple(k) for k, count in runs.items() if count > 1}
+    return [dict(zip(key, k)) for k in sorted(twice, key=str)]
+
+
+def refuse_duplicates(df, side: str) -> None:
+    """ValueError naming a case ``df`` holds twice (see :func:`_cases_held_twice`): pooling its
+    two runs would judge it on both runs' repeats and hide that it was written twice."""
+    twice = _cases_held_twice(df)
+    if not twice:
+        return
+    more = f" (and {len(twice) - 1} more case(s) like it)" if len(twice) > 1 else ""
+    raise ValueError(f"{side}: case {_case_label(twice[0])} is there twice (a repeat twice, or rows of two runs)"
+                     f"{more}; keep one run of each case, a case run twice is not pooled")
+
+
 def _counters(base_row, new_row, columns: list[str]) -> dict[str, tuple]:
     changed = {}
     for col in columns:
@@ -202,6 +283,8 @@ def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05
     measured (:func:`case_noise`). A weighted case (``weights`` column) is a dataset of its own
     (:func:`vorobench.harness.results.weighted_label`): never compared with the ordinary one."""
     rng = np.random.default_rng(seed)
+    refuse_duplicates(base_df, "BASE")
+    refuse_duplicates(new_df, "NEW")
     base_df, new_df = results.with_weights_in_dataset(base_df), results.with_weights_in_dataset(new_df)
     stat_cols = counter_columns(set(base_df.columns) | set(new_df.columns))
     base_groups = {k: g for k, g in base_df.groupby(KEY, sort=True)}
@@ -228,17 +311,15 @@ def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05
         rb, rn = verdict_rank(change.base_verdict), verdict_rank(change.new_verdict)
         if rb is not None and rn is not None and rn > rb:
             change.flags.append(f"verdict {change.base_verdict} -> {change.new_verdict}")
-        tb = b.loc[b["status"] == "ok", "time_s"].dropna().to_numpy(float)
-        tn = m.loc[m["status"] == "ok", "time_s"].dropna().to_numpy(float)
-        if tb.size and tn.size:
+        if change.check_lost:
+            change.flags.append(f"correctness not checked in NEW (BASE: {change.base_verdict})")
+        tb, tn = _usable_times(b), _usable_times(m)
+        change.why_not_comparable = _why_not_comparable(change, tb, tn)
+        if change.why_not_comparable:
+            change.flags.append(f"not comparable: {change.why_not_comparable}")
+        elif tb.size and tn.size:
             _timing(change, tb, tn, threshold, alpha, rng)
-            if stat_cols:
-                base_row = b[b["status"] == "ok"].iloc[0].to_dict()
-                new_row = m[m["status"] == "ok"].iloc[0].to_dict()
-                change.counters = _counters(base_row, new_row, stat_cols)
-                if change.counters:
-                    change.flags.append("counters changed: " + ", ".join(
-                        f"{k} {_num(a)} -> {_num(c)}" for k, (a, c) in change.counters.items()))
+        _compare_counters(change, b, m, stat_cols)
         changes.append(change)
     band = noise_band(changes)
     own = case_noise(history) if history is not None else {}
@@ -255,6 +336,17 @@ def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05
             change.flags.insert(0, f"{change.ratio:.2f}x slower (95% CI {change.ci_low:.2f}-{change.ci_high:.2f}, "
                                    f"p={change.p_value:.2g})")
     return changes
+
+
+def _compare_counters(change: CaseChange, base_rows, new_rows, stat_cols: list[str]) -> None:
+    """Flag ``change`` when a counter differs between the first rows that ran on each side."""
+    ran_base, ran_new = base_rows[base_rows["status"] == "ok"], new_rows[new_rows["status"] == "ok"]
+    if not stat_cols or ran_base.empty or ran_new.empty:
+        return
+    change.counters = _counters(ran_base.iloc[0].to_dict(), ran_new.iloc[0].to_dict(), stat_cols)
+    if change.counters:
+        change.flags.append("counters changed: " + ", ".join(
+            f"{k} {_num(a)} -> {_num(c)}" for k, (a, c) in change.counters.items()))
 
 
 #: Fewest cases timed on both sides from which the run-to-run noise is estimated.

@@ -83,6 +83,33 @@ def _plain(value: Any) -> Any:
     return value
 
 
+def _identifier(name: str) -> str:
+    """``name`` as a quoted SQL identifier: any counter name (quotes included) is a column name."""
+    if "\x00" in name:
+        raise ValueError(f"column {name!r}: a NUL character cannot be in an SQLite column name")
+    return '"' + name.replace('"', '""') + '"'
+
+
+def _add_columns(con: sqlite3.Connection, rows) -> None:
+    """Add the columns of ``rows`` that the results table lacks. SQLite column names ignore
+    letter case: a name that differs from a stored one only in case is refused, not merged."""
+    have = {r[1].lower(): r[1] for r in con.execute("pragma table_info(results)")}
+    for column in map(str, rows.columns):
+        stored = have.get(column.lower())
+        if stored == column:
+            continue
+        if stored is not None:
+            raise ValueError(f"column {column!r} differs from the store's column {stored!r} only in letter case, "
+                             "which SQLite column names ignore")
+        try:
+            con.execute(f"alter table results add column {_identifier(column)} {_sql_type(rows[column].dtype)}")
+        except sqlite3.OperationalError as exc:
+            # Only a writer that bypassed the lock above could have added it; the column is there.
+            if "duplicate column" not in str(exc):
+                raise
+        have[column.lower()] = column
+
+
 class Store:
     """The run store in folder ``path`` (created on the first run filed)."""
 
@@ -140,18 +167,18 @@ class Store:
             "meta": json.dumps(meta, default=str),
         }
         with closing(self._connect(create=True)) as con, con:
+            # The write lock first: another process filing at once then waits here, instead of
+            # adding the same column between our look at the table and our ALTER TABLE.
+            con.execute("begin immediate")
             if con.execute("select 1 from runs where run_id = ?", (run_id,)).fetchone():
                 return False
-            have = {r[1] for r in con.execute("pragma table_info(results)")}
-            for column in rows.columns:
-                if column not in have:
-                    con.execute(f'alter table results add column "{column}" {_sql_type(rows[column].dtype)}')
+            _add_columns(con, rows)
             columns = list(rows.columns)
             marks = ", ".join("?" * len(columns))
-            names = ", ".join(f'"{c}"' for c in columns)
+            names = ", ".join(_identifier(c) for c in columns)
             con.executemany(f"insert into results ({names}) values ({marks})",
                             ([_plain(v) for v in row] for row in rows.itertuples(index=False, name=None)))
-            con.execute(f"insert into runs ({', '.join(chr(34) + c + chr(34) for c in _RUN_COLUMNS)}) "
+            con.execute(f"insert into runs ({', '.join(_identifier(c) for c in _RUN_COLUMNS)}) "
                         f"values ({', '.join('?' * len(_RUN_COLUMNS))})", [record[c] for c in _RUN_COLUMNS])
         return True
 

@@ -30,24 +30,26 @@ import multiprocessing as mp
 import time
 import traceback
 from dataclasses import dataclass, field
-from typing import Any, Optional, Sequence
+from typing import Any, Mapping, Optional, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 import impls
 from impls import DEFAULT_REFERENCE
-from impls.base import InputMutated, UnsupportedInput
+from impls.base import BuildRaised, InputMutated, UnsupportedInput
 from vorobench.core.diagram import Diagram
 from vorobench.core.prepare import prepare, prepare_weighted
-from vorobench.core.scaling import OutsideExactRange
+from vorobench.core.scaling import OutsideExactRange, exact_shift, scale_points
 from vorobench.judge.certificate import DEFAULT_PROBES, Certificate, certify
 from vorobench.judge.comparison import Comparison, compare
+from vorobench.judge.declarations import Declaration, declaration_from_data, declaration_of, declare_in_sandbox
 from vorobench.judge.defaults import DEFAULT_TIMEOUT
 from vorobench.judge.outcomes import Verdict
-from vorobench.judge.sandbox import WARMUP_TIMEOUT, Sandbox
+from vorobench.judge.sandbox import WARMUP_TIMEOUT, Sandbox, safe_message
+from vorobench.judge.wire import ArraySpec
 
-__all__ = ["CaseVerdict", "BuildResult", "CaseJudgement", "Judge", "judge_case", "build_only", "certify_result", "build_and_certify", "build_in_sandbox", "diagram_arrays", "diagram_from_arrays", "check_case",
+__all__ = ["CaseVerdict", "BuildResult", "CaseJudgement", "Judge", "judge_case", "build_only", "certify_result", "build_and_certify", "build_in_sandbox", "diagram_arrays", "diagram_from_arrays", "diagram_schema", "check_case",
            "decide", "agree_exactly", "is_exact", "prepare_case", "VERDICTS", "PASSING", "FAILURES", "NO_WEIGHTS",
            "DEFAULT_TIMEOUT", "shared_judge", "close_shared_judges"]
 
@@ -109,44 +111,58 @@ class BuildResult:
         return None if self.certificate is None else self.certificate.ok
 
 
+def _declined(impl: impls.Implementation, sites: np.ndarray) -> Optional[str]:
+    """Why ``impl`` declines ``sites``: its ``supports`` (on the sites, and on the scaled sites it
+    would be given), or sites that no power of two brings into the exact range. Nothing else
+    declines a case."""
+    try:
+        shift = exact_shift(sites)
+    except OutsideExactRange as exc:        # vorobench's own range: no implementation code has run
+        return str(exc)
+    reason = impl.unsupported_reason(sites)
+    if reason is None and shift != 0:
+        reason = impl.unsupported_reason(scale_points(sites, shift))
+    return reason
+
+
 def build_only(impl_name: str, sites: np.ndarray, weights: Optional[np.ndarray] = None) -> BuildResult:
     """Build prepared ``sites`` with ``impl_name`` in this process; every failure is recorded in
     the result, not raised. No certificate yet: that is the judge's, outside the implementation's
     process. ``weights`` (one per site) asks for the power diagram; an implementation that
-    does not take weights is ``unsupported`` (:data:`NO_WEIGHTS`)."""
+    does not take weights is ``unsupported`` (:data:`NO_WEIGHTS`). Only ``supports`` declines
+    sites: an exception of any class raised inside the build is a crash."""
     try:
         impl = impls.get(impl_name)
     except Exception as exc:  # unknown or broken plugin: recorded like a crash
-        return BuildResult(impl_name, True, error=f"{type(exc).__name__}: {exc}", failure="crashed")
+        return BuildResult(impl_name, True, error=safe_message(exc), failure="crashed")
     result = BuildResult(impl_name, bool(impl.exact))
     if weights is not None and not impl.weighted:
         result.unsupported = f"{NO_WEIGHTS} (it builds ordinary Voronoi diagrams only)"
         return result
     try:
-        reason = impl.unsupported_reason(sites)
+        reason = _declined(impl, sites)
     except Exception as exc:  # a supports() that raises is the implementation's crash
-        result.error, result.failure = f"supports() raised {type(exc).__name__}: {exc}", "crashed"
+        result.error, result.failure = f"supports() raised {safe_message(exc)}", "crashed"
         return result
     if reason:
         result.unsupported = reason
         return result
     t0 = time.perf_counter_ns()
     try:
-        result.diagram = impl.run(sites, None, check_supports=False, weights=weights)
+        result.diagram = impl.run(sites, None, check_supports=False, weights=weights, wrap_build_errors=True)
         if type(result.diagram) is not Diagram:
             raise TypeError(f"build returned {type(result.diagram).__name__}, not a Diagram")
+    except BuildRaised as exc:              # whatever the class, raised by the build: a crash
+        cause = exc.__cause__ or exc
+        result.diagram, result.error, result.failure = None, safe_message(cause), "crashed"
     except InputMutated as exc:
         result.diagram, result.error, result.failure = None, str(exc), "mutated_input"
-    except (UnsupportedInput, OutsideExactRange) as exc:   # refused on the scaled sites, or a vertex beyond floats
+    except OutsideExactRange as exc:        # the diagram's vertices have no float representation
         result.diagram, result.unsupported = None, str(exc)
     except MemoryError as exc:
         result.diagram, result.error, result.failure = None, f"MemoryError: {exc}", "oom"
-    except Exception as exc:  # any failure inside the implementation is its crash
-        frames = traceback.extract_tb(exc.__traceback__)
-        where = f" at {frames[-1].filename}:{frames[-1].lineno}" if frames else ""
-        result.diagram = None
-        result.error = f"{type(exc).__name__}: {exc}{where}"
-        result.failure = "crashed"
+    except Exception as exc:  # a broken contract after the build (counters, weights): its crash
+        result.diagram, result.error, result.failure = None, safe_message(exc), "crashed"
     result.seconds = (time.perf_counter_ns() - t0) / 1e9
     return result
 
@@ -208,25 +224,54 @@ def diagram_from_arrays(arrays: dict[str, np.ndarray]) -> Diagram:
     return Diagram(*(arrays[f] for f in _DIAGRAM_FIELDS), weights=arrays.get("weights"))
 
 
+def diagram_schema(n_sites: int, weighted: bool = False) -> dict[str, ArraySpec]:
+    """What the arrays of a diagram of ``n_sites`` sites may be on the wire: a Voronoi diagram
+    of n sites has at most 2n - 5 vertices and 3n - 6 edges; four times that (and a constant)
+    leaves room for any honest layout and still bounds what the judge allocates."""
+    n = max(int(n_sites), 0)
+    ints = ("<i4", "<i8")
+    half_edges = 12 * n + 32
+    schema = {"sites": ArraySpec(("<f8",), (n, 2)), "vertices": ArraySpec(("<f8",), (4 * n + 16, 2)),
+              "origin": ArraySpec(ints, (half_edges,)), "twin": ArraySpec(ints, (half_edges,)),
+              "next": ArraySpec(ints, (half_edges,)), "site": ArraySpec(ints, (half_edges,))}
+    if weighted:
+        schema["weights"] = ArraySpec(("<f8",), (n,))
+    return schema
+
+
 def build_in_sandbox(impl_name: str, sites: np.ndarray, weights: Optional[np.ndarray] = None) -> tuple[dict, dict]:
     """Runs in a sandbox: :func:`build_only` as plain data and arrays (nothing to unpickle)."""
     res = build_only(impl_name, sites, weights)
-    data = {"exact": res.exact, "error": res.error, "unsupported": res.unsupported, "seconds": res.seconds,
+    data = {"error": res.error, "unsupported": res.unsupported, "seconds": res.seconds,
             "failure": res.failure, "has_diagram": res.diagram is not None}
     arrays = diagram_arrays(res.diagram) if res.diagram is not None else None
     return data, arrays
 
 
-def _result_from_sandbox(impl_name: str, data: dict, arrays: dict) -> BuildResult:
-    """A :class:`BuildResult` rebuilt in the judge from what a sandbox sent."""
-    res = BuildResult(impl_name, bool(data["exact"]), error=str(data["error"] or ""),
-                      unsupported=str(data["unsupported"] or ""), seconds=float(data["seconds"] or 0.0),
-                      failure=str(data["failure"] or ""))
-    if data["has_diagram"]:
+_FAILURE_KINDS = ("crashed", "oom", "mutated_input")
+
+
+def _result_from_sandbox(impl_name: str, exact: bool, data: Any, arrays: dict) -> BuildResult:
+    """A :class:`BuildResult` rebuilt in the judge from what a sandbox sent, held to the
+    standard pinned for the run (``exact``), whatever the sandbox says of itself."""
+    if not isinstance(data, dict):
+        return BuildResult(impl_name, exact, error="answered no build record", failure="crashed")
+    text = {key: data.get(key) if isinstance(data.get(key), str) else "" for key in ("error", "unsupported", "failure")}
+    seconds = data.get("seconds")
+    res = BuildResult(impl_name, exact, error=text["error"], unsupported=text["unsupported"],
+                      seconds=float(seconds) if type(seconds) in (int, float) else 0.0,
+                      failure=text["failure"] if text["failure"] in _FAILURE_KINDS else ("crashed" if text["error"] else ""))
+    if res.failure and not res.error:
+        res.error = "failed without saying why"
+    if res.error or res.unsupported:
+        res.diagram = None
+    elif data.get("has_diagram") is True:
         try:
             res.diagram = diagram_from_arrays(arrays)
         except Exception as exc:  # arrays of the wrong kind or shape
             res.error, res.failure = f"returned an unreadable diagram: {type(exc).__name__}: {exc}", "crashed"
+    else:
+        res.error, res.failure = "returned neither a diagram nor a reason", "crashed"
     return res
 
 
@@ -298,7 +343,8 @@ def check_case(impl_name: str, sites: ArrayLike, reference_diagram: Optional[Dia
     if reference_result is None:
         if reference_diagram is not None:
             cert = reference_certificate or certify(reference_diagram, probes=probes, seed=seed)
-            reference_result = BuildResult(reference, is_exact(reference), reference_diagram, cert)
+            declared = judge.declaration(reference)
+            reference_result = BuildResult(reference, declared.exact if declared else True, reference_diagram, cert)
         elif impl_name == reference:
             reference_result = res
         else:
@@ -309,17 +355,10 @@ def check_case(impl_name: str, sites: ArrayLike, reference_diagram: Optional[Dia
     return verdict
 
 
-def _declares_no_weights(name: str) -> bool:
-    """Whether implementation ``name`` is known here not to take weights (False when it cannot
-    be loaded here: its sandbox then reports what it can)."""
-    try:
-        return not impls.get(name).weighted
-    except Exception:  # unknown or broken plugin: its sandbox says why
-        return False
-
-
 def is_exact(name: str) -> bool:
-    """Whether implementation ``name`` declares exact decisions (an unknown one is judged strictly)."""
+    """Whether implementation ``name``, loaded in this process, declares exact decisions (an
+    unknown one is judged strictly). The judge uses the declarations pinned for its run
+    (:meth:`Judge.declaration`) instead: this is for callers that built in this process."""
     try:
         return bool(impls.get(name).exact)
     except Exception:  # an unknown reference is judged strictly
@@ -433,14 +472,18 @@ class Judge:
     """The judging engine: builds and certifies each implementation in an isolated sandbox
     (timeout, memory limit, crash containment), the reference once per case, and decides.
 
-    ``isolate=False`` runs the builds in this process (for callers that are themselves a
-    disposable worker). Use as a context manager, or call :meth:`close`, to end the sandboxes.
+    What each implementation declares (``exact``, ``weighted``, ...) is read once, in a sandbox,
+    and pinned for the judge's life (:meth:`declarations`); ``declarations`` gives them pinned
+    already (a run that read them up front). ``isolate=False`` runs the builds in this process
+    (for callers that are themselves a disposable worker, or that imported the implementations
+    themselves). Use as a context manager, or call :meth:`close`, to end the sandboxes.
     """
 
     def __init__(self, names: Sequence[str] = (), reference: str = DEFAULT_REFERENCE, *,
                  probes: int = DEFAULT_PROBES, seed: int = 0, timeout: float = DEFAULT_TIMEOUT,
                  warmup_timeout: Optional[float] = None, memory_limit_mb: Optional[float] = None,
-                 plugins: Sequence[str] = (), isolate: bool = True) -> None:
+                 plugins: Sequence[str] = (), isolate: bool = True,
+                 declarations: Optional[Mapping[str, Declaration]] = None) -> None:
         self.names = list(dict.fromkeys(names))
         self.reference = reference
         self.probes = probes
@@ -451,6 +494,38 @@ class Judge:
         self.plugins = tuple(plugins)
         self.isolate = isolate
         self._sandboxes: dict = {}
+        self._declared: dict[str, Declaration] = dict(declarations or {})
+        self._undeclared: dict[str, str] = {}
+
+    def declarations(self, names: Optional[Sequence[str]] = None) -> dict[str, Declaration]:
+        """The pinned declarations of ``names`` (default: this judge's and its reference), read
+        in one sandbox the first time they are asked for; one that cannot be read is left out
+        (:meth:`why_undeclared` says why)."""
+        names = list(dict.fromkeys(self.names + [self.reference] if names is None else names))
+        wanted = [n for n in names if n not in self._declared and n not in self._undeclared]
+        if wanted:
+            if self.isolate:
+                _, declared, failed = declare_in_sandbox(wanted, self.plugins, timeout=self.warmup_timeout)
+            else:
+                declared, failed = {}, {}
+                for name in wanted:
+                    try:
+                        declared[name] = declaration_from_data(declaration_of(impls.get(name)), name)
+                    except Exception as exc:  # unknown or broken: its builds say why
+                        failed[name] = safe_message(exc)
+            self._declared.update(declared)
+            self._undeclared.update({n: failed.get(n) or failed.get("*") or "declared nothing"
+                                     for n in wanted if n not in declared})
+        return {n: self._declared[n] for n in names if n in self._declared}
+
+    def declaration(self, name: str) -> Optional[Declaration]:
+        """``name``'s pinned declaration (None: it could not be read)."""
+        return self.declarations([name]).get(name)
+
+    def why_undeclared(self, name: str) -> str:
+        """Why ``name`` has no declaration ("" if it has one)."""
+        self.declarations([name])
+        return self._undeclared.get(name, "")
 
     def __enter__(self) -> "Judge":
         return self
@@ -468,22 +543,32 @@ class Judge:
         """``name``'s diagram of prepared ``sites`` (with ``weights``, one per site: the power
         diagram) with its certificate; any failure is in the result."""
         probes = self.probes if probes is None else probes
+        declared = self.declaration(name)
+        if declared is None:
+            return BuildResult(name, True, error=f"{name} could not be loaded: {self.why_undeclared(name)}",
+                               failure="crashed")
         if not self.isolate:
-            return build_and_certify(name, sites, probes=probes, seed=self.seed, weights=weights)
-        if weights is not None and _declares_no_weights(name):
-            return build_only(name, sites, weights)      # unsupported: no sandbox (nor warm-up) for it
+            res = build_and_certify(name, sites, probes=probes, seed=self.seed, weights=weights)
+            res.exact = declared.exact
+            return res
+        if weights is not None and not declared.weighted:
+            return BuildResult(name, declared.exact, unsupported=f"{NO_WEIGHTS} (it builds ordinary Voronoi diagrams "
+                                                                 f"only)")
 
         box = self._sandboxes.get(name)
         if box is None:
-            box = self._sandboxes[name] = Sandbox(name, plugins=self.plugins, memory_limit_mb=self.memory_limit_mb,
-                                                  warmup_timeout=self.warmup_timeout)
+            # Only the plugin that defines it: no other plugin's import-time code runs beside its builds.
+            box = self._sandboxes[name] = Sandbox(name, plugins=(declared.plugin,) if declared.plugin else (),
+                                                  memory_limit_mb=self.memory_limit_mb,
+                                                  warmup_timeout=self.warmup_timeout, expected=declared)
         t0 = time.perf_counter_ns()
-        outcome = box.call(build_in_sandbox, name, sites, weights, timeout=self.timeout, step="build")
+        outcome = box.call(build_in_sandbox, name, sites, weights, timeout=self.timeout, step="build",
+                           schema=diagram_schema(sites.shape[0], weights is not None))
         if outcome.ok:
-            return certify_result(_result_from_sandbox(name, *outcome.value), sites, probes=probes, seed=self.seed,
-                                  weights=weights)
+            return certify_result(_result_from_sandbox(name, declared.exact, *outcome.value), sites, probes=probes,
+                                  seed=self.seed, weights=weights)
         failure = "crashed" if outcome.kind == "error" else outcome.kind
-        return BuildResult(name, is_exact(name), error=outcome.message, failure=failure,
+        return BuildResult(name, declared.exact, error=outcome.message, failure=failure,
                            seconds=(time.perf_counter_ns() - t0) / 1e9)
 
     def judge(self, sites: ArrayLike, names: Optional[Sequence[str]] = None, *,

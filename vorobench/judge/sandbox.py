@@ -1,24 +1,25 @@
-"""An isolated worker process that builds and certifies diagrams for the judge, one at a time.
+"""An isolated worker process: the only place where an implementation's code is imported or run.
 
 A :class:`Sandbox` runs one implementation. Its process is forked from the ``forkserver``
-(numpy, scipy, numba and the implementations imported once), registers the run's plugins,
-runs the implementation's warm-up (JIT compilation: its own allowance) and then serves
-requests. Whatever the implementation does to its process becomes the outcome of that request
-alone: an exception, a segfault, ``os._exit`` or ``SystemExit`` with any status, a hang past the
+(numpy, scipy, numba and the registry imported once), loads the run's plugins, runs the
+implementation's warm-up (JIT compilation: its own allowance), declares what the
+implementation is (:mod:`vorobench.judge.declarations`) and then serves requests. The judge
+pins the first declaration of a run: a sandbox that later declares otherwise is refused.
+
+Whatever the implementation does to its process becomes the outcome of that request alone: an
+exception, a segfault, ``os._exit`` or ``SystemExit`` with any status, a hang past the
 timeout, running out of memory. The sandbox is then killed (its process group too) and
 restarted for the next request. A sandbox is reused across cases: judging needs no fresh
 process per case, only one that cannot harm the judge.
 
 Nothing the sandbox sends back is unpickled: a request's function returns ``(data, arrays)``,
-JSON-able data and a dict of numpy arrays, which travel as JSON and ``.npz`` bytes and are
-read with ``allow_pickle=False``. An implementation owns its process, so its answers are
-data to check, never objects to trust.
+which cross the bounded wire (:mod:`vorobench.judge.wire`): every size is checked against the
+caller's schema before anything is allocated, and every string is cleaned. An implementation
+owns its process, so its answers are data to check, never objects to trust.
 """
 
 from __future__ import annotations
 
-import io
-import json
 import multiprocessing as mp
 import os
 import pickle
@@ -26,24 +27,22 @@ import signal
 import time
 import traceback
 from dataclasses import dataclass
-from typing import Any, Callable, Optional, Sequence
-
-import numpy as np
+from typing import Any, Callable, Mapping, Optional, Sequence
 
 import impls
 from impls.plugins import load_plugin
-from vorobench.judge import isolation
+from vorobench.judge import isolation, wire
+from vorobench.judge.declarations import Declaration, DeclarationError, declaration_from_data, declaration_of
 from vorobench.judge.defaults import WARMUP_TIMEOUT
 
-__all__ = ["Sandbox", "Outcome", "WARMUP_TIMEOUT"]
-
-
+__all__ = ["Sandbox", "Outcome", "WARMUP_TIMEOUT", "safe_message"]
 
 
 @dataclass
 class Outcome:
     """What one request produced: ``kind`` is "ok" (``value`` holds the result), "error" (the
-    function raised: ``message``), "crashed" (the process died or exited), "timeout" or "oom"."""
+    function raised: ``message``), "crashed" (the process died or exited, or answered what the
+    wire does not allow), "timeout" or "oom"."""
 
     kind: str
     value: Any = None
@@ -59,29 +58,51 @@ def _describe_death(exitcode: Optional[int], step: str) -> Outcome:
     return Outcome(kind, message=f"{how} during {step}")
 
 
-def _serve(conn, parent: int, impl_blob: Optional[bytes], name: str, plugins: Sequence[str],
+def safe_message(exc: BaseException) -> str:
+    """``Type: message at file:line`` of an exception, even of one whose ``__str__`` raises."""
+    try:
+        text = str(exc)
+    except BaseException:  # noqa: BLE001 - a message that cannot be printed is still a failure
+        text = "<unprintable message>"
+    try:
+        frames = traceback.extract_tb(exc.__traceback__)
+        where = f" at {frames[-1].filename}:{frames[-1].lineno}" if frames else ""
+    except BaseException:  # noqa: BLE001
+        where = ""
+    return f"{type(exc).__name__}: {text}{where}"[:600]
+
+
+def _serve(conn, parent: Optional[int], impl_blobs: dict, name: Optional[str], plugins: Sequence[str],
            memory_limit_mb: Optional[float], environ: dict) -> None:
-    """The sandbox process: set up, warm up, then answer (function, args) requests until EOF."""
+    """The sandbox process: set up, warm up, declare, then answer (function, args) requests
+    until EOF. ``name`` None: no implementation of its own (it reads declarations)."""
     isolation.enter_worker(parent)
     os.environ.clear()                      # forked from the fork server: take the judge's environment
     os.environ.update(environ)
     signal.signal(signal.SIGINT, signal.SIG_IGN)          # Ctrl-C is the judge's to handle
 
     def send(kind: str, payload: Any = None, arrays: Optional[dict] = None) -> None:
-        conn.send_bytes(encode(kind, payload, arrays))
+        conn.send_bytes(wire.encode(kind, payload, arrays))
 
     try:
+        defined_by = {}
         for spec in plugins:
-            load_plugin(spec)
-        impl = pickle.loads(impl_blob) if impl_blob is not None else impls.get(name)
-        if impl_blob is not None:
-            impls.register(impl)
-        if impl.warmup is not None:
-            impl.warmup()
+            defined_by.update(dict.fromkeys(load_plugin(spec), spec))
+        for blob in impl_blobs.values():
+            try:
+                impls.register(pickle.loads(blob))
+            except Exception:  # noqa: BLE001 - defined by a plugin not loaded here yet: found by name instead
+                continue
+        declared = None
+        if name is not None:
+            impl = impls.get(name)
+            if impl.warmup is not None:
+                impl.warmup()
+            declared = declaration_of(impl, defined_by.get(name, ""))
         isolation.limit_memory(memory_limit_mb)
-        send("ready", None)
+        send("ready", declared)
     except BaseException as exc:  # noqa: BLE001 - a sandbox that cannot start says why
-        send("error", f"{type(exc).__name__}: {exc}")
+        send("error", safe_message(exc))
         return
     while True:
         try:
@@ -94,113 +115,128 @@ def _serve(conn, parent: int, impl_blob: Optional[bytes], name: str, plugins: Se
         except MemoryError as exc:
             send("oom", f"MemoryError: {exc}")
         except BaseException as exc:  # noqa: BLE001 - SystemExit included: it is the implementation's
-            frames = traceback.extract_tb(exc.__traceback__)
-            where = f" at {frames[-1].filename}:{frames[-1].lineno}" if frames else ""
-            send("error", f"{type(exc).__name__}: {exc}{where}"[:600])
-
-
-def encode(kind: str, data: Any = None, arrays: Optional[dict] = None) -> bytes:
-    """One answer: an 8-byte header length, a JSON header, then the arrays as ``.npz`` bytes."""
-    header = json.dumps({"kind": kind, "data": data}).encode()
-    blob = io.BytesIO()
-    if arrays:
-        np.savez(blob, **arrays)
-    return len(header).to_bytes(8, "little") + header + blob.getvalue()
-
-
-def decode(message: bytes) -> tuple[str, Any, dict]:
-    """(kind, data, arrays) of an answer, without running anything the sender chose."""
-    size = int.from_bytes(message[:8], "little")
-    header = json.loads(message[8:8 + size])
-    arrays: dict = {}
-    rest = message[8 + size:]
-    if rest:
-        with np.load(io.BytesIO(rest), allow_pickle=False) as npz:
-            arrays = {key: npz[key] for key in npz.files}
-    return str(header["kind"]), header.get("data"), arrays
+            send("error", safe_message(exc))
 
 
 def _context():
-    method = "forkserver" if "forkserver" in mp.get_all_start_methods() else "spawn"
+    method = isolation.default_start_method()
     ctx = mp.get_context(method)
     if method == "forkserver":
         ctx.set_forkserver_preload(list(isolation.FORKSERVER_PRELOAD))    # only takes effect when the server starts
     return ctx
 
 
-class Sandbox:
-    """One implementation in its own worker process; :meth:`call` runs a function there."""
+def _registered_blobs(name: Optional[str]) -> dict[str, bytes]:
+    """Implementations registered in this process (test doubles) that the sandbox should
+    know: ``name``'s own, or all of them for a declarations sandbox; sent by pickle (their
+    functions by reference). One that cannot be pickled is left for the sandbox to find."""
+    wanted = impls.registered() if name is None else [n for n in impls.registered() if n == name]
+    blobs = {}
+    for n in wanted:
+        try:
+            blobs[n] = pickle.dumps(impls.get(n))
+        except Exception:  # a closure or lambda: the sandbox looks it up by name (a plugin may define it)
+            continue
+    return blobs
 
-    def __init__(self, name: str, *, plugins: Sequence[str] = (), memory_limit_mb: Optional[float] = None,
-                 warmup_timeout: float = WARMUP_TIMEOUT) -> None:
+
+class Sandbox:
+    """One implementation in its own worker process; :meth:`call` runs a function there.
+
+    ``expected``: the declaration pinned for the run; a sandbox whose implementation declares
+    anything else does not start (its every request fails, saying so). ``name`` None: a
+    sandbox with no implementation of its own, which reads declarations.
+    """
+
+    def __init__(self, name: Optional[str], *, plugins: Sequence[str] = (), memory_limit_mb: Optional[float] = None,
+                 warmup_timeout: float = WARMUP_TIMEOUT, expected: Optional[Declaration] = None) -> None:
         self.name = name
         self.plugins = tuple(plugins)
         self.memory_limit_mb = memory_limit_mb
         self.warmup_timeout = warmup_timeout
+        self.expected = expected
+        self.declared: Optional[Declaration] = None
         self._proc = None
         self._conn = None
         self.start_failure: Optional[Outcome] = None
-
-    def _impl_blob(self) -> Optional[bytes]:
-        """An implementation registered in this process (a test double, a plugin) is sent over by
-        pickle (its functions by reference); None lets the sandbox look the name up itself."""
-        if self.name not in impls.registered():
-            return None
-        try:
-            return pickle.dumps(impls.get(self.name))
-        except Exception:  # a closure or lambda: the sandbox looks it up by name (a plugin may define it)
-            return None
 
     def _start(self) -> Optional[Outcome]:
         """Start the process and wait for its warm-up; a failure is the outcome of the request."""
         ctx = _context()
         receiver, sender = ctx.Pipe()
-        proc = ctx.Process(target=_serve, name=f"vorobench-judge-{self.name}", daemon=True,
+        proc = ctx.Process(target=_serve, name=f"vorobench-judge-{self.name or 'registry'}", daemon=True,
                            args=(sender, os.getpid() if ctx.get_start_method() != "forkserver" else None,
-                                 self._impl_blob(), self.name, self.plugins, self.memory_limit_mb,
+                                 _registered_blobs(self.name), self.name, self.plugins, self.memory_limit_mb,
                                  dict(os.environ)))
         proc.start()
         isolation.watch(proc.pid)
         sender.close()
         self._proc, self._conn = proc, receiver
-        outcome = self._receive(self.warmup_timeout, "start-up and warm-up")
+        outcome = self._receive(self.warmup_timeout, "start-up and warm-up", None)
+        if outcome.kind == "ok":
+            outcome = self._check_declaration(outcome.value[0])
         if outcome.kind == "ok":
             return None
         self.close()
         return outcome
 
-    def _receive(self, timeout: Optional[float], step: str) -> Outcome:
-        """The next answer; a worker that died (even if a child of it still holds the pipe)
-        or overstayed ``timeout`` is the outcome instead."""
+    def _check_declaration(self, data: Any) -> Outcome:
+        """The ready answer's declaration against the run's pinned one."""
+        if self.name is None:
+            return Outcome("ok")
+        try:
+            declared = declaration_from_data(data, self.name)
+        except DeclarationError as exc:
+            return Outcome("crashed", message=f"declared nothing readable ({exc})")
+        if self.expected is not None and declared != self.expected:
+            changed = [k for k, v in declared.to_dict().items() if v != getattr(self.expected, k)]
+            return Outcome("crashed", message=f"declared {', '.join(f'{k}={getattr(declared, k)!r}' for k in changed)} "
+                                              f"in this worker, not what it declared at the start of the run "
+                                              f"({', '.join(f'{k}={getattr(self.expected, k)!r}' for k in changed)})")
+        self.declared = declared
+        return Outcome("ok")
+
+    def _receive(self, timeout: Optional[float], step: str, schema: Any) -> Outcome:
+        """The next answer; a worker that died (even if a child of it still holds the pipe),
+        overstayed ``timeout`` or sent what the wire does not allow is the outcome instead."""
         deadline = None if timeout is None else time.monotonic() + timeout
         try:
             while True:
                 wait = 0.5 if deadline is None else min(0.5, max(0.0, deadline - time.monotonic()))
                 if self._conn.poll(wait):
-                    message = self._conn.recv_bytes()
+                    message = self._conn.recv_bytes(wire.MAX_MESSAGE_BYTES)
                     break
                 if not self._proc.is_alive():
                     if self._conn.poll(0):      # it answered just before it ended
-                        message = self._conn.recv_bytes()
+                        message = self._conn.recv_bytes(wire.MAX_MESSAGE_BYTES)
                         break
                     self._proc.join(5)
                     return _describe_death(self._proc.exitcode, step)
                 if deadline is not None and time.monotonic() >= deadline:
                     return Outcome("timeout", message=f"no result within {timeout:g} s during {step}")
-        except (EOFError, OSError):
+        except OSError as exc:
+            if self._proc.is_alive() and "bad message length" in str(exc):
+                return Outcome("crashed", message=f"answered more than {wire.MAX_MESSAGE_BYTES} bytes during {step}")
+            self._proc.join(10)
+            return _describe_death(self._proc.exitcode, step)
+        except EOFError:
             self._proc.join(10)
             return _describe_death(self._proc.exitcode, step)
         try:
-            kind, data, arrays = decode(message)
-        except Exception as exc:  # not an answer of ours: the implementation wrote to the pipe
-            return Outcome("error", message=f"unreadable answer from the worker ({type(exc).__name__})")
+            if callable(schema):
+                kind, data, arrays = wire.decode(message, schema_for=schema)
+            else:
+                kind, data, arrays = wire.decode(message, schema)
+        except wire.WireError as exc:   # not an answer the wire allows: the implementation's failure
+            return Outcome("crashed", message=f"sent an answer the judge refuses during {step}: {exc}")
+        finally:
+            del message
         if kind in ("ok", "ready"):
             return Outcome("ok", (data, arrays))
-        return Outcome(kind if kind in ("error", "oom") else "error", message=str(data)[:600])
+        return Outcome(kind if kind in ("error", "oom") else "crashed", message=wire.clean_text(data, 600))
 
-    def call(self, fn: Callable, *args, timeout: Optional[float], step: str = "build", **kwargs) -> Outcome:
-        """``fn(*args, **kwargs)`` in the sandbox, within ``timeout`` seconds (None: no limit;
-        start-up and warm-up have their own allowance)."""
+    def start(self) -> Optional[Outcome]:
+        """Start the sandbox now if it is not running; its failure, or None."""
         if self.start_failure is not None:     # a warm-up that failed once is not paid for again
             return self.start_failure
         if self._proc is None or not self._proc.is_alive():
@@ -209,6 +245,16 @@ class Sandbox:
             if failure is not None:
                 self.start_failure = Outcome(failure.kind, message=f"{failure.message} (its worker could not start)")
                 return failure
+        return None
+
+    def call(self, fn: Callable, *args, timeout: Optional[float], step: str = "build",
+             schema: Optional[Mapping[str, wire.ArraySpec] | Callable] = None, **kwargs) -> Outcome:
+        """``fn(*args, **kwargs)`` in the sandbox, within ``timeout`` seconds (None: no limit;
+        start-up and warm-up have their own allowance). ``schema`` bounds the arrays of the
+        answer (see :func:`vorobench.judge.wire.decode`); without one, none may come."""
+        failure = self.start()
+        if failure is not None:
+            return failure
         try:
             self._conn.send((fn, args, kwargs))
         except (BrokenPipeError, OSError, EOFError):
@@ -216,11 +262,9 @@ class Sandbox:
             outcome = _describe_death(self._proc.exitcode, "start of " + step)
             self.close()
             return outcome
-        outcome = self._receive(timeout, step)
-        if outcome.kind in ("crashed", "timeout") or (outcome.kind == "oom" and not self._proc.is_alive()):
-            self.close()                       # dead or stuck: the next request gets a fresh one
-        elif outcome.kind == "oom":
-            self.close()                       # memory may be fragmented or leaked: start anew
+        outcome = self._receive(timeout, step, schema)
+        if outcome.kind != "ok" and (outcome.kind != "error" or not self._proc.is_alive()):
+            self.close()    # dead, stuck, out of memory (maybe fragmented) or lying: the next request gets a fresh one
         return outcome
 
     def close(self) -> None:
