@@ -20,7 +20,7 @@ from impls.base import Implementation, InputMutated, UnsupportedInput
 from vorobench.core.diagram import Diagram
 
 __all__ = ["Implementation", "UnsupportedInput", "InputMutated", "available", "get", "build", "register", "registered",
-           "unregister", "of_kind", "weighted", "ENTRY_POINT_GROUP", "DEFAULT_REFERENCE"]
+           "unregister", "of_kind", "weighted", "is_builtin", "ENTRY_POINT_GROUP", "DEFAULT_REFERENCE"]
 
 ENTRY_POINT_GROUP = "vorobench.impls"
 
@@ -77,6 +77,12 @@ def available() -> list[str]:
     names += [name for name in _entry_point_impls() if name not in names]
     names += [name for name in _registered if name not in names]
     return names
+
+
+def is_builtin(name: str) -> bool:
+    """Whether ``name`` is one of vorobench's own implementations or adapters (not a plugin or
+    an entry point): code the judge may import."""
+    return name in _BUILTIN
 
 
 def register(impl: Implementation) -> None:

@@ -192,3 +192,73 @@ def test_file_dataset_names(tmp_path: Path) -> None:
         dg.generate(f"file:{tmp_path / 'missing.txt'}", 3)
     with pytest.raises(ValueError, match="empty file path"):
         dg.generate("file:", 3)
+
+
+# ------------------------------------------------------------- integers float64 cannot hold exactly
+
+BIG = 2**53 + 1        # the first integer float64 cannot hold: it would be read as 2**53
+
+
+def test_int64_npy_beyond_2_53_is_refused_not_rounded(tmp_path: Path) -> None:
+    # Five distinct sites; read as float64 the last two would be one.
+    sites = np.array([[0, 0], [1, 1], [2, 2], [2**53, 5], [BIG, 5]], dtype=np.int64)
+    np.save(tmp_path / "big.npy", sites)
+    with pytest.raises(ValueError, match=rf"big.npy: integer {BIG} in row 4, column 1 has no exact float64 value "
+                                         rf"\(it would be read as 9007199254740992.0\)"):
+        dg.load(tmp_path / "big.npy")
+
+
+@pytest.mark.parametrize("dtype, value", [(np.int64, 2**63 - 1), (np.int64, -(2**53) - 1), (np.uint64, 2**64 - 1),
+                                          (np.uint64, BIG)])
+def test_every_inexact_64_bit_integer_is_refused(tmp_path: Path, dtype, value: int) -> None:
+    np.save(tmp_path / "p.npy", np.array([[1, 2], [3, value]], dtype=dtype))
+    with pytest.raises(ValueError, match=rf"p.npy: integer {value} in row 1, column 2 has no exact float64 value"):
+        dg.load(tmp_path / "p.npy")
+
+
+def test_64_bit_integers_that_float64_holds_load_exactly(tmp_path: Path) -> None:
+    exact = [[-(2**63), 2**62], [2**53, -(2**53)], [3 * 2**60, 7]]
+    np.save(tmp_path / "i.npy", np.array(exact, dtype=np.int64))
+    check_points(dg.load(tmp_path / "i.npy"), [[float(v) for v in row] for row in exact])
+    np.save(tmp_path / "u.npy", np.array([[2**63, 2**64 - 2**11]], dtype=np.uint64))
+    check_points(dg.load(tmp_path / "u.npy"), [[2.0**63, 2.0**64 - 2.0**11]])
+
+
+@pytest.mark.parametrize("name, text, line, literal", [("big.csv", f"x,y\n1,2\n{BIG},5\n", 3, f"{BIG}"),
+                                                       ("big.txt", f"1 2\n# c\n+{BIG} 5\n", 3, f"+{BIG}")])
+def test_integer_text_beyond_2_53_is_refused_naming_file_line_and_value(tmp_path: Path, name: str, text: str,
+                                                                        line: int, literal: str) -> None:
+    p = write(tmp_path, name, text)
+    with pytest.raises(ValueError) as info:
+        dg.load(p)
+    assert str(info.value) == (f"{p}:{line}: integer {literal} has no exact float64 value "
+                               f"(it would be read as 9007199254740992.0) in column 1")
+
+
+def test_text_numbers_float64_holds_or_written_as_decimals_load(tmp_path: Path) -> None:
+    # A decimal is read as the nearest float64, as always; only integer text has an exact value to lose.
+    check_points(dg.load(write(tmp_path, "ok.csv", f"{2**60},-{2**53}\n9007199254740993.0,1_000\n")),
+                 [[2.0**60, -(2.0**53)], [2.0**53, 1000.0]])
+
+
+# ---------------------------------------------------------------------------- files out of bounds
+
+def test_npy_header_announcing_more_than_the_file_holds_is_refused_unallocated(tmp_path: Path) -> None:
+    p = tmp_path / "liar.npy"
+    with p.open("wb") as f:
+        np.lib.format.write_array_header_1_0(f, {"descr": "<f8", "fortran_order": False, "shape": (10**15, 2)})
+        f.write(b"\0" * 32)
+    with pytest.raises(ValueError, match=r"liar.npy: cannot read .npy file: its header announces shape"):
+        dg.load(p)
+
+
+def test_a_file_larger_than_the_limit_is_refused(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from datasets_gen import loaders
+
+    monkeypatch.setattr(loaders, "MAX_FILE_BYTES", 64)
+    p = write(tmp_path, "long.csv", "1,2\n" * 100)
+    with pytest.raises(ValueError, match=r"long.csv: 400 bytes, more than the 64 read from one file"):
+        dg.load(p)
+    np.save(tmp_path / "long.npy", np.zeros((100, 2)))
+    with pytest.raises(ValueError, match=r"long.npy: \d+ bytes, more than the 64"):
+        dg.load(tmp_path / "long.npy")

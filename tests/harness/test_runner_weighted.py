@@ -13,7 +13,7 @@ import impls
 from vorobench.cli import main
 from vorobench.harness import regress, results
 from vorobench.harness.runner import Case, plan_cases
-from vorobench.harness.worker import reference_path
+from vorobench.harness.repeat_check import reference_result
 
 DOUBLES = str(Path(__file__).resolve().parents[1] / "support" / "doubles.py")
 WEIGHTED = "qhull"
@@ -90,13 +90,23 @@ def test_an_unknown_weight_family_is_one_line(tmp_path, capsys):
     assert "unknown weight family 'heavy'; available: radii" in capsys.readouterr().err
 
 
-def test_cases_and_reference_files_keep_the_family_apart(tmp_path):
+def test_cases_and_reference_builds_keep_the_family_apart(tmp_path):
     plain, weighted = Case("qhull", "uniform", 10, 0), Case("qhull", "uniform", 10, 0, "radii")
     assert plain.key != weighted.key and plain.history_key != weighted.history_key
     assert "weights=radii" in str(weighted) and "weights" not in str(plain)
     assert {c.weights for c in plan_cases(["qhull"], ["uniform"], [10], [0], weights="hidden")} == {"hidden"}
-    assert reference_path(str(tmp_path), "qhull", "uniform", 10, 0) != \
-        reference_path(str(tmp_path), "qhull", "uniform", 10, 0, "radii")
+    from vorobench.judge.engine import BuildResult
+
+    built = []
+
+    def build(tag):
+        built.append(tag)
+        return BuildResult("qhull", False, unsupported=tag)
+    # the reference's builds are kept by case input, weight family included: no ordinary build serves a weighted case
+    assert reference_result(("qhull", "uniform", 10, 0, ""), lambda: build("plain")).unsupported == "plain"
+    assert reference_result(("qhull", "uniform", 10, 0, "radii"), lambda: build("radii")).unsupported == "radii"
+    assert reference_result(("qhull", "uniform", 10, 0, ""), lambda: build("again")).unsupported == "plain"
+    assert built == ["plain", "radii"]
 
 
 def _rows(weights: str, time_s: float) -> list[dict]:

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import argparse
 import datetime as _dt
-import shutil
 import sys
 from pathlib import Path
 from typing import Optional, Sequence
@@ -21,7 +20,6 @@ from rich.console import Console
 
 import datasets_gen
 import impls
-from impls.plugins import plugins_registered
 from vorobench.cli import args as cli_args
 
 # The parser imports every command module, so each one imports the harness (numba, pandas,
@@ -95,21 +93,36 @@ def default_out(now: Optional[_dt.datetime] = None) -> Path:
     return Path("results") / f"bench-{now:%Y%m%d-%H%M%S}.csv"
 
 
-def _validate_names(impl_names: Sequence[str], datasets: Sequence[str], reference: Optional[str],
+def _validate_names(declared: dict, datasets: Sequence[str], reference: Optional[str],
                     weights: Optional[str] = None) -> None:
-    known = impls.available()
-    for name in list(impl_names) + ([reference] if reference else []):
-        if name not in known:
-            raise ValueError(f"unknown implementation {name!r}; available: {', '.join(known)}")
     for name in datasets:
         if name not in datasets_gen.available() and not name.startswith("file:"):
             raise ValueError(f"unknown dataset {name!r}; available: {', '.join(datasets_gen.available())}")
     if weights is not None:
         weight_family(weights)
-        if reference and not impls.get(reference).weighted:
+        if reference and not declared[reference].weighted:
+            weighted = [n for n, d in declared.items() if d.weighted]
             raise ValueError(f"the reference {reference} does not take weights, so it cannot check weighted cases; "
-                             f"choose one that does with --reference ({', '.join(impls.weighted()) or 'none here'}) "
+                             f"choose one that does with --reference ({', '.join(weighted) or 'none here'}) "
                              f"or pass --no-check")
+
+
+def pinned(impl_names: Optional[Sequence[str]], config) -> tuple[list[str], object]:
+    """The run's implementation names and ``config`` with every declaration pinned, read once in
+    a sandbox (plugins are loaded there, never in this process); unknown names are refused."""
+    import dataclasses
+
+    from vorobench.judge.declarations import resolve_declarations
+
+    names = list(impl_names) if impl_names else None
+    reference = [config.reference] if config.check and config.reference else []
+    declared = resolve_declarations(None if names is None else names + reference, tuple(config.plugins),
+                                    timeout=config.warmup_timeout)
+    for extra in reference:
+        if extra not in declared:
+            declared.update(resolve_declarations([extra], tuple(config.plugins), timeout=config.warmup_timeout))
+    names = names or [n for n in declared]
+    return names, dataclasses.replace(config, declarations=tuple(declared.items()))
 
 
 def execute(impl_names: Optional[Sequence[str]], datasets: Sequence[str], sizes: Sequence[int],
@@ -119,20 +132,20 @@ def execute(impl_names: Optional[Sequence[str]], datasets: Sequence[str], sizes:
     """Run a benchmark into ``out``; returns (exit code, outcomes). Shared by bench and demo.
     ``executor``/``workers``: see :func:`vorobench.harness.runner.run_cases`. ``weights``: a
     weight family of ``datasets_gen`` (power diagrams), or None (ordinary diagrams)."""
-    # Plugins are registered here only for the run (workers register them again themselves).
-    with plugins_registered(config.plugins):
-        return _execute(impl_names, datasets, sizes, seeds, out, config, resume, overwrite, progress,
-                        verbose, console, executor, workers, weights)
+    impl_names, config = pinned(impl_names, config)
+    return _execute(impl_names, datasets, sizes, seeds, out, config, resume, overwrite, progress,
+                    verbose, console, executor, workers, weights)
 
 
 def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool, overwrite: bool,
              progress: bool, verbose: bool, console, executor: Optional[str] = None,
              workers: int = 1, weights: Optional[str] = None) -> tuple[int, list]:
     from vorobench.harness import results, runner, sysinfo
+    from vorobench.harness.repeat_check import SHIFTS_NOTE
 
     console = console or Console(stderr=True)
-    impl_names = list(impl_names) if impl_names else impls.available()
-    _validate_names(impl_names, datasets, config.reference if config.check else None, weights)
+    declared = dict(config.declarations)
+    _validate_names(declared, datasets, config.reference if config.check else None, weights)
     # One run writes a results file at a time: a second one would rerun what the first has not
     # saved yet and interleave rows. Taken before reading (resume) or deleting (overwrite) it.
     with results.writer_lock(out):
@@ -147,20 +160,22 @@ def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool
         cases = runner.plan_cases(impl_names, datasets, sizes, seeds,
                                   reference=config.reference if config.check else None, weights=weights or "")
         todo = [c for c in cases if c.key not in done]
-        meta = sysinfo.run_metadata(impl_names)
+        # Provenance is read where importing is safe: vorobench's own implementations only.
+        meta = sysinfo.run_metadata([n for n in impl_names if impls.is_builtin(n)])
         meta.update(run_id=config.run_id, argv=sys.argv[1:], impls=impl_names, datasets=list(datasets),
                     sizes=list(sizes), seeds=list(seeds), weights=weights or "", repeat=config.repeat,
                     min_time=config.min_time,
                     timeout=config.timeout,
                     reference=config.reference, check=config.check, start_method=config.start_method,
                     cases_planned=len(cases), executor=executor or "local", workers=workers,
-                    cases_to_run=len(todo))
+                    cases_to_run=len(todo), declarations={n: d.to_dict() for n, d in declared.items()},
+                    repeat_inputs=SHIFTS_NOTE)
         out.parent.mkdir(parents=True, exist_ok=True)
         results.append_run_metadata(out, meta)
         if resume and done:
             console.print(f"resuming {out}: {len(cases) - len(todo)} of {len(cases)} cases already done")
         if weights:
-            unweighted = [name for name in impl_names if runner.takes_weights(name) is False]
+            unweighted = [name for name in impl_names if not declared[name].weighted]
             if unweighted:
                 console.print(f"weights {weights}: {', '.join(unweighted)} "
                               f"{'does' if len(unweighted) == 1 else 'do'} not take weights: unsupported")
@@ -200,7 +215,6 @@ def config_from_args(args: argparse.Namespace):
     return RunConfig(repeat=args.repeat, min_time=args.min_time, timeout=args.timeout,
                      warmup_timeout=args.warmup_timeout,
                      reference=args.reference, check=not args.no_check, plugins=tuple(args.plugin),
-                     reference_cache=str(out.with_name(out.stem + ".reference")),
                      memory_limit_mb=args.memory_limit, budget=args.budget,
                      start_method=args.start_method or default_start_method()), out
 
@@ -211,8 +225,6 @@ def run(args: argparse.Namespace) -> int:
 
     config, out = config_from_args(args)
     parse_spec(args.executor)
-    if args.overwrite and not args.resume and out.exists():
-        shutil.rmtree(config.reference_cache, ignore_errors=True)   # references of the run replaced
     if args.workers < 1:
         raise ValueError("--workers must be at least 1")
     store = None

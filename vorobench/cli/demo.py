@@ -22,10 +22,9 @@ from pathlib import Path
 from rich.console import Console
 
 import impls
-from impls.plugins import plugins_registered
 from vorobench.cli import args as cli_args
 from vorobench.cli.bench import execute
-from vorobench.harness.demo import DEMO_DATASETS, demo_implementations, demo_sizes, remove_reference_cache
+from vorobench.harness.demo import DEMO_DATASETS, demo_implementations, demo_sizes
 
 # The harness and the judge are imported inside the functions that run the command, not here:
 # the parser imports every command module (start-up time, measured in vorobench.cli).
@@ -68,8 +67,7 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out) if args.out else Path("reports") / f"{_dt.date.today():%Y-%m-%d}"
     results_csv = out / "results.csv"
     config = RunConfig(repeat=args.repeat, min_time=args.min_time, timeout=args.timeout,
-                       reference=impls.DEFAULT_REFERENCE, check=True, plugins=tuple(args.plugin),
-                       reference_cache=str(out / ".reference"), budget=args.budget)
+                       reference=impls.DEFAULT_REFERENCE, check=True, plugins=tuple(args.plugin), budget=args.budget)
     console.print(f"vorobench demo: {', '.join(names)} on {len(datasets)} datasets x sizes "
                   f"{', '.join(map(str, sizes))}, {args.repeat} repeats, certified and compared with qhull")
     started = time.perf_counter()
@@ -78,9 +76,8 @@ def run(args: argparse.Namespace) -> int:
                       console=console)
     if code != 0:
         return code
-    with plugins_registered(args.plugin):           # the report reads the plugins' declared complexities
-        rep = write_report(results_csv, out, title=args.title or f"demo {out.name}", reference=impls.DEFAULT_REFERENCE)
-    remove_reference_cache(out / ".reference")
+    # The report reads the declared complexities from the run's metadata: no plugin is imported here.
+    rep = write_report(results_csv, out, title=args.title or f"demo {out.name}", reference=impls.DEFAULT_REFERENCE)
     minutes = (time.perf_counter() - started) / 60
     print(f"Report ({minutes:.1f} min): {rep.markdown} (figures next to it; single-file HTML: {rep.html})")
     return 0

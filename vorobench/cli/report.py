@@ -18,7 +18,6 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from impls.plugins import plugins_registered
 
 # The harness and the judge are imported inside the functions that run the command, not here:
 # the parser imports every command module (start-up time, measured in vorobench.cli).
@@ -33,7 +32,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--reference", default=None,
                    help="implementation the speed ratios are relative to (default: the run's reference, else qhull)")
     p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
-                   help="the run's --plugin modules, whose declared complexities the growth check needs; repeatable")
+                   help="accepted for older scripts and ignored: the run's metadata records what each implementation declared")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -41,7 +40,7 @@ def run(args: argparse.Namespace) -> int:
 
     results = Path(args.results)
     out = Path(args.out) if args.out else Path("reports") / results.stem
-    with plugins_registered(args.plugin):
-        rep = write_report(results, out, title=args.title, reference=args.reference)
+    # Declared complexities come from the run's metadata (pinned when it ran): no plugin is imported.
+    rep = write_report(results, out, title=args.title, reference=args.reference)
     print(f"wrote {rep.markdown} and {rep.html} ({len(rep.figures)} figures)")
     return 0

@@ -6,13 +6,23 @@
 to that scheduler (Dask does the scheduling, transport and pickling). :func:`run_tasks` maps a
 function over items on either, keeps a bounded number in flight, and survives worker deaths:
 a task whose worker died is retried once, alone, and then reported as lost, never dropped.
+A task's timeout counts its own run time: each task says when it starts on its worker (a file
+here, a Dask event on a cluster), so time spent queued behind other work, or waiting for a
+worker to start, has a separate and generous allowance.
 """
 
 from __future__ import annotations
 
 import concurrent.futures as cf
+import functools
+import math
 import multiprocessing as mp
+import os
+import shutil
+import tempfile
+import threading
 import time
+import uuid
 from collections import deque
 from dataclasses import dataclass
 from typing import Any, Callable, Iterable, Iterator, Optional
@@ -27,6 +37,18 @@ DASK_PREFIX = "dask://"
 
 #: Exception types (by name, so that dask need not be imported) meaning "the worker died".
 _DEATHS = ("BrokenProcessPool", "BrokenExecutor", "KilledWorker", "CommClosedError")
+
+#: Seconds a task may wait to start on a worker (queued behind other work, the worker starting
+#: up), on top of ``timeout`` for each task that may run before it in its worker slot.
+QUEUE_ALLOWANCE_S = 600.0
+
+#: How often run_tasks looks whether tasks in flight have started (a start is noticed this late
+#: at most, which lengthens a timeout by as much).
+START_POLL_S = 0.1
+
+#: The Dask event topic on which tasks say they started (one topic: the scheduler keeps a
+#: bounded log per topic, so a fixed name keeps its memory bounded too).
+_STARTED_TOPIC = "vorobench-task-started"
 
 
 class DaskMissing(ValueError):
@@ -97,6 +119,7 @@ class _DaskExecutor(cf.Executor):
 
     def __init__(self, client) -> None:
         self.client = client
+        self.starts = _DaskStarts(client)
 
     def submit(self, fn, /, *args, **kwargs) -> cf.Future:
         result: cf.Future = cf.Future()
@@ -155,6 +178,159 @@ def is_worker_death(exc: BaseException) -> bool:
     return any(type(e).__name__ in _DEATHS for e in (exc, exc.__cause__) if e is not None)
 
 
+def _run_started(stamp: Callable[[], None], fn: Callable[[Any], Any], item: Any) -> Any:
+    """Runs on the worker: say the task has started, then ``fn(item)``."""
+    stamp()
+    return fn(item)
+
+
+def _touch(path: str) -> None:
+    """The start stamp of a task on this machine: an empty file."""
+    try:
+        with open(path, "x"):
+            pass
+    except FileNotFoundError:   # run_tasks has ended (and given this task up): nobody looks any more
+        pass
+
+
+def _log_started(token: str) -> None:
+    """The start stamp of a task on a Dask worker: an event its client hears."""
+    # Dask is an optional extra: only a task sent to a Dask cluster gets here.
+    from distributed import get_worker
+
+    get_worker().log_event(_STARTED_TOPIC, token)
+
+
+class _FileStarts:
+    """Which tasks have started, for workers on this machine: each task creates a file named by
+    its token in a folder of ours."""
+
+    def __init__(self) -> None:
+        self.folder = tempfile.mkdtemp(prefix="vorobench-starts-")
+        self._seen: dict[str, float] = {}
+
+    def stamp(self, token: str) -> Callable[[], None]:
+        return functools.partial(_touch, os.path.join(self.folder, token))
+
+    def started_at(self, token: str) -> Optional[float]:
+        """When the start of task ``token`` was noticed here (monotonic), or None."""
+        if token not in self._seen and os.path.exists(os.path.join(self.folder, token)):
+            self._seen[token] = time.monotonic()
+        return self._seen.get(token)
+
+    def forget(self, token: str) -> None:
+        self._seen.pop(token, None)
+        try:
+            os.unlink(os.path.join(self.folder, token))
+        except FileNotFoundError:
+            pass
+
+    def close(self) -> None:
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+
+class _DaskStarts:
+    """Which tasks have started, for the workers of a Dask cluster: each task logs an event
+    with its token, which the scheduler passes on to this client. One per client, kept by its
+    executor (the subscription ends with the client)."""
+
+    def __init__(self, client) -> None:
+        self._heard: dict[str, Optional[float]] = {}     # token of each of our tasks -> when it started
+        self._lock = threading.Lock()
+        client.subscribe_topic(_STARTED_TOPIC, self._hear)
+
+    def _hear(self, event: tuple[float, Any]) -> None:
+        """Runs on the client's event loop, for every task started by any client of the cluster:
+        only the start of one of ours is kept."""
+        token = event[1]
+        with self._lock:
+            if isinstance(token, str) and token in self._heard and self._heard[token] is None:
+                self._heard[token] = time.monotonic()
+
+    def stamp(self, token: str) -> Callable[[], None]:
+        with self._lock:
+            self._heard[token] = None
+        return functools.partial(_log_started, token)
+
+    def started_at(self, token: str) -> Optional[float]:
+        """When the start of task ``token`` was heard here (monotonic), or None."""
+        return self._heard.get(token)
+
+    def forget(self, token: str) -> None:
+        with self._lock:
+            self._heard.pop(token, None)
+
+
+class _Deadlines:
+    """The time limits of the tasks in flight. ``timeout`` counts from the moment a task is
+    seen starting on its worker; until then the task has ``start_timeout`` seconds from its
+    submission. Without a ``timeout`` tasks are submitted as they are and never expire."""
+
+    def __init__(self, timeout: Optional[float], start_timeout: float, starts) -> None:
+        self.timeout = timeout
+        self.start_timeout = start_timeout
+        self.starts = starts
+        self._tasks: dict[cf.Future, tuple[str, float]] = {}     # future -> (token, submitted at)
+
+    def submit(self, ex: cf.Executor, fn: Callable[[Any], Any], item: Any) -> cf.Future:
+        """``fn(item)`` on ``ex``; with a timeout, stamped so that its start can be seen."""
+        if self.timeout is None:
+            return ex.submit(fn, item)
+        token = uuid.uuid4().hex
+        stamp = self.starts.stamp(token)
+        try:
+            fut = ex.submit(_run_started, stamp, fn, item)
+        except BaseException:
+            self.starts.forget(token)
+            raise
+        self._tasks[fut] = (token, time.monotonic())
+        return fut
+
+    def _deadline(self, fut: cf.Future) -> tuple[float, bool]:
+        """(when ``fut`` expires, whether it has started)."""
+        token, submitted = self._tasks[fut]
+        started = self.starts.started_at(token)
+        if started is None:
+            return submitted + self.start_timeout, False
+        return started + self.timeout, True
+
+    def wait_seconds(self, pending: Iterable[cf.Future]) -> Optional[float]:
+        """How long to wait for results before the next look (None: as long as it takes)."""
+        if self.timeout is None:
+            return None
+        deadlines = [self._deadline(f) for f in pending]
+        if not deadlines:
+            return None
+        wait = min(d for d, _ in deadlines) - time.monotonic()
+        if not all(started for _, started in deadlines):
+            wait = min(wait, START_POLL_S)
+        return max(0.0, wait)
+
+    def expired(self, pending: Iterable[cf.Future]) -> list[tuple[cf.Future, str]]:
+        """The tasks past their limit, each with the reason it is given up."""
+        if self.timeout is None:
+            return []
+        now = time.monotonic()
+        late = []
+        for fut in pending:
+            deadline, started = self._deadline(fut)
+            if now >= deadline:
+                late.append((fut, f"no result within {self.timeout:g} s" if started else
+                             f"not started within {self.start_timeout:g} s (its worker stayed busy)"))
+        return late
+
+    def forget(self, fut: cf.Future) -> None:
+        entry = self._tasks.pop(fut, None)
+        if entry is not None:
+            self.starts.forget(entry[0])
+
+
+def _start_allowance(timeout: Optional[float], limit: int, slots: int) -> float:
+    """The default ``start_timeout``: :data:`QUEUE_ALLOWANCE_S`, plus ``timeout`` for every task
+    that may run before this one in its worker slot."""
+    return QUEUE_ALLOWANCE_S + math.ceil(limit / slots) * (timeout or 0.0)
+
+
 @dataclass
 class TaskResult:
     """One item's outcome: its ``value``, or why it has none (``lost``: its worker died on every
@@ -177,26 +353,33 @@ _END = object()
 
 def run_tasks(spec: str, workers: int, fn: Callable[[Any], Any], items: Iterable[Any], *, retries: int = 1,
               in_flight: Optional[int] = None, executor: Optional[cf.Executor] = None,
-              timeout: Optional[float] = None) -> Iterator[TaskResult]:
+              timeout: Optional[float] = None, start_timeout: Optional[float] = None) -> Iterator[TaskResult]:
     """``fn(item)`` for every item, on the executor ``spec``; yields results as they finish.
 
     ``items`` is consumed lazily (at most ``in_flight`` tasks are submitted ahead), so a
     generator may stop producing when a budget runs out. A task whose worker died is retried
     up to ``retries`` times; retries run one at a time, so a death during a retry can be
     blamed on that item alone (a broken local pool fails every task in it, innocent ones
-    included). A task still running ``timeout`` seconds after its submission is given up
-    (``timed_out``; on Dask its task is cancelled, though a running Python call cannot be
-    stopped and keeps its worker thread until it returns). Every item yields exactly one
-    :class:`TaskResult`.
+    included). A task still running ``timeout`` seconds after it started on its worker is
+    given up (``timed_out``; on Dask its task is cancelled, though a running Python call cannot
+    be stopped and keeps its worker thread until it returns); so is one that has not started
+    ``start_timeout`` seconds after its submission (default: :data:`QUEUE_ALLOWANCE_S` plus
+    ``timeout`` for each task that may run before it). Tasks run on this machine or on the
+    Dask cluster of a ``dask://`` executor. Every item yields exactly one :class:`TaskResult`.
     """
     own = executor is None
     ex = executor or make_executor(spec, workers)
-    limit = in_flight or 2 * capacity(ex)
+    slots = capacity(ex)
+    limit = in_flight or 2 * slots
+    # A Dask executor hears its tasks start; tasks on this machine leave a file.
+    files = _FileStarts() if timeout is not None and not hasattr(ex, "starts") else None
+    if start_timeout is None:
+        start_timeout = _start_allowance(timeout, limit, slots)
+    clock = _Deadlines(timeout, start_timeout, getattr(ex, "starts", files))
     source = iter(items)
     backlog: deque = deque()        # taken from `source` but not submitted (the pool was broken)
     retry: deque = deque()
     pending: dict[cf.Future, tuple[Any, int]] = {}
-    submitted: dict[cf.Future, float] = {}
     exhausted = False
     try:
         while True:
@@ -218,34 +401,26 @@ def run_tasks(spec: str, workers: int, fn: Callable[[Any], Any], items: Iterable
                         break
                     attempt = 1
                 try:
-                    fut = ex.submit(fn, item)
+                    fut = clock.submit(ex, fn, item)
                 except cf.BrokenExecutor:       # a worker died since the last look: not this item's fault
                     (retry if attempt > 1 else backlog).appendleft((item, attempt))
                     broken = True
                     break
                 pending[fut] = (item, attempt)
-                submitted[fut] = time.monotonic()
             if not broken:
                 if not pending:
                     if retry or backlog:
                         continue
                     break
-                wait_s = None
-                if timeout is not None:
-                    wait_s = max(0.0, min(submitted[f] for f in pending) + timeout - time.monotonic())
-                done, _ = cf.wait(pending, timeout=wait_s, return_when=cf.FIRST_COMPLETED)
-                if not done:                            # the oldest task overstayed its timeout
-                    now = time.monotonic()
-                    for fut in [f for f in pending if now - submitted[f] >= timeout]:
-                        item, attempt = pending.pop(fut)
-                        del submitted[fut]
-                        getattr(fut, "abandon", fut.cancel)()
-                        yield TaskResult(item, error=f"no result within {timeout:g} s", attempts=attempt,
-                                         timed_out=True)
-                    continue
+                done, _ = cf.wait(pending, timeout=clock.wait_seconds(pending), return_when=cf.FIRST_COMPLETED)
+                for fut, reason in clock.expired(f for f in pending if f not in done):
+                    item, attempt = pending.pop(fut)
+                    clock.forget(fut)
+                    getattr(fut, "abandon", fut.cancel)()
+                    yield TaskResult(item, error=reason, attempts=attempt, timed_out=True)
                 for fut in done:
                     item, attempt = pending.pop(fut)
-                    submitted.pop(fut, None)
+                    clock.forget(fut)
                     exc = fut.exception()
                     if exc is None:
                         yield TaskResult(item, fut.result(), attempts=attempt)
@@ -265,7 +440,7 @@ def run_tasks(spec: str, workers: int, fn: Callable[[Any], Any], items: Iterable
                 for fut, (item, attempt) in list(pending.items()):
                     cf.wait([fut])
                     del pending[fut]
-                    submitted.pop(fut, None)
+                    clock.forget(fut)
                     exc = fut.exception()
                     if exc is None:
                         yield TaskResult(item, fut.result(), attempts=attempt)
@@ -276,9 +451,11 @@ def run_tasks(spec: str, workers: int, fn: Callable[[Any], Any], items: Iterable
                     else:
                         yield TaskResult(item, lost=f"worker pool broke on each of {attempt} tries", attempts=attempt)
                 ex.shutdown(wait=False, cancel_futures=True)
-                ex = make_executor(spec, workers)
+                ex = make_executor(spec, workers)       # "broken" is a local pool's state: the file stamps still serve
     finally:
         if own:
             for fut in pending:
                 fut.cancel()
             ex.shutdown(wait=True, cancel_futures=True)
+        if files is not None:
+            files.close()

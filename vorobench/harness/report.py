@@ -75,13 +75,28 @@ def _md_table(header: list[str], rows: list[list[object]], align: Optional[str] 
     return "\n".join(lines)
 
 
-def _complexity(name: str) -> Optional[str]:
-    """The complexity ``name`` declares; None for one not registered here (a ``--plugin`` the
-    report was not given), whose growth is then reported unchecked."""
+def _complexity(name: str, recorded: Optional[dict] = None) -> Optional[str]:
+    """The complexity ``name`` declared: as the run recorded it (``recorded``: name -> declaration
+    of the run's metadata), else a built-in's own; None for anything else (its growth is then
+    reported unchecked). No plugin or entry point is imported to find it."""
+    found = (recorded or {}).get(name)
+    if isinstance(found, dict) and isinstance(found.get("complexity"), str):
+        return found["complexity"]
+    if not impls.is_builtin(name):
+        return None
     try:
         return impls.get(name).complexity
     except Exception:  # an implementation that is not installed here is still reported
         return None
+
+
+def recorded_declarations(meta: dict) -> dict:
+    """name -> declaration, as the runs of a results file pinned them (the latest run wins)."""
+    out: dict = {}
+    for run in meta.get("runs", []):
+        if isinstance(run.get("declarations"), dict):
+            out.update(run["declarations"])
+    return out
 
 
 # ------------------------------------------------------------------------------ reading
@@ -279,7 +294,8 @@ def write_report(results_path: str | Path, out: str | Path, title: Optional[str]
     cases = analysis.case_table(df)
     sizes = analysis.size_table(df)
     exps = analysis.fit_exponents(sizes)
-    declared = {str(name): _complexity(str(name)) for name in df["impl"].unique()}
+    recorded = recorded_declarations(meta)
+    declared = {str(name): _complexity(str(name), recorded) for name in df["impl"].unique()}
     check = analysis.complexity_check(exps, declared)
     ratios = analysis.speed_ratios(sizes, reference)
     matrix = analysis.correctness_matrix(cases)

@@ -37,9 +37,11 @@ import impls
 from vorobench.harness.analysis import loglog_fit
 from vorobench.harness.executors import LOCAL, parse_spec, run_tasks
 from vorobench.harness.results import case_key, weighted_label
-from vorobench.harness.worker import MAX_REPEAT, reference_path, run_and_report, store_reference, worker_main
-from vorobench.judge import isolation
-from vorobench.judge.engine import NO_WEIGHTS, prepare_case, shared_judge
+from vorobench.harness.repeat_check import RepeatJudging, reference_result, repeat_shifts
+from vorobench.harness.worker import MAX_REPEAT, run_and_report, worker_main
+from vorobench.judge import isolation, wire
+from vorobench.judge.declarations import Declaration
+from vorobench.judge.engine import NO_WEIGHTS, diagram_schema, prepare_case, shared_judge
 from vorobench.judge.isolation import FORKSERVER_PRELOAD, default_start_method
 from vorobench.judge.outcomes import Status, Verdict, status_rank, verdict_rank
 
@@ -88,14 +90,23 @@ class RunConfig:
     reference: Optional[str] = impls.DEFAULT_REFERENCE
     check: bool = True
     plugins: tuple[str, ...] = ()
-    reference_cache: Optional[str] = None
+    #: (name, Declaration) of every implementation of the run, read in a sandbox and pinned.
+    declarations: tuple = ()
     memory_limit_mb: Optional[float] = None
     budget: Optional[float] = None      # skip a case whose extrapolated build time exceeds this
     start_method: str = field(default_factory=default_start_method)
     run_id: str = field(default_factory=lambda: _dt.datetime.now().strftime("%Y%m%dT%H%M%S-") + os.urandom(2).hex())
 
     def for_worker(self) -> dict:
-        return {k: v for k, v in asdict(self).items() if k not in ("budget", "run_id", "start_method")}
+        return {k: v for k, v in asdict(self).items()
+                if k in ("repeat", "min_time", "memory_limit_mb")}
+
+    def declaration(self, impl: str) -> Optional[Declaration]:
+        """``impl``'s declaration pinned for the run (read now, in a sandbox, if the run has none)."""
+        found = dict(self.declarations).get(impl)
+        if found is None:
+            found = shared_judge([], impl, plugins=self.plugins).declaration(impl)
+        return found
 
     def allowance(self, step: str) -> float:
         """Seconds the worker may spend in ``step`` before the case counts as hung."""
@@ -159,13 +170,11 @@ def plan_cases(impls: Sequence[str], datasets: Sequence[str], sizes: Sequence[in
             for s in seeds for i in ordered]
 
 
-def takes_weights(impl: str) -> Optional[bool]:
-    """Whether implementation ``impl`` builds power diagrams (None: it cannot be loaded here;
-    its worker reports why)."""
-    try:
-        return impls.get(impl).weighted
-    except Exception:  # a broken plugin is the worker's to report
-        return None
+def takes_weights(impl: str, config: Optional["RunConfig"] = None) -> Optional[bool]:
+    """Whether implementation ``impl`` builds power diagrams, as it declared for the run (None:
+    it declared nothing readable; its case reports why)."""
+    declared = (config or RunConfig()).declaration(impl)
+    return None if declared is None else declared.weighted
 
 
 def case_input(case: Case):
@@ -175,72 +184,74 @@ def case_input(case: Case):
     return prepare_case(points, weights)
 
 
-def _context(method: str, impl: str):
+def _context(method: str):
     ctx = mp.get_context(method)
     if method == "forkserver":
-        modules = list(FORKSERVER_PRELOAD)
-        try:
-            modules.append(impls.get(impl).build.__module__)
-        except Exception:  # the worker reports an implementation that cannot load
-            pass
-        ctx.set_forkserver_preload(modules)   # only takes effect when the server starts
+        ctx.set_forkserver_preload(list(FORKSERVER_PRELOAD))   # only takes effect when the server starts
     return ctx
 
 
-_SCRATCH: list = []
+def _reference_of(case: Case, config: RunConfig, sites, weights):
+    """The reference's judged build of the case's input, in a sandbox of the judging engine,
+    kept in this process as arrays and a certificate."""
+    key = (config.reference, case.dataset, case.n, case.seed, case.weights)
 
-
-def _reference_cache(config: RunConfig) -> str:
-    """The run's reference cache, or a scratch folder of this process (removed at its exit)
-    when a single case is run with none."""
-    if config.reference_cache:
-        return config.reference_cache
-    if not _SCRATCH:
-        _SCRATCH.append(tempfile.mkdtemp(prefix="vorobench-reference-"))
-        atexit.register(shutil.rmtree, _SCRATCH[0], True)
-    return _SCRATCH[0]
-
-
-def prepare_reference(case: Case, config: RunConfig) -> Optional[str]:
-    """Build and certify the reference of the case's input once, in a sandbox of the judging
-    engine, and store it where the case's worker will look (nothing to do if it is there).
-    Returns the cache folder, or None when the case is not checked against a reference."""
-    if not (config.check and config.reference):
-        return None
-
-    cache = _reference_cache(config)
-    if case.impl == config.reference:
-        return cache                        # its own case: judged on its own timed build
-    if case.weights and takes_weights(case.impl) is False:
-        return cache                        # the case is unsupported: nothing to check
-    path = reference_path(cache, config.reference, case.dataset, case.n, case.seed, case.weights)
-    if path.exists():
-        return cache
-    # Not stored: build it here (a failure is then passed on to this case, never cached).
-    try:
-        sites, weights = case_input(case)
+    def build():
         judge = shared_judge([], config.reference, timeout=config.timeout, warmup_timeout=config.warmup_timeout,
-                             memory_limit_mb=config.memory_limit_mb, plugins=config.plugins)
-        result = judge.build(config.reference, sites, weights=weights)
-        if result.diagram is not None or result.unsupported:
-            store_reference(path, result)   # a failure is not kept: a later run must try again
-    except Exception:  # the input cannot be generated: the case's own worker reports why
-        pass
-    return cache
+                             memory_limit_mb=config.memory_limit_mb, plugins=config.plugins,
+                             declarations=config.declarations)
+        return judge.build(config.reference, sites, weights=weights)
+
+    return reference_result(key, build)
+
+
+#: What a worker may report, by message kind: anything else it sends is dropped.
+_DATA_KEYS = ("rss_base_mb", "setup_s", "n_points", "warmup_s")
+_FAILED_STATUSES = (Status.UNSUPPORTED, Status.ERROR, Status.OOM)
+
+
+def _accepted(kind: str, payload) -> Optional[dict]:
+    """The part of a worker's message the judge takes: numbers under known names (counters and
+    phase timings by their prefix), a failure's status and text; None for anything else."""
+    if not isinstance(payload, dict):
+        return None
+    numbers = {k: v for k, v in payload.items() if type(v) in (int, float)}
+    if kind == "data":
+        return {k: v for k, v in numbers.items() if k in _DATA_KEYS}
+    if kind == "repeat":
+        return {k: v for k, v in numbers.items()
+                if k in ("time_s", "peak_rss_mb", "mem_mb", "V", "E", "input_scale_log2")
+                or k.startswith("stat_") or (k.startswith("time_") and k.endswith("_s"))}
+    if kind == "failed":
+        status = payload.get("status")
+        out = {"status": status if status in _FAILED_STATUSES else Status.ERROR,
+               "error": wire.clean_text(payload.get("error", ""), 500)}
+        if payload.get("verdict") == Verdict.MUTATED_INPUT:
+            out["verdict"] = Verdict.MUTATED_INPUT
+        return out
+    return None
 
 
 def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], None]] = None) -> CaseOutcome:
-    """Run one case in a fresh worker process and return its rows, whatever happens to it."""
-    if case.weights and takes_weights(case.impl) is False:
+    """Run one case in a fresh worker process (the implementation's sandbox) and return its rows,
+    whatever happens to it; every repeat's diagram is judged here."""
+    declared = config.declaration(case.impl)
+    if declared is None:
+        return lost_outcome(case, config, f"{case.impl} declared nothing readable: it could not be loaded", "error")
+    if case.weights and not declared.weighted:
         return _no_weights(case, config)
     started = time.perf_counter()
-    if on_step and config.check and config.reference and case.impl != config.reference:
-        on_step(f"reference {config.reference}")
-    cache = prepare_reference(case, config)
-    ctx = _context(config.start_method, case.impl)
-    receiver, sender = ctx.Pipe(duplex=False)
+    sites, weights = case_input(case)
+    builds = max(config.repeat, MAX_REPEAT if config.min_time else 0)
+    shifts = repeat_shifts(sites, builds + 1)
+    judging = RepeatJudging(case.impl, declared, sites, weights, shifts[:builds])
+    schema = diagram_schema(sites.shape[0], weights is not None)
+    ctx = _context(config.start_method)
+    receiver, sender = ctx.Pipe(duplex=True)
     worker_config = config.for_worker()
-    worker_config["reference_cache"] = cache
+    worker_config["plugins"] = (declared.plugin,) if declared.plugin else ()
+    worker_config["shifts"] = judging.shifts
+    worker_config["warmup_shift"] = shifts[-1]
     # A forked worker would see the fork server's environment; it gets the parent's, as now.
     worker_config["environ"] = dict(os.environ)
     proc = ctx.Process(target=worker_main, args=(sender, asdict(case), worker_config),
@@ -257,17 +268,27 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
         while status is None:
             if receiver.poll(max(0.0, deadline - time.monotonic())):
                 try:
-                    kind, payload = receiver.recv()
+                    message = receiver.recv_bytes(wire.MAX_MESSAGE_BYTES)
+                    kind, payload, arrays = wire.decode(message, schema_for=lambda k, d: schema if k == "repeat" else {})
+                    del message
                 except (EOFError, OSError):
                     proc.join(10)
                     status, info["error"] = isolation.describe_death(proc.exitcode)
                     break
-                if kind == "step":
+                except wire.WireError as exc:
+                    status, info["error"] = Status.CRASHED, f"sent an answer the judge refuses during {step}: {exc}"
+                    break
+                if kind == "step" and isinstance(payload, str):
                     step = payload
                     deadline = time.monotonic() + config.allowance(step)
                     if on_step:
                         on_step(step)
-                status = _absorb(kind, payload, info, repeats) or status
+                elif kind == "repeat":
+                    judging.take(len(repeats), arrays)
+                    del arrays
+                    repeats.append(_accepted(kind, payload) or {})
+                    receiver.send_bytes(b"go")
+                status = _absorb(kind, _accepted(kind, payload), info, repeats) or status
             elif proc.is_alive():
                 status = Status.TIMEOUT
                 info["error"] = f"no result within {config.allowance(step):g} s during {step}"
@@ -279,20 +300,45 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
             proc.join(5)                    # a finished worker is only exiting: let it
         isolation.kill_worker(proc)         # its process group too: nothing it started lives on
         receiver.close()
+    _judge_repeats(case, config, status, judging, repeats, info, sites, weights, on_step)
     seconds = time.perf_counter() - started
     info["case_s"] = seconds
     return CaseOutcome(case, status, _rows(case, config, status, step, info, repeats), seconds)
 
 
+def _judge_repeats(case: Case, config: RunConfig, status: Optional[str], judging: RepeatJudging,
+                   repeats: list[dict], info: dict, sites, weights, on_step=None) -> None:
+    """Each repeat's verdict columns, decided here (never in the worker): the first repeat
+    against the reference, every other one against the first."""
+    info["n_sites"] = int(sites.shape[0])
+    if status != Status.OK or not repeats:
+        return
+    for row in repeats:
+        row.update(judging.counts) if row is repeats[0] else None
+    if not (config.check and config.reference):
+        info["verdict"] = Verdict.SKIPPED
+        return
+    if on_step:
+        on_step("check")
+    t0 = time.perf_counter_ns()
+    try:
+        ref = None if case.impl == config.reference else _reference_of(case, config, sites, weights)
+        verdicts = judging.verdicts(len(repeats), config.reference, ref, probes=10_000)
+    except Exception as exc:  # a failing check is reported, not fatal
+        verdicts = [{"verdict": Verdict.CHECK_ERROR, "verdict_detail": wire.clean_text(f"{type(exc).__name__}: {exc}", 300)}
+                    ] * len(repeats)
+    for row, verdict in zip(repeats, verdicts):
+        row.update(verdict)
+    info["check_s"] = (time.perf_counter_ns() - t0) / 1e9
+
+
 def _absorb(kind: str, payload, info: dict, repeats: list[dict]) -> Optional[str]:
-    """Take one worker message into ``info``/``repeats``; the case's status if it ends it."""
-    if kind == "data":
+    """Take one (accepted) worker message into ``info``; the case's status if it ends it."""
+    if kind == "data" and payload:
         info.update(payload)
-    elif kind == "repeat":
-        repeats.append(payload)
     elif kind == "done":
         return Status.OK
-    elif kind == "failed":
+    elif kind == "failed" and payload:
         info.update(payload)
         return payload["status"]
     return None
@@ -301,24 +347,36 @@ def _absorb(kind: str, payload, info: dict, repeats: list[dict]) -> Optional[str
 def run_case_in_process(case: Case, config: RunConfig) -> CaseOutcome:
     """Run one case in this process (a Dask worker: one case per worker thread, no per-step
     timeout, no memory cap). A hard crash takes this process down; the executor sees the
-    worker die, and the parent retries the case or records it as lost."""
-    if case.weights and takes_weights(case.impl) is False:
+    worker die, and the parent retries the case or records it as lost. The implementation
+    shares this process, so its verdicts are only as trustworthy as it is (the README says so)."""
+    declared = config.declaration(case.impl)
+    if declared is None:
+        return lost_outcome(case, config, f"{case.impl} declared nothing readable: it could not be loaded", "error")
+    if case.weights and not declared.weighted:
         return _no_weights(case, config)
     started = time.perf_counter()
+    sites, weights = case_input(case)
+    builds = max(config.repeat, MAX_REPEAT if config.min_time else 0)
+    shifts = repeat_shifts(sites, builds + 1)
+    judging = RepeatJudging(case.impl, declared, sites, weights, shifts[:builds])
     info: dict = {}
     repeats: list[dict] = []
     state = {"step": "startup", "status": None}
 
-    def send(kind: str, payload) -> None:
+    def send(kind: str, payload=None, arrays=None) -> None:
         if kind == "step":
             state["step"] = payload
-        state["status"] = _absorb(kind, payload, info, repeats) or state["status"]
+        elif kind == "repeat":
+            judging.take(len(repeats), arrays)
+            repeats.append(_accepted(kind, payload) or {})
+        state["status"] = _absorb(kind, _accepted(kind, payload), info, repeats) or state["status"]
 
     worker_config = config.for_worker()
-    worker_config.update(environ=None, memory_limit_mb=None,   # this process is shared: leave it as it is
-                         reference_cache=prepare_reference(case, config))
+    worker_config.update(environ=None, memory_limit_mb=None, shifts=judging.shifts, warmup_shift=shifts[-1],
+                         plugins=(declared.plugin,) if declared.plugin else ())
     run_and_report(asdict(case), worker_config, send)
     status = state["status"] or Status.CRASHED
+    _judge_repeats(case, config, status, judging, repeats, info, sites, weights)
     seconds = time.perf_counter() - started
     info["case_s"] = seconds
     return CaseOutcome(case, status, _rows(case, config, status, state["step"], info, repeats), seconds)
@@ -464,11 +522,6 @@ def run_cases(cases: Sequence[Case], config: RunConfig, sink: Callable[[list[dic
     workers; everything already passed to ``sink`` is kept.
     """
     console = console or Console(stderr=True)
-    if config.check and config.reference and not config.reference_cache:
-        # The reference is judged once per input and shared through files: a folder for this run.
-        with tempfile.TemporaryDirectory(prefix="vorobench-reference-") as folder:
-            return run_cases(cases, dataclasses.replace(config, reference_cache=folder), sink, done, previous_rows,
-                             progress, console, verbose, executor, workers)
     done = set(done)
     todo = [c for c in cases if c.key not in done]
     history = history_from_rows(previous_rows)

@@ -26,11 +26,26 @@ WEIGHTS_FILE_PREFIX = "file:"
 
 
 def load_weights(path: str | Path) -> NDArray[np.float64]:
-    """One weight per point from ``.npy`` (a 1-D array) or text (one number per line)."""
+    """One weight per point from ``.npy`` (a 1-D array) or text (one number per line, or one
+    line of comma-separated numbers). Read as the point loader reads: only a regular file of
+    bounded size, and no integer float64 cannot hold exactly (it is refused, never rounded)."""
+    # Imported here only because this change was limited to this function: belongs at the top.
+    from datasets_gen.loaders import first_inexact_integer, number_table, read_npy, read_text
+
     path = Path(path)
-    if not path.exists():
-        raise ValueError(f"{path}: no such weights file")
-    w = np.load(path, allow_pickle=False) if path.suffix == ".npy" else np.loadtxt(path, delimiter=",", ndmin=1)
+    try:
+        if path.suffix == ".npy":
+            w = read_npy(path, "weights file")
+            inexact = first_inexact_integer(w)
+            if inexact is not None:
+                raise ValueError(f"{path}: integer {inexact[1]} at index {', '.join(map(str, inexact[0]))} "
+                                 f"has no exact float64 value (it would be read as {float(inexact[1])!r})")
+        else:
+            w = number_table(read_text(path, "weights file"), path)
+            if 1 in w.shape or w.size == 0:     # a column, a single row or nothing: the list of weights
+                w = w.ravel()
+    except FileNotFoundError:
+        raise ValueError(f"{path}: no such weights file") from None
     w = np.asarray(w, dtype=np.float64)
     if w.ndim != 1:
         raise ValueError(f"{path}: weights must be one number per point, got an array of shape {w.shape}")

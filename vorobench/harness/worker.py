@@ -1,50 +1,50 @@
-"""The worker side of a benchmark case: runs in its own process and reports step by step.
+"""The worker side of a benchmark case: the implementation's sandbox for timing, one per case.
 
-The parent (:mod:`vorobench.harness.runner`) starts one worker per (implementation, dataset, n, seed,
-weight family); a weighted case builds the power diagram of the points with weights of that
-family (:func:`datasets_gen.weights`), drawn with the points, before anything is timed.
-The worker announces each step before it starts (``("step", name)``) and sends its measurements
-as it gets them (``("data", dict)``), then ``("done", None)`` or ``("failed", dict)``. So when the
-worker dies or hangs, the parent knows in which step and keeps what was measured before.
+The parent (:mod:`vorobench.harness.runner`) starts one worker per (implementation, dataset, n,
+seed, weight family); a weighted case builds the power diagram of the points with weights of
+that family (:func:`datasets_gen.weights`), drawn with the points, before anything is timed.
+The worker loads only the plugin that defines its implementation, announces each step before
+it starts (``step``), sends its measurements as it gets them (``data``), each timed build's
+diagram with its timings (``repeat``), then ``done`` or ``failed``. Every message crosses the
+bounded wire (:mod:`vorobench.judge.wire`): the parent checks sizes before it allocates, and it
+judges every repeat's diagram itself. Nothing is judged in this process.
 
 Timing protocol: inputs are generated and prepared before anything is timed; the warm-up
 (``Implementation.warmup`` plus one untimed build of a small input from the same dataset)
 absorbs JIT compilation and is timed on its own; each repeat is one ``perf_counter_ns`` wall
 time with the garbage collector collected before and paused during the build; the resident
-peak is reset before each build so the build's own peak memory is measured. Builds shorter
-than a scheduler time slice are repeated until ``min_time`` seconds are timed (at most
-``MAX_REPEAT`` builds), so one preemption on a busy machine cannot move the median.
+peak is reset before each build so the build's own peak memory is measured. Repeat i builds the
+sites scaled by ``2**shifts[i]`` (the parent's choice: the same order and the same diagram, the
+vertices scaled alike, but other bytes), so a result cached by its input cannot fake a timing.
+After each repeat the worker waits for the parent to take the diagram in, so the parent's work
+never overlaps a timed build. Builds shorter than a scheduler time slice are repeated until
+``min_time`` seconds are timed (at most ``MAX_REPEAT`` builds).
 """
 
 from __future__ import annotations
 
 import gc
 import os
-import pickle
 import signal
 import time
-import traceback
-from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Optional
 
 import numpy as np
 
 import datasets_gen
 import impls
-from impls.base import InputMutated
+from impls.base import BuildRaised, InputMutated
 from impls.plugins import load_plugin
 from vorobench.harness import peakmem
-from vorobench.harness.atomic import replace_atomically
-from vorobench.judge import engine as crossval
-from vorobench.judge import isolation
-from vorobench.judge.certificate import certify
-from vorobench.judge.engine import NO_WEIGHTS, diagram_arrays, prepare_case
+from vorobench.judge import isolation, wire
+from vorobench.judge.engine import NO_WEIGHTS, _declined, diagram_arrays, prepare_case
 from vorobench.judge.outcomes import COUNTER_PREFIX, timing_column
+from vorobench.judge.sandbox import safe_message
 
-__all__ = ["worker_main", "run_and_report", "check_against_reference",
-           "reference_path", "store_reference", "load_reference"]
+__all__ = ["worker_main", "run_and_report", "scaled_input", "MAX_REPEAT", "WARMUP_N"]
 
-Send = Callable[[str, Any], None]
+#: ``send(kind, payload, arrays)``: one message to the parent.
+Send = Callable[..., None]
 
 #: Smallest input used for the untimed warm-up build (capped by the case's own n).
 WARMUP_N = 64
@@ -53,71 +53,13 @@ WARMUP_N = 64
 MAX_REPEAT = 25
 
 
-def reference_path(cache_dir: str, reference: str, dataset: str, n: int, seed: int, weights: str = "") -> Path:
-    """Where the reference's judged build of one (dataset, n, seed, weight family) is kept for the run."""
-    family = f"-w-{weights}" if weights else ""
-    return Path(cache_dir) / f"{reference}-{dataset}-{n}-{seed}{family}.pkl"
-
-
-def store_reference(path: Path, result) -> None:
-    """Write the reference's build and certificate atomically (a half-written file never looks
-    complete; the temporary name is unpredictable)."""
-    replace_atomically(path, lambda f: pickle.dump(result, f, protocol=pickle.HIGHEST_PROTOCOL), binary=True)
-
-
-def load_reference(path: Path, sites, weights=None):
-    """The stored reference build of ``sites`` with ``weights`` (a
-    :class:`~vorobench.judge.engine.BuildResult`), or None when there is none or it belongs to
-    other sites or weights."""
-    try:
-        with open(path, "rb") as f:
-            result = pickle.load(f)
-    except (OSError, EOFError, pickle.UnpicklingError, AttributeError, ValueError):
-        return None
-    diagram = getattr(result, "diagram", None)
-    if diagram is not None and not (diagram.sites.shape == sites.shape and np.array_equal(diagram.sites, sites)):
-        return None
-    stored = None if diagram is None else diagram.weights
-    if diagram is not None and ((stored is None) != (weights is None)
-                                or (weights is not None and not np.array_equal(stored, weights))):
-        return None
-    return result
-
-
-def _same_diagram(a, b) -> bool:
-    first, second = diagram_arrays(a), diagram_arrays(b)
-    return first.keys() == second.keys() and all(np.array_equal(first[k], second[k]) for k in first)
-
-
-def check_against_reference(impl_name: str, diagram, reference: str, reference_result=None) -> dict:
-    """The correctness verdict of one built diagram, as result columns.
-
-    The already-built diagram (no second build) is certified and judged against the
-    reference's build (judged once per case by the runner and stored) with the rules of
-    :func:`vorobench.judge.engine.decide`. The reference's own row reuses the stored certificate
-    when it built the same diagram.
-    """
-    stored = reference_result
-    if impl_name == reference and stored is not None and stored.diagram is not None \
-            and _same_diagram(stored.diagram, diagram):
-        res = crossval.BuildResult(impl_name, crossval.is_exact(impl_name), diagram, stored.certificate)
-    else:
-        res = crossval.BuildResult(impl_name, crossval.is_exact(impl_name), diagram, certify(diagram))
-    if impl_name == reference:
-        ref = res
-    elif stored is None:
-        ref = crossval.BuildResult(reference, crossval.is_exact(reference), error="no reference diagram",
-                                   failure="crashed")
-    else:
-        ref = stored
-    verdict = crossval.decide(impl_name, reference, res, ref)
-    return {"verdict": verdict.verdict, "check_passed": bool(verdict.passed), "blame": verdict.blame or "",
-            "verdict_detail": _first_line(verdict.message)}
-
-
-def _first_line(obj: object) -> str:
-    text = str(obj).strip().splitlines()
-    return text[0][:300] if text else ""
+def scaled_input(sites: np.ndarray, weights: Optional[np.ndarray], shift: int
+                 ) -> tuple[np.ndarray, Optional[np.ndarray]]:
+    """The sites times ``2**shift`` and the weights times ``4**shift`` (a power is a squared
+    length): exactly the same diagram, its vertices times ``2**shift``."""
+    if shift == 0:
+        return sites, weights
+    return np.ldexp(sites, shift), (None if weights is None else np.ldexp(weights, 2 * shift))
 
 
 def _timed_build(impl, sites, stats, timings, weights=None) -> tuple[object, int, float, float]:
@@ -129,7 +71,8 @@ def _timed_build(impl, sites, stats, timings, weights=None) -> tuple[object, int
     try:
         t0 = time.perf_counter_ns()
         # A read-only copy; a change of it, or a counter that is not an integer, is an error.
-        diagram = impl.run(sites, stats, timings=timings, check_supports=False, weights=weights)
+        diagram = impl.run(sites, stats, timings=timings, check_supports=False, weights=weights,
+                           wrap_build_errors=True)
         elapsed = time.perf_counter_ns() - t0
     finally:
         gc.enable()
@@ -144,7 +87,7 @@ def _measured_columns(stats: dict, timings: dict) -> dict[str, float]:
             | {timing_column(phase): float(seconds) for phase, seconds in timings.items()})
 
 
-def _run_steps(case: dict, config: dict, send: Send) -> None:
+def _run_steps(case: dict, config: dict, send: Send, wait: Callable[[], None]) -> None:
     if config.get("environ") is not None:
         os.environ.clear()
         os.environ.update(config["environ"])
@@ -168,10 +111,9 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
     send("step", "generate")
     t0 = time.perf_counter_ns()
     points, sites, weights = case_input(case["n"])
-    send("data", {"setup_s": (time.perf_counter_ns() - t0) / 1e9,
-                  "n_points": int(points.shape[0]), "n_sites": int(sites.shape[0])})
+    send("data", {"setup_s": (time.perf_counter_ns() - t0) / 1e9, "n_points": int(points.shape[0])})
     del points
-    reason = impl.unsupported_reason(sites)
+    reason = _declined(impl, sites)
     if reason:
         send("failed", {"status": "unsupported", "error": reason})
         return
@@ -182,6 +124,8 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
     if impl.warmup is not None:
         impl.warmup()
     _, small, small_weights = case_input(min(case["n"], WARMUP_N))
+    # Scaled by a power no repeat uses: a small case's warm-up input is not a repeat's input.
+    small, small_weights = scaled_input(small, small_weights, int(config.get("warmup_shift") or 0))
     impl.run(small, {}, weights=small_weights)
     send("data", {"warmup_s": (time.perf_counter_ns() - t0) / 1e9})
 
@@ -189,7 +133,7 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
     # collection before each build costs microseconds instead of ~0.1 s.
     gc.collect()
     gc.freeze()
-    diagram = None
+    shifts = list(config.get("shifts") or [0])
     repeat, min_time = config["repeat"], config.get("min_time") or 0.0
     timed_ns, i = 0, 0
     # At least `repeat` builds; fast ones are repeated until `min_time` of timed builds (capped).
@@ -197,57 +141,49 @@ def _run_steps(case: dict, config: dict, send: Send) -> None:
         send("step", f"repeat {i + 1}/{repeat}" if i < repeat else f"repeat {i + 1} (filling min-time)")
         stats: dict = {}
         timings: dict = {}
-        diagram = None                      # free the previous result before the next build
-        diagram, ns, peak, own = _timed_build(impl, sites, stats, timings, weights)
+        shift = shifts[i % len(shifts)]
+        given, given_weights = scaled_input(sites, weights, shift)
+        diagram, ns, peak, own = _timed_build(impl, given, stats, timings, given_weights)
         timed_ns += ns
-        row = {"time_s": ns / 1e9, "peak_rss_mb": peak, "mem_mb": own} | _measured_columns({}, timings)
+        row = {"time_s": ns / 1e9, "peak_rss_mb": peak, "mem_mb": own, "input_scale_log2": shift} \
+            | _measured_columns({}, timings)
         if i == 0:
             counts = diagram.counts()
             row.update(V=counts["V"], E=counts["E"], **_measured_columns(stats, {}))
-        send("repeat", row)
+        send("repeat", row, diagram_arrays(diagram))
+        diagram = None                      # free this result before the next build
+        wait()                              # the parent has taken the diagram in: nothing of it overlaps the next build
         i += 1
-
-    if config.get("check", True) and config.get("reference"):
-        send("step", "check")
-        t0 = time.perf_counter_ns()
-        try:
-            stored = None
-            if config.get("reference_cache"):
-                stored = load_reference(reference_path(config["reference_cache"], config["reference"],
-                                                       case["dataset"], case["n"], case["seed"], family),
-                                        sites, weights)
-            verdict = check_against_reference(impl.name, diagram, config["reference"], stored)
-        except Exception as exc:                    # a failing check is reported, not fatal
-            verdict = {"verdict": "check_error", "verdict_detail": _first_line(f"{type(exc).__name__}: {exc}")}
-        send("data", {**verdict, "check_s": (time.perf_counter_ns() - t0) / 1e9})
-    else:
-        send("data", {"verdict": "skipped"})
     send("done", None)
 
 
-def run_and_report(case: dict, config: dict, send: Send) -> None:
+def run_and_report(case: dict, config: dict, send: Send, wait: Callable[[], None] = lambda: None) -> None:
     """Run the case's steps in this process; every failure is sent as ``("failed", ...)``."""
     try:
-        _run_steps(case, config, send)
+        _run_steps(case, config, send, wait)
     except InputMutated as exc:
         send("failed", {"status": "error", "verdict": "mutated_input", "error": str(exc)[:500]})
     except MemoryError as exc:
         send("failed", {"status": "oom", "error": f"MemoryError: {exc}"[:500]})
+    except BuildRaised as exc:              # whatever its class, raised by the build: the implementation's error
+        send("failed", {"status": "error", "error": safe_message(exc.__cause__ or exc)[:500]})
     except BaseException as exc:  # noqa: BLE001 - every failure of the case is reported as data
-        frames = traceback.extract_tb(exc.__traceback__)
-        where = f" (at {Path(frames[-1].filename).name}:{frames[-1].lineno})" if frames else ""
-        send("failed", {"status": "error", "error": f"{type(exc).__name__}: {exc}"[:400] + where})
+        send("failed", {"status": "error", "error": safe_message(exc)[:500]})
 
 
 def worker_main(conn, case: dict, config: dict) -> None:
-    """Entry point of the worker process: run the case's steps, report over ``conn``."""
+    """Entry point of the worker process: run the case's steps, report over ``conn`` (duplex:
+    the parent answers each repeat when it has taken it in)."""
     isolation.enter_worker()
     signal.signal(signal.SIGINT, signal.SIG_IGN)    # Ctrl-C is the parent's to handle
 
-    def send(kind: str, payload: Any) -> None:
-        conn.send((kind, payload))
+    def send(kind: str, payload: Any = None, arrays: Optional[dict] = None) -> None:
+        conn.send_bytes(wire.encode(kind, payload, arrays))
+
+    def wait() -> None:
+        conn.recv_bytes(16)
 
     try:
-        run_and_report(case, config, send)
+        run_and_report(case, config, send, wait)
     finally:
         conn.close()
