@@ -74,7 +74,7 @@ def test_impls_with_a_missing_plugin_is_a_one_line_error(tmp_path, capsys):
     assert "plugin file not found" in err and len(err.strip().splitlines()) == 1
 
 
-def test_report_reads_the_declared_complexity_of_a_plugin(plugin, tmp_path, capsys):
+def test_report_reads_the_declared_complexity_of_a_plugin_from_the_run(plugin, tmp_path, capsys):
     results = tmp_path / "run.csv"
     assert main(["bench", "--plugin", str(plugin), "--impls", "qhull-quadratic", "--sizes", "20,40,80", "--repeat", "1",
                  "--min-time", "0", "--no-check", "--out", str(results), "--quiet"]) == 0
@@ -82,8 +82,16 @@ def test_report_reads_the_declared_complexity_of_a_plugin(plugin, tmp_path, caps
     assert main(["report", str(results), "-o", str(tmp_path / "with"), "--plugin", str(plugin)]) == 0
     without = (tmp_path / "without" / "README.md").read_text()
     with_plugin = (tmp_path / "with" / "README.md").read_text()
-    assert "`qhull-quadratic` grows like" in without and "no declared complexity to compare with" in without
+    # The run pinned what the plugin declared: the report needs no plugin (and imports none).
+    assert "declared O(n^2), about n^2.00 over these sizes" in without
     assert "declared O(n^2), about n^2.00 over these sizes" in with_plugin
+    meta = json.loads(results.with_suffix(".meta.json").read_text())
+    assert meta["runs"][-1]["declarations"]["qhull-quadratic"]["complexity"] == "O(n^2)"
+    for run in meta["runs"]:                   # a run recorded before declarations were pinned
+        run.pop("declarations")
+    results.with_suffix(".meta.json").write_text(json.dumps(meta))
+    assert main(["report", str(results), "-o", str(tmp_path / "older")]) == 0
+    assert "no declared complexity to compare with" in (tmp_path / "older" / "README.md").read_text()
 
 
 def test_a_witness_of_a_plugin_names_the_plugin_in_its_command(tmp_path, capsys):

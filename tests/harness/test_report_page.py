@@ -53,7 +53,7 @@ def _write(tmp_path, rows, reference="ref", name="bench.csv"):
 @pytest.fixture(autouse=True)
 def declared(monkeypatch):
     """The synthetic implementations' declared complexities (they are not registered)."""
-    monkeypatch.setattr(report, "_complexity", lambda name: DECLARED.get(name, "?"))
+    monkeypatch.setattr(report, "_complexity", lambda name, recorded=None: DECLARED.get(name, "?"))
 
 
 @pytest.fixture(scope="module")
@@ -61,7 +61,7 @@ def default(tmp_path_factory):
     """The report of :func:`_rows` (written once: matplotlib takes seconds): (folder, page, Markdown)."""
     tmp = tmp_path_factory.mktemp("default")
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(report, "_complexity", lambda name: DECLARED.get(name, "?"))
+        mp.setattr(report, "_complexity", lambda name, recorded=None: DECLARED.get(name, "?"))
         return _report(tmp, _write(tmp, _rows()))
 
 

@@ -55,7 +55,7 @@ def _console():
 def cmd_impls(args: argparse.Namespace) -> int:
     """Table of the implementations that can run here, those of ``--plugin`` included, as they
     declare themselves in a sandbox (no implementation is imported in this process)."""
-    from vorobench.judge.declarations import PluginError, declare_in_sandbox
+    from vorobench.judge.pinning import PluginError, declare_in_sandbox
     from vorobench.judge.wire import clean_text
 
     available, declared, failed = declare_in_sandbox(None, tuple(args.plugin))
@@ -129,7 +129,7 @@ def cmd_build(args: argparse.Namespace) -> int:
 
     if args.box is not None and not args.plot:
         raise ValueError("--box frames the picture: give --plot FILE too")
-    from vorobench.judge.declarations import resolve_declarations
+    from vorobench.judge.pinning import resolve_declarations
     from vorobench.judge.engine import diagram_schema
 
     points, label = load_points(args.dataset, args.n, args.seed, args.points)

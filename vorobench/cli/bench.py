@@ -112,7 +112,7 @@ def pinned(impl_names: Optional[Sequence[str]], config) -> tuple[list[str], obje
     a sandbox (plugins are loaded there, never in this process); unknown names are refused."""
     import dataclasses
 
-    from vorobench.judge.declarations import resolve_declarations
+    from vorobench.judge.pinning import resolve_declarations
 
     names = list(impl_names) if impl_names else None
     reference = [config.reference] if config.check and config.reference else []
@@ -160,8 +160,7 @@ def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool
         cases = runner.plan_cases(impl_names, datasets, sizes, seeds,
                                   reference=config.reference if config.check else None, weights=weights or "")
         todo = [c for c in cases if c.key not in done]
-        # Provenance is read where importing is safe: vorobench's own implementations only.
-        meta = sysinfo.run_metadata([n for n in impl_names if impls.is_builtin(n)])
+        meta = sysinfo.run_metadata(impl_names, config.plugins)
         meta.update(run_id=config.run_id, argv=sys.argv[1:], impls=impl_names, datasets=list(datasets),
                     sizes=list(sizes), seeds=list(seeds), weights=weights or "", repeat=config.repeat,
                     min_time=config.min_time,

@@ -128,7 +128,7 @@ def _cases(args: argparse.Namespace) -> list[dict[str, Any]]:
 def _declared(args: argparse.Namespace) -> dict[str, "Declaration"]:
     """The run's implementations, reference first, with what each declares: read once in a
     sandbox (plugins are loaded there, never in this process) and pinned for the run."""
-    from vorobench.judge.declarations import resolve_declarations
+    from vorobench.judge.pinning import resolve_declarations
 
     names = list(args.impls)
     every = not names or names == ["all"]

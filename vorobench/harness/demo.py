@@ -4,8 +4,6 @@ The command line is :mod:`vorobench.cli.demo`; its help text describes the behav
 
 from __future__ import annotations
 
-import shutil
-from pathlib import Path
 
 import impls
 
@@ -37,8 +35,3 @@ def demo_implementations() -> list[str]:
 def demo_sizes(n_impls: int) -> tuple[int, ...]:
     """The size ladder: four sizes over 1.5 decades, two more when only one method runs."""
     return _SIZES_ALONE if n_impls <= 1 else _SIZES
-
-
-def remove_reference_cache(folder: Path) -> None:
-    """The cached reference diagrams are only needed during the run."""
-    shutil.rmtree(folder, ignore_errors=True)

@@ -75,19 +75,24 @@ def _md_table(header: list[str], rows: list[list[object]], align: Optional[str] 
     return "\n".join(lines)
 
 
-def _complexity(name: str, recorded: Optional[dict] = None) -> Optional[str]:
-    """The complexity ``name`` declared: as the run recorded it (``recorded``: name -> declaration
-    of the run's metadata), else a built-in's own; None for anything else (its growth is then
-    reported unchecked). No plugin or entry point is imported to find it."""
-    found = (recorded or {}).get(name)
-    if isinstance(found, dict) and isinstance(found.get("complexity"), str):
-        return found["complexity"]
+def _complexity(name: str) -> Optional[str]:
+    """The complexity built-in ``name`` declares; None for anything else (a plugin or an entry
+    point is never imported to find it: the run's metadata records what it declared)."""
     if not impls.is_builtin(name):
         return None
     try:
         return impls.get(name).complexity
     except Exception:  # an implementation that is not installed here is still reported
         return None
+
+
+def _declared_complexity(name: str, recorded: dict) -> Optional[str]:
+    """The complexity ``name`` declared when the run was made (``recorded``: its metadata's
+    declarations), else :func:`_complexity`."""
+    found = recorded.get(name)
+    if isinstance(found, dict) and isinstance(found.get("complexity"), str):
+        return found["complexity"]
+    return _complexity(name)
 
 
 def recorded_declarations(meta: dict) -> dict:
@@ -295,7 +300,7 @@ def write_report(results_path: str | Path, out: str | Path, title: Optional[str]
     sizes = analysis.size_table(df)
     exps = analysis.fit_exponents(sizes)
     recorded = recorded_declarations(meta)
-    declared = {str(name): _complexity(str(name), recorded) for name in df["impl"].unique()}
+    declared = {str(name): _declared_complexity(str(name), recorded) for name in df["impl"].unique()}
     check = analysis.complexity_check(exps, declared)
     ratios = analysis.speed_ratios(sizes, reference)
     matrix = analysis.correctness_matrix(cases)

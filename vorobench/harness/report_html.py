@@ -7,15 +7,15 @@ point of a build-time or spread figure) shows its repeats, timings and counters.
 dataset's panel of one view; a panel or a view with nothing to draw is left out, never drawn
 empty, and a panel the filters empty is hidden.
 
-Everything taken from the results and their metadata (names, errors, host, argv) is text:
-HTML-escaped in the markup and in the figures' labels (plotly reads the entities), and written
-into the JSON with ``<``, ``>`` and ``&`` escaped, so nothing can end the script element. The
-Markdown parts (the reading) are rendered by markdown-it with raw HTML off.
+Everything taken from the results and their metadata (names, errors, host, argv) is text, made
+safe by :mod:`vorobench.harness.html_page` (which also gives the page its skeleton and common
+style): HTML-escaped in the markup and in the figures' labels (plotly reads the entities), and
+written into the JSON so that nothing can end the script element. The Markdown parts (the
+reading) are rendered by markdown-it with raw HTML off.
 """
 
 from __future__ import annotations
 
-import html
 import json
 import math
 from dataclasses import dataclass, field
@@ -31,6 +31,7 @@ from plotly.offline import get_plotlyjs
 
 from vorobench.harness.analysis import complexity_mismatches, worst_verdict
 from vorobench.harness.figures import VERDICT_COLOURS, has_data, text_colour, verdict_colour, verdict_label
+from vorobench.harness.html_page import escape, page
 from vorobench.harness.markdown_text import one_line
 from vorobench.harness.units import seconds_text, size_text
 from vorobench.judge.outcomes import status_rank
@@ -54,16 +55,11 @@ _SYMBOLS = {"o": "circle", "s": "square", "D": "diamond", "^": "triangle-up", "v
 
 def _esc(value: object) -> str:
     """Text from the results as HTML text, on one line."""
-    return html.escape(one_line(value), quote=True)
-
-
-def _json_for_script(obj: Any) -> str:
-    """JSON that cannot end a <script> element nor open a comment or an entity in it."""
-    text = json.dumps(obj, separators=(",", ":"), allow_nan=False, default=_plain)
-    return text.replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
+    return escape(one_line(value))
 
 
 def _plain(value: Any) -> Any:
+    """numpy values as the JSON types they stand for (a non-finite float as null)."""
     if isinstance(value, np.integer):
         return int(value)
     if isinstance(value, np.floating):
@@ -654,7 +650,7 @@ def _data(inp: PageInput) -> str:
     links = " &middot; ".join(f'<a href="{_esc(name)}">{_esc(label)}</a>' for label, name in inp.files.items())
     out = (f"<p>Files next to this page: {links}.</p>" if links else "")
     if inp.command:
-        out += f"<p>Produced by:</p><pre>{html.escape(inp.command)}</pre>"
+        out += f"<p>Produced by:</p><pre>{escape(inp.command)}</pre>"
     return out
 
 
@@ -701,16 +697,16 @@ def views(inp: PageInput) -> list[View]:
     return out
 
 
+# After html_page.BASE_CSS: this page's sizes, its filter bar, panels, matrix and drill-down.
 _CSS = """
-body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; margin: 1.2em 2em 4em; color: #222;
-       line-height: 1.4; max-width: 1500px; }
-h1 { font-size: 1.6em; margin: 0.2em 0; } h2 { margin-top: 1.6em; border-bottom: 1px solid #ccc; font-size: 1.3em; }
+body { margin: 1.2em 2em 4em; line-height: 1.4; max-width: 1500px; }
+h1 { font-size: 1.6em; margin: 0.2em 0; } h2 { font-size: 1.3em; }
 h3 { font-size: 1.02em; margin: 0.3em 0; } h2, h3 { scroll-margin-top: 7em; }
-table { border-collapse: collapse; font-size: 0.88em; margin: 0.4em 0; }
-th, td { border: 1px solid #ddd; padding: 2px 7px; text-align: left; vertical-align: top; }
+table { font-size: 0.88em; margin: 0.4em 0; }
+th, td { padding: 2px 7px; }
 thead th { background: #f1f1f1; } th[scope=row] { background: #f7f7f7; font-weight: 600; white-space: nowrap; }
 table.num td { font-variant-numeric: tabular-nums; }
-.note, .legend { color: #555; font-size: 0.9em; }
+.legend { color: #555; font-size: 0.9em; }
 .legend .others { color: #888; font-size: 0.92em; }
 .alert { border: 2px solid #b2182b; background: #fff5f3; padding: 0.5em 1em; margin: 0.8em 0; border-radius: 4px; }
 .alert h2 { margin: 0.2em 0; border: 0; color: #b2182b; }
@@ -918,10 +914,7 @@ def render(inp: PageInput) -> str:
             "times": c["times"], "repeats": c["repeat_ids"],
             "phases": [[_esc(p), v] for p, v in c["phases"].items()],
             "color": inp.styles.get(c["impl"], {}).get("color", "#444")})
-    first = _first_case(inp)
-    template = _template()
-    payload = _json_for_script({"template": template, "figures": figures, "cases": cases_payload,
-                                "first_case": first})
+    payload = {"template": _template(), "figures": figures, "cases": cases_payload, "first_case": _first_case(inp)}
 
     body = [
         f"<h1>vorobench report: {_esc(inp.title)}</h1>",
@@ -946,13 +939,8 @@ def render(inp: PageInput) -> str:
         '<section id="run"><h2>Run</h2>', _run(inp), "</section>",
         '<section id="data"><h2>Data</h2>', _data(inp), "</section>",
     ]
-    return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-            '<meta name="viewport" content="width=device-width, initial-scale=1">\n'
-            f"<title>vorobench report: {_esc(inp.title)}</title>\n<style>{_CSS}</style>\n"
-            f"<script>{get_plotlyjs()}</script>\n</head>\n<body>\n"
-            + "\n".join(body)
-            + f'\n<script type="application/json" id="report-data">{payload}</script>\n'
-            + f"<script>{_JS}</script>\n</body>\n</html>\n")
+    return page(f"vorobench report: {one_line(inp.title)}", _CSS, "\n".join(body), data_id="report-data",
+                data=payload, script=_JS, libraries=[get_plotlyjs()], json_default=_plain)
 
 
 def _first_case(inp: PageInput) -> Optional[int]:

@@ -121,8 +121,8 @@ def _ordered(columns: Iterable[str]) -> list[str]:
 def _cell(value: Any) -> str:
     if value is None:
         return ""
-    if isinstance(value, float):
-        return "" if math.isnan(value) else repr(value)
+    if isinstance(value, float):         # numpy's floats too: repr of a Python float, never "np.float64(...)"
+        return "" if math.isnan(value) else repr(float(value))
     return str(value)
 
 

@@ -1,30 +1,26 @@
-"""Run benchmark cases, each in its own worker process, and turn every outcome into rows.
+"""Run benchmark cases, each in a sandbox of its own, and turn every outcome into rows.
 
 A case is one (implementation, dataset, n, seed, weight family): with a weight family (``bench
 --weights``) it times the power diagram of the dataset's points, and an implementation that
-does not take weights is recorded as ``unsupported`` without being started. Its worker (:mod:`vorobench.harness.worker`) is a
-fresh process, so a hard crash (segfault, ``os._exit``), a hang or running out of memory ends
-that case only: the parent records the status and goes on. Workers are forked from a
-``forkserver`` that has imported numpy, scipy, numba and the implementations once (a fresh
-``spawn`` interpreter per case costs about 2 s of imports on a busy 2-core machine; the
-server never runs a case, so no state passes from one case to the next). ``start_method=
-"spawn"`` gives a brand-new interpreter per case instead. ``timeout`` bounds each
-step the implementation runs (every repeat, and the check); the warm-up, which may include JIT
-compilation, has its own allowance. Rows of each finished case go to ``sink`` before the next
-case starts.
+does not take weights is recorded as ``unsupported`` without being started. Its sandbox
+(:class:`vorobench.judge.sandbox.Sandbox`, the one judging uses, serving the requests of
+:mod:`vorobench.harness.worker`) is a fresh process, so a hard crash (segfault, ``os._exit``), a
+hang or running out of memory ends that case only: the runner records the status and goes on.
+Sandboxes are forked from a ``forkserver`` that has imported numpy, scipy, numba and
+vorobench's own implementations once (never a plugin: a plugin is loaded in the sandbox of its
+implementation only); ``start_method="spawn"`` gives a brand-new interpreter per case instead.
+``timeout`` bounds each timed repeat; start-up and the warm-up, which may include JIT
+compilation, have their own allowance. Every repeat's diagram is judged here
+(:mod:`vorobench.harness.repeat_check`). Rows of each finished case go to ``sink`` before the
+next case starts.
 """
 
 from __future__ import annotations
 
-import atexit
-import dataclasses
 import datetime as _dt
 import math
-import multiprocessing as mp
 import os
-import shutil
 import socket
-import tempfile
 import time
 from dataclasses import asdict, dataclass, field
 from typing import Callable, Iterable, Optional, Sequence
@@ -38,12 +34,13 @@ from vorobench.harness.analysis import loglog_fit
 from vorobench.harness.executors import LOCAL, parse_spec, run_tasks
 from vorobench.harness.results import case_key, weighted_label
 from vorobench.harness.repeat_check import RepeatJudging, reference_result, repeat_shifts
-from vorobench.harness.worker import MAX_REPEAT, run_and_report, worker_main
-from vorobench.judge import isolation, wire
+from vorobench.harness.worker import MAX_REPEAT, prepare_timing, timed_repeat
+from vorobench.judge import wire
 from vorobench.judge.declarations import Declaration
 from vorobench.judge.engine import NO_WEIGHTS, diagram_schema, prepare_case, shared_judge
-from vorobench.judge.isolation import FORKSERVER_PRELOAD, default_start_method
-from vorobench.judge.outcomes import Status, Verdict, status_rank, verdict_rank
+from vorobench.judge.isolation import default_start_method
+from vorobench.judge.outcomes import COUNTER_PREFIX, Status, Verdict, status_rank, verdict_rank
+from vorobench.judge.sandbox import Sandbox
 
 __all__ = ["Case", "RunConfig", "CaseOutcome", "plan_cases", "run_case", "run_case_in_process", "run_cases",
            "exit_status", "case_input", "takes_weights"]
@@ -184,13 +181,6 @@ def case_input(case: Case):
     return prepare_case(points, weights)
 
 
-def _context(method: str):
-    ctx = mp.get_context(method)
-    if method == "forkserver":
-        ctx.set_forkserver_preload(list(FORKSERVER_PRELOAD))   # only takes effect when the server starts
-    return ctx
-
-
 def _reference_of(case: Case, config: RunConfig, sites, weights):
     """The reference's judged build of the case's input, in a sandbox of the judging engine,
     kept in this process as arrays and a certificate."""
@@ -205,36 +195,65 @@ def _reference_of(case: Case, config: RunConfig, sites, weights):
     return reference_result(key, build)
 
 
-#: What a worker may report, by message kind: anything else it sends is dropped.
-_DATA_KEYS = ("rss_base_mb", "setup_s", "n_points", "warmup_s")
-_FAILED_STATUSES = (Status.UNSUPPORTED, Status.ERROR, Status.OOM)
+#: What a sandbox may report of a case's set-up and of each repeat: anything else is dropped.
+_SETUP_KEYS = ("rss_base_mb", "setup_s", "n_points", "warmup_s")
+_REPEAT_KEYS = ("time_s", "peak_rss_mb", "mem_mb", "input_scale_log2")
+
+#: A sandbox's failure (``Outcome.kind``) as the case's status.
+_STATUS_OF = {"crashed": Status.CRASHED, "timeout": Status.TIMEOUT, "oom": Status.OOM, "error": Status.ERROR}
 
 
-def _accepted(kind: str, payload) -> Optional[dict]:
-    """The part of a worker's message the judge takes: numbers under known names (counters and
-    phase timings by their prefix), a failure's status and text; None for anything else."""
+def _numbers(payload, keys: Sequence[str], phases: bool = False, counters: bool = False) -> dict:
+    """The numbers of ``payload`` under ``keys`` (and phase timings ``time_<phase>_s``, counters
+    ``stat_<name>`` by their prefix when asked): all the judge takes of what an
+    implementation's process says."""
     if not isinstance(payload, dict):
+        return {}
+    return {k: v for k, v in payload.items() if type(v) in (int, float) and (
+        k in keys or (counters and k.startswith(COUNTER_PREFIX))
+        or (phases and k.startswith("time_") and k.endswith("_s")))}
+
+
+def _failure(outcome, info: dict) -> str:
+    """Record a sandbox's failed request in ``info``; the case's status."""
+    info["error"] = wire.clean_text(outcome.message, 500)
+    if outcome.kind == "error" and outcome.message.startswith("InputMutated"):
+        info["verdict"] = Verdict.MUTATED_INPUT
+    return _STATUS_OF.get(outcome.kind, Status.CRASHED)
+
+
+def _builds_to_time(config: RunConfig, index: int, timed_s: float) -> bool:
+    """Whether build ``index`` is timed: at least ``repeat`` builds; short ones are repeated
+    until ``min_time`` seconds are timed (at most ``MAX_REPEAT``)."""
+    return index < config.repeat or (timed_s < (config.min_time or 0.0) and index < MAX_REPEAT)
+
+
+class _InProcess:
+    """The sandbox's interface, run in this process (a Dask worker: no per-request timeout,
+    no memory cap, and a hard crash takes the worker down, which the executor records)."""
+
+    def start(self):
         return None
-    numbers = {k: v for k, v in payload.items() if type(v) in (int, float)}
-    if kind == "data":
-        return {k: v for k, v in numbers.items() if k in _DATA_KEYS}
-    if kind == "repeat":
-        return {k: v for k, v in numbers.items()
-                if k in ("time_s", "peak_rss_mb", "mem_mb", "V", "E", "input_scale_log2")
-                or k.startswith("stat_") or (k.startswith("time_") and k.endswith("_s"))}
-    if kind == "failed":
-        status = payload.get("status")
-        out = {"status": status if status in _FAILED_STATUSES else Status.ERROR,
-               "error": wire.clean_text(payload.get("error", ""), 500)}
-        if payload.get("verdict") == Verdict.MUTATED_INPUT:
-            out["verdict"] = Verdict.MUTATED_INPUT
-        return out
-    return None
+
+    def call(self, fn, *args, timeout=None, step="", schema=None):
+        from vorobench.judge.sandbox import Outcome, safe_message
+
+        try:
+            return Outcome("ok", fn(*args))
+        except MemoryError as exc:
+            return Outcome("oom", message=f"MemoryError: {exc}")
+        except Exception as exc:  # noqa: BLE001 - the implementation's failure, as a sandbox reports it
+            return Outcome("error", message=safe_message(exc))
+
+    def close(self) -> None:
+        return None
 
 
-def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], None]] = None) -> CaseOutcome:
-    """Run one case in a fresh worker process (the implementation's sandbox) and return its rows,
-    whatever happens to it; every repeat's diagram is judged here."""
+def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], None]] = None,
+             in_process: bool = False) -> CaseOutcome:
+    """Run one case in a fresh sandbox (the one judging uses: its plugin loaded there alone) and
+    return its rows, whatever happens to it; every repeat's diagram is judged here, in the
+    judge's process. ``in_process``: build in this process instead (see :class:`_InProcess`)."""
     declared = config.declaration(case.impl)
     if declared is None:
         return lost_outcome(case, config, f"{case.impl} declared nothing readable: it could not be loaded", "error")
@@ -246,64 +265,65 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
     shifts = repeat_shifts(sites, builds + 1)
     judging = RepeatJudging(case.impl, declared, sites, weights, shifts[:builds])
     schema = diagram_schema(sites.shape[0], weights is not None)
-    ctx = _context(config.start_method)
-    receiver, sender = ctx.Pipe(duplex=True)
-    worker_config = config.for_worker()
-    worker_config["plugins"] = (declared.plugin,) if declared.plugin else ()
-    worker_config["shifts"] = judging.shifts
-    worker_config["warmup_shift"] = shifts[-1]
-    # A forked worker would see the fork server's environment; it gets the parent's, as now.
-    worker_config["environ"] = dict(os.environ)
-    proc = ctx.Process(target=worker_main, args=(sender, asdict(case), worker_config),
-                       name=f"vorobench-{case.impl}", daemon=True)
+    box = _InProcess() if in_process else Sandbox(
+        case.impl, plugins=(declared.plugin,) if declared.plugin else (), memory_limit_mb=config.memory_limit_mb,
+        warmup_timeout=config.allowance("startup") + config.allowance("warmup"), expected=declared,
+        start_method=config.start_method)
     info: dict = {}
     repeats: list[dict] = []
-    step = "startup"
-    status: Optional[str] = None
+    step, status = "warmup", None
+
+    def announce(text: str) -> None:
+        nonlocal step
+        step = text
+        if on_step:
+            on_step(text)
+
     try:
-        proc.start()
-        isolation.watch(proc.pid)
-        sender.close()
-        deadline = time.monotonic() + config.allowance(step)
-        while status is None:
-            if receiver.poll(max(0.0, deadline - time.monotonic())):
-                try:
-                    message = receiver.recv_bytes(wire.MAX_MESSAGE_BYTES)
-                    kind, payload, arrays = wire.decode(message, schema_for=lambda k, d: schema if k == "repeat" else {})
-                    del message
-                except (EOFError, OSError):
-                    proc.join(10)
-                    status, info["error"] = isolation.describe_death(proc.exitcode)
-                    break
-                except wire.WireError as exc:
-                    status, info["error"] = Status.CRASHED, f"sent an answer the judge refuses during {step}: {exc}"
-                    break
-                if kind == "step" and isinstance(payload, str):
-                    step = payload
-                    deadline = time.monotonic() + config.allowance(step)
-                    if on_step:
-                        on_step(step)
-                elif kind == "repeat":
-                    judging.take(len(repeats), arrays)
-                    del arrays
-                    repeats.append(_accepted(kind, payload) or {})
-                    receiver.send_bytes(b"go")
-                status = _absorb(kind, _accepted(kind, payload), info, repeats) or status
-            elif proc.is_alive():
-                status = Status.TIMEOUT
-                info["error"] = f"no result within {config.allowance(step):g} s during {step}"
+        announce("warmup")
+        t0 = time.perf_counter()
+        failure = box.start()               # start-up, imports and the implementation's own warm-up
+        start_s = time.perf_counter() - t0
+        if failure is not None:
+            status = _failure(failure, info)
+        else:
+            outcome = box.call(prepare_timing, asdict(case), judging.shifts, shifts[-1], step="warm-up build",
+                               timeout=config.allowance("generate") + config.allowance("warmup"))
+            if not outcome.ok:
+                status = _failure(outcome, info)
+            elif isinstance(outcome.value[0], dict) and outcome.value[0].get("unsupported"):
+                status, info["error"] = Status.UNSUPPORTED, wire.clean_text(outcome.value[0]["unsupported"], 500)
             else:
-                proc.join(10)
-                status, info["error"] = isolation.describe_death(proc.exitcode)
+                info.update(_numbers(outcome.value[0], _SETUP_KEYS))
+                info["warmup_s"] = start_s + float(info.get("warmup_s", 0.0))
+        timed_s, index = 0.0, 0
+        while status is None and _builds_to_time(config, index, timed_s):
+            announce(f"repeat {index + 1}/{config.repeat}" if index < config.repeat
+                     else f"repeat {index + 1} (filling min-time)")
+            outcome = box.call(timed_repeat, index, timeout=config.timeout, step=step, schema=schema)
+            if not outcome.ok:
+                status = _failure(outcome, info)
+                break
+            row, arrays = outcome.value
+            judging.take(index, arrays)
+            repeats.append(_numbers(row, _REPEAT_KEYS, phases=True, counters=index == 0))
+            timed_s += float(repeats[-1].get("time_s", 0.0))
+            index += 1
+        status = status or Status.OK
     finally:
-        if status == Status.OK:
-            proc.join(5)                    # a finished worker is only exiting: let it
-        isolation.kill_worker(proc)         # its process group too: nothing it started lives on
-        receiver.close()
+        box.close()                         # its process group too: nothing it started lives on
     _judge_repeats(case, config, status, judging, repeats, info, sites, weights, on_step)
     seconds = time.perf_counter() - started
     info["case_s"] = seconds
     return CaseOutcome(case, status, _rows(case, config, status, step, info, repeats), seconds)
+
+
+def run_case_in_process(case: Case, config: RunConfig) -> CaseOutcome:
+    """Run one case in this process (a Dask worker: one case per worker thread, no per-step
+    timeout, no memory cap). A hard crash takes this process down; the executor sees the
+    worker die, and the parent retries the case or records it as lost. The implementation
+    shares this process with the judging, so there its verdicts are only as trustworthy as it is."""
+    return run_case(case, config, in_process=True)
 
 
 def _judge_repeats(case: Case, config: RunConfig, status: Optional[str], judging: RepeatJudging,
@@ -313,8 +333,7 @@ def _judge_repeats(case: Case, config: RunConfig, status: Optional[str], judging
     info["n_sites"] = int(sites.shape[0])
     if status != Status.OK or not repeats:
         return
-    for row in repeats:
-        row.update(judging.counts) if row is repeats[0] else None
+    repeats[0].update(judging.counts)       # V and E of the judged diagram, counted here
     if not (config.check and config.reference):
         info["verdict"] = Verdict.SKIPPED
         return
@@ -330,56 +349,6 @@ def _judge_repeats(case: Case, config: RunConfig, status: Optional[str], judging
     for row, verdict in zip(repeats, verdicts):
         row.update(verdict)
     info["check_s"] = (time.perf_counter_ns() - t0) / 1e9
-
-
-def _absorb(kind: str, payload, info: dict, repeats: list[dict]) -> Optional[str]:
-    """Take one (accepted) worker message into ``info``; the case's status if it ends it."""
-    if kind == "data" and payload:
-        info.update(payload)
-    elif kind == "done":
-        return Status.OK
-    elif kind == "failed" and payload:
-        info.update(payload)
-        return payload["status"]
-    return None
-
-
-def run_case_in_process(case: Case, config: RunConfig) -> CaseOutcome:
-    """Run one case in this process (a Dask worker: one case per worker thread, no per-step
-    timeout, no memory cap). A hard crash takes this process down; the executor sees the
-    worker die, and the parent retries the case or records it as lost. The implementation
-    shares this process, so its verdicts are only as trustworthy as it is (the README says so)."""
-    declared = config.declaration(case.impl)
-    if declared is None:
-        return lost_outcome(case, config, f"{case.impl} declared nothing readable: it could not be loaded", "error")
-    if case.weights and not declared.weighted:
-        return _no_weights(case, config)
-    started = time.perf_counter()
-    sites, weights = case_input(case)
-    builds = max(config.repeat, MAX_REPEAT if config.min_time else 0)
-    shifts = repeat_shifts(sites, builds + 1)
-    judging = RepeatJudging(case.impl, declared, sites, weights, shifts[:builds])
-    info: dict = {}
-    repeats: list[dict] = []
-    state = {"step": "startup", "status": None}
-
-    def send(kind: str, payload=None, arrays=None) -> None:
-        if kind == "step":
-            state["step"] = payload
-        elif kind == "repeat":
-            judging.take(len(repeats), arrays)
-            repeats.append(_accepted(kind, payload) or {})
-        state["status"] = _absorb(kind, _accepted(kind, payload), info, repeats) or state["status"]
-
-    worker_config = config.for_worker()
-    worker_config.update(environ=None, memory_limit_mb=None, shifts=judging.shifts, warmup_shift=shifts[-1],
-                         plugins=(declared.plugin,) if declared.plugin else ())
-    run_and_report(asdict(case), worker_config, send)
-    status = state["status"] or Status.CRASHED
-    _judge_repeats(case, config, status, judging, repeats, info, sites, weights)
-    seconds = time.perf_counter() - started
-    info["case_s"] = seconds
-    return CaseOutcome(case, status, _rows(case, config, status, state["step"], info, repeats), seconds)
 
 
 def _no_weights(case: Case, config: RunConfig) -> CaseOutcome:

@@ -15,7 +15,7 @@ from typing import Optional, Sequence
 
 import impls
 
-__all__ = ["cpu_model", "git_commit", "load_average", "package_versions", "library_versions", "machine_id",
+__all__ = ["provenance_here", "sandboxed_provenance", "cpu_model", "git_commit", "load_average", "package_versions", "library_versions", "machine_id",
            "code_provenance", "run_metadata"]
 
 #: Distributions whose versions change timings (or results) and so are recorded.
@@ -162,6 +162,37 @@ def code_provenance(names: Sequence[str]) -> dict[str, dict[str, object]]:
     return out
 
 
+def provenance_here(names: Sequence[str], plugins: Sequence[str] = ()) -> tuple[dict, None]:
+    """Runs in a sandbox: :func:`code_provenance` of ``names`` with ``plugins`` loaded there
+    (finding a module's file imports it: never in the judging process)."""
+    from impls.plugins import load_plugin
+
+    for spec in plugins:
+        load_plugin(spec)
+    return code_provenance(names), None
+
+
+def sandboxed_provenance(names: Sequence[str], plugins: Sequence[str] = (), timeout: float = 120.0
+                         ) -> dict[str, dict[str, object]]:
+    """:func:`code_provenance` of ``names``, read in a throwaway sandbox: plain data back, each
+    entry's fields kept only when they are what provenance is (text, a flag or nothing)."""
+    from vorobench.judge.sandbox import Sandbox
+
+    box = Sandbox(None, warmup_timeout=timeout)
+    try:
+        outcome = box.call(provenance_here, list(names), tuple(plugins), timeout=timeout, step="reading provenance")
+    finally:
+        box.close()
+    data = outcome.value[0] if outcome.ok else None
+    empty = {"module": None, "file": None, "distribution": None, "version": None, "commit": None, "dirty": None}
+    out = {}
+    for name in names:
+        entry = data.get(name) if isinstance(data, dict) else None
+        entry = entry if isinstance(entry, dict) else {}
+        out[name] = {k: (entry.get(k) if type(entry.get(k)) in (str, bool, type(None)) else None) for k in empty}
+    return out
+
+
 def load_average() -> Optional[list[float]]:
     """The 1, 5 and 15 minute load averages (None where the OS has none): above the core count,
     other processes compete for the CPU and timings are noisy."""
@@ -171,9 +202,10 @@ def load_average() -> Optional[list[float]]:
         return None
 
 
-def run_metadata(impl_names: Sequence[str] = ()) -> dict[str, object]:
+def run_metadata(impl_names: Sequence[str] = (), plugins: Sequence[str] = ()) -> dict[str, object]:
     """Everything needed to interpret a run later: date, commit, versions, machine, and where
-    the code of each implementation in ``impl_names`` comes from."""
+    the code of each implementation in ``impl_names`` comes from (read in a sandbox, with the
+    run's ``plugins``)."""
     git = git_commit()
     return {
         "date": _dt.datetime.now(_dt.timezone.utc).astimezone().isoformat(timespec="seconds"),
@@ -183,7 +215,7 @@ def run_metadata(impl_names: Sequence[str] = ()) -> dict[str, object]:
         "python_implementation": platform.python_implementation(),
         "versions": package_versions(),
         "libraries": library_versions(),
-        "implementations": code_provenance(impl_names),
+        "implementations": sandboxed_provenance(impl_names, plugins) if impl_names else {},
         "machine_id": machine_id(),
         "memory_gb": _total_memory_gb(),
         "cpu": cpu_model(),

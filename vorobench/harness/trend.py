@@ -1,10 +1,11 @@
 """Trends across the runs of a run store: every case's build time and counters, run after run, with change points found and a self-contained page drawn.
 
-The command line is :mod:`vorobench.cli.trend`; its help text describes the behaviour."""
+The command line is :mod:`vorobench.cli.trend`; its help text describes the behaviour. Names
+and metadata are text on the page, made safe by :mod:`vorobench.harness.html_page`, which also
+gives the page its skeleton and common style."""
 
 from __future__ import annotations
 
-import html
 import json
 import math
 from dataclasses import asdict, dataclass, field
@@ -18,6 +19,7 @@ from plotly.offline import get_plotlyjs
 from plotly.subplots import make_subplots
 
 from vorobench.harness.changepoints import counter_steps, time_steps
+from vorobench.harness.html_page import escape, page
 from vorobench.harness.results import with_weights_in_dataset
 from vorobench.judge.outcomes import counter_columns
 
@@ -284,10 +286,6 @@ def format_seconds(x: float) -> str:
     return f"{x * 1e3:.3g} ms" if x < 1 else f"{x:.3g} s"
 
 
-def _esc(text: Any) -> str:
-    return html.escape(str(text), quote=True)
-
-
 def _pct(ratio: Optional[float]) -> str:
     if ratio is None or not math.isfinite(ratio):
         return "-"
@@ -300,7 +298,7 @@ def _impl_note(run: Run, impl: str) -> str:
     commit, dirty, _ = run.impl_code.get(impl, (None, False, None))
     if not commit or commit == run.commit:
         return ""
-    return f"<br>{_esc(impl)} code at {_esc(commit[:10])}{'+' if dirty else ''}"
+    return f"<br>{escape(impl)} code at {escape(commit[:10])}{'+' if dirty else ''}"
 
 
 def _figure(m: Machine, impl: str, dataset: str, series: list[Series]) -> tuple[Any, int]:
@@ -314,15 +312,15 @@ def _figure(m: Machine, impl: str, dataset: str, series: list[Series]) -> tuple[
     colours = qualitative.Plotly
     for k, s in enumerate(series):
         colour = colours[k % len(colours)]
-        label = _esc(f"n={s.n}" + (f" seed={s.seed}" if several_seeds else ""))
+        label = escape(f"n={s.n}" + (f" seed={s.seed}" if several_seeds else ""))
         med = np.array([np.median(t) for t in s.times])
         lo = np.array([t.min() for t in s.times])
         hi = np.array([t.max() for t in s.times])
         custom = []
         for i, md, a, b, t in zip(s.timed, med, lo, hi, s.times):
             run = m.runs[i]
-            custom.append([_esc(run.when), _esc(run.run_id), _esc((run.commit or "no commit") + (" (dirty)" if run.dirty
-                                                                                             else "")),
+            commit = (run.commit or "no commit") + (" (dirty)" if run.dirty else "")
+            custom.append([escape(run.when), escape(run.run_id), escape(commit),
                            format_seconds(md), format_seconds(a), format_seconds(b), int(t.size), _impl_note(run, s.impl)])
         fig.add_trace(go.Scatter(
             x=s.timed, y=med, mode="lines+markers", name=label, legendgroup=label, line=dict(color=colour),
@@ -334,7 +332,7 @@ def _figure(m: Machine, impl: str, dataset: str, series: list[Series]) -> tuple[
         if s.steps:
             xs = [s.timed[st.index] for st in s.steps]
             ys = [med[st.index] for st in s.steps]
-            text = [f"<b>time step at {_esc(m.runs[x].label)}</b> ({label})<br>{format_seconds(st.before)} \u2192 "
+            text = [f"<b>time step at {escape(m.runs[x].label)}</b> ({label})<br>{format_seconds(st.before)} \u2192 "
                     f"{format_seconds(st.after)}: {st.ratio:.2f}x ({_pct(st.ratio)}), p={st.p_value:.2g}"
                     for x, st in zip(xs, s.steps)]
             fig.add_trace(go.Scatter(x=xs, y=ys, mode="markers", name=f"{label} step", legendgroup=label,
@@ -344,23 +342,23 @@ def _figure(m: Machine, impl: str, dataset: str, series: list[Series]) -> tuple[
     dash = ["solid", "dot", "dash", "dashdot", "longdash"]
     for k, s in enumerate(series):
         colour = colours[k % len(colours)]
-        label = _esc(f"n={s.n}" + (f" seed={s.seed}" if several_seeds else ""))
+        label = escape(f"n={s.n}" + (f" seed={s.seed}" if several_seeds else ""))
         for c, name in enumerate(sorted(s.counter_changes)):
             values = s.counters[name]
             xs = [i for i, v in enumerate(values) if v is not None]
             first = values[xs[0]]
             ys = [values[i] / first if first else values[i] for i in xs]
-            custom = [[_esc(m.runs[i].label), f"{values[i]:,}"] for i in xs]
+            custom = [[escape(m.runs[i].label), f"{values[i]:,}"] for i in xs]
             fig.add_trace(go.Scatter(
                 x=xs, y=ys, mode="lines+markers", line=dict(color=colour, dash=dash[c % len(dash)], shape="hv"),
-                name=f"{label} {_esc(name)}", legendgroup=label, customdata=custom,
-                hovertemplate=f"{_esc(name)} = %{{customdata[1]}}<br>at %{{customdata[0]}}<extra>{label}</extra>"),
+                name=f"{label} {escape(name)}", legendgroup=label, customdata=custom,
+                hovertemplate=f"{escape(name)} = %{{customdata[1]}}<br>at %{{customdata[0]}}<extra>{label}</extra>"),
                 row=2, col=1)
     _mark_changes(fig, m, series, rows)
     ticks = list(range(len(m.runs)))
     step = max(1, math.ceil(len(ticks) / _MAX_TICKS))
     shown = ticks[::step]
-    fig.update_xaxes(tickmode="array", tickvals=shown, ticktext=[_esc(m.runs[i].label) for i in shown],
+    fig.update_xaxes(tickmode="array", tickvals=shown, ticktext=[escape(m.runs[i].label) for i in shown],
                      range=[-0.5, len(m.runs) - 0.5], tickangle=-45 if len(shown) > 12 else 0,
                      showgrid=False, zeroline=False)
     fig.update_xaxes(title_text="run (vorobench commit; + dirty)", row=rows, col=1)
@@ -421,29 +419,24 @@ def _mark_changes(fig, m: Machine, series: list[Series], rows: int) -> None:
                       line=dict(color=colour, width=1.5, dash="dash"))
         fig.add_annotation(xref="x", yref="y domain", x=i - 0.5, y=1, yanchor="bottom", xanchor="center",
                            yshift=2 + 15 * (k % 2),
-                           text=_esc(m.runs[i].label) + (" (time)" if what == {"time"} else " (counters)"
+                           text=escape(m.runs[i].label) + (" (time)" if what == {"time"} else " (counters)"
                                                          if what == {"counter"} else " (time, counters)"),
                            showarrow=False, font=dict(size=11, color=colour), bgcolor="rgba(255,255,255,0.85)")
 
 
-def _json_for_script(obj: Any) -> str:
-    """JSON that cannot end a <script> element nor open a comment in it."""
-    text = json.dumps(obj, separators=(",", ":"), allow_nan=False)
-    return text.replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
-
-
+# After html_page.BASE_CSS: this page's sizes, its change tables, figures and jump bar.
 _CSS = """
-body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; margin: 1.5em 2em; color: #222; }
-h1 { font-size: 1.5em; margin-bottom: 0.2em; } h2 { margin-top: 1.6em; border-bottom: 1px solid #ccc; }
+body { margin: 1.5em 2em; }
+h1 { font-size: 1.5em; margin-bottom: 0.2em; }
 h3 { margin: 1.4em 0 0.2em; font-size: 1.1em; }
-table { border-collapse: collapse; font-size: 0.9em; margin: 0.5em 0; }
-th, td { border: 1px solid #ddd; padding: 3px 8px; text-align: left; vertical-align: top; }
+table { font-size: 0.9em; margin: 0.5em 0; }
+th, td { padding: 3px 8px; }
 th { background: #f3f3f3; } td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
 td.nowrap { white-space: nowrap; }
 tr.time td.kind { color: #d62728; font-weight: 600; } tr.counter td.kind { color: #e36c00; font-weight: 600; }
 .slower { color: #b00; } .faster { color: #070; }
 .scroll { max-height: 28em; overflow: auto; display: inline-block; }
-.note { color: #555; font-size: 0.9em; } code { font-size: 0.95em; }
+code { font-size: 0.95em; }
 .plot { width: 100%; min-width: 600px; }
 nav { position: sticky; top: 0; background: #fff; padding: 0.4em 0; border-bottom: 1px solid #eee; z-index: 10; }
 details { margin: 0.3em 0 1em; } summary { cursor: pointer; color: #333; }
@@ -490,11 +483,11 @@ def _change_table(points: list[ChangePoint], anchors: dict[tuple, str], machines
 
     def start(p: ChangePoint) -> str:
         anchor = anchors.get((p.machine_id, p.impl, p.dataset), "")
-        return (f'<tr class="{p.kind}">' + (f"<td>{_esc(p.machine_id)}</td>" if several else "")
-                + f'<td><a href="#{anchor}-title">{_esc(p.case)}</a></td>'
-                f'<td class="nowrap" title="runs {_esc(p.run_id_before)} &rarr; {_esc(p.run_id)}">'
-                f"{_esc(run_label(p.commit_before, p.dirty_before, p.run_id_before))} &rarr; "
-                f"{_esc(run_label(p.commit, p.dirty, p.run_id))}"
+        return (f'<tr class="{p.kind}">' + (f"<td>{escape(p.machine_id)}</td>" if several else "")
+                + f'<td><a href="#{anchor}-title">{escape(p.case)}</a></td>'
+                f'<td class="nowrap" title="runs {escape(p.run_id_before)} &rarr; {escape(p.run_id)}">'
+                f"{escape(run_label(p.commit_before, p.dirty_before, p.run_id_before))} &rarr; "
+                f"{escape(run_label(p.commit, p.dirty, p.run_id))}"
                 + (' <span class="note" title="both runs were made of the same clean code: the machine changed">'
                    "(same code)</span>" if p.same_code else "") + "</td>")
 
@@ -504,7 +497,7 @@ def _change_table(points: list[ChangePoint], anchors: dict[tuple, str], machines
                 + "</tr></thead><tbody>")
 
     def date(p: ChangePoint) -> str:
-        return f'<td class="nowrap">{_esc(p.date[:19].replace("T", " "))}</td>'
+        return f'<td class="nowrap">{escape(p.date[:19].replace("T", " "))}</td>'
 
     order = lambda p: (p.machine_id, p.run_index, p.impl, p.dataset, p.n, p.seed)   # noqa: E731
     out = []
@@ -527,7 +520,7 @@ def _change_table(points: list[ChangePoint], anchors: dict[tuple, str], machines
         out.append(head("counter", "before &rarr; after", "change", "date"))
         for group in groups.values():
             p = group[0]
-            out.append(start(p) + '<td class="kind">' + "<br>".join(_esc(g.counter) for g in group) + "</td>"
+            out.append(start(p) + '<td class="kind">' + "<br>".join(escape(g.counter) for g in group) + "</td>"
                        '<td class="num">' + "<br>".join(f"{g.before} &rarr; {g.after}" for g in group) + "</td>"
                        '<td class="num">' + "<br>".join(_pct(g.ratio) for g in group) + "</td>" + date(p) + "</tr>")
         out.append("</tbody></table></div>")
@@ -546,10 +539,10 @@ def _counter_table(m: Machine, series: list[Series]) -> str:
             present = [v for v in values if v is not None]
             changes = s.counter_changes.get(name, [])
             changed_total += bool(changes)
-            text = "; ".join(f"at {_esc(m.runs[c.index].label)}: {c.before:,} &rarr; {c.after:,} ({_pct(c.after / c.before if c.before else None)})"
-                             for c in changes) or "constant"
+            text = "; ".join(f"at {escape(m.runs[c.index].label)}: {c.before:,} &rarr; {c.after:,} "
+                             f"({_pct(c.after / c.before if c.before else None)})" for c in changes) or "constant"
             lines.append(f'<tr class="{"counter" if changes else ""}"><td>n={s.n} seed={s.seed}</td>'
-                         f'<td class="kind">{_esc(name)}</td><td class="num">{present[0]:,}</td>'
+                         f'<td class="kind">{escape(name)}</td><td class="num">{present[0]:,}</td>'
                          f'<td class="num">{present[-1]:,}</td><td>{text}</td></tr>')
     if not total:
         return '<p class="note">No counters recorded.</p>'
@@ -563,7 +556,7 @@ def _counter_table(m: Machine, series: list[Series]) -> str:
 
 
 def _failures(m: Machine, series: list[Series]) -> str:
-    notes = [f"n={s.n} seed={s.seed}: " + ", ".join(f"{_esc(m.runs[i].label)} ({_esc(status)})"
+    notes = [f"n={s.n} seed={s.seed}: " + ", ".join(f"{escape(m.runs[i].label)} ({escape(status)})"
                                                      for i, status in sorted(s.failed.items()))
              for s in series if s.failed]
     if not notes:
@@ -583,10 +576,10 @@ def render(store_path: str, machines: list[Machine], points: list[ChangePoint], 
         for s in m.series:
             groups.setdefault((s.impl, s.dataset), []).append(s)
         period = f"{m.runs[0].when} to {m.runs[-1].when}" if len(m.runs) > 1 else m.runs[0].when
-        sections.append(f'<h2 id="machine-{mi}">Machine {_esc(m.machine_id)} <span class="note">'
-                        f"({_esc(m.hostname)}, {_esc(m.cpu)}): {len(m.runs)} run{'s' if len(m.runs) != 1 else ''}, "
-                        f"{_esc(period)}</span></h2>")
-        options.append(f'<optgroup label="machine {_esc(m.machine_id)} ({_esc(m.hostname)})">')
+        sections.append(f'<h2 id="machine-{mi}">Machine {escape(m.machine_id)} <span class="note">'
+                        f"({escape(m.hostname)}, {escape(m.cpu)}): {len(m.runs)} run{'s' if len(m.runs) != 1 else ''}, "
+                        f"{escape(period)}</span></h2>")
+        options.append(f'<optgroup label="machine {escape(m.machine_id)} ({escape(m.hostname)})">')
         for fi, ((impl, dataset), series) in enumerate(sorted(groups.items())):
             fid = f"fig-{mi}-{fi}"
             anchors[(m.machine_id, impl, dataset)] = fid
@@ -599,11 +592,11 @@ def render(store_path: str, machines: list[Machine], points: list[ChangePoint], 
                 len(c) for s in series for c in s.counter_changes.values())
             badge = f" &mdash; {count} change point{'s' if count != 1 else ''}" if count else ""
             sections.append(
-                f'<section class="figure" data-changes="{count}"><h3 id="{fid}-title">{_esc(impl)} on '
-                f"{_esc(dataset)}{badge}</h3>"
+                f'<section class="figure" data-changes="{count}"><h3 id="{fid}-title">{escape(impl)} on '
+                f"{escape(dataset)}{badge}</h3>"
                 f'<div class="plot" id="{fid}" style="height:{height}px"></div>'
                 + _failures(m, series) + _counter_table(m, series) + "</section>")
-            options.append(f'<option value="{fid}-title">{_esc(impl)} on {_esc(dataset)}'
+            options.append(f'<option value="{fid}-title">{escape(impl)} on {escape(dataset)}'
                            f"{' (' + str(count) + ')' if count else ''}</option>")
         options.append("</optgroup>")
 
@@ -611,7 +604,7 @@ def render(store_path: str, machines: list[Machine], points: list[ChangePoint], 
     n_counter = sum(p.kind == "counter" for p in points)
     runs = sum(len(m.runs) for m in machines)
     generated = datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    head = (f"<h1>Trend of <code>{_esc(store_path)}</code></h1>"
+    head = (f"<h1>Trend of <code>{escape(store_path)}</code></h1>"
             f'<p class="note">{runs} runs on {len(machines)} machine{"s" if len(machines) != 1 else ""}, '
             f"{sum(len(m.series) for m in machines)} series (implementation, dataset, n, seed); generated "
             f"{generated}. Machines are kept apart: each has its own section and its own sequence of runs.</p>"
@@ -625,10 +618,6 @@ def render(store_path: str, machines: list[Machine], points: list[ChangePoint], 
     nav = ('<nav><label>Go to <select id="jump"><option value="">(a figure)</option>' + "".join(options)
            + '</select></label> &nbsp; <label><input type="checkbox" id="only-changes"> only figures with '
            "change points</label></nav>")
-    payload = _json_for_script({"template": template, "figures": figures})
-    return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
-            f"<title>vorobench trend: {_esc(store_path)}</title><style>{_CSS}</style>"
-            f"<script>{get_plotlyjs()}</script></head><body>\n"
-            + head + _change_table(points, anchors, machines) + nav + "\n".join(sections)
-            + f'<script type="application/json" id="trend-figures">{payload}</script>'
-            + f"<script>{_JS}</script></body></html>\n")
+    body = head + _change_table(points, anchors, machines) + nav + "\n".join(sections)
+    return page(f"vorobench trend: {store_path}", _CSS, body, data_id="trend-figures",
+                data={"template": template, "figures": figures}, script=_JS, libraries=[get_plotlyjs()])

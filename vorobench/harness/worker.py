@@ -1,13 +1,12 @@
-"""The worker side of a benchmark case: the implementation's sandbox for timing, one per case.
+"""The sandbox side of a benchmark case: what runs in the implementation's process to time it.
 
-The parent (:mod:`vorobench.harness.runner`) starts one worker per (implementation, dataset, n,
-seed, weight family); a weighted case builds the power diagram of the points with weights of
-that family (:func:`datasets_gen.weights`), drawn with the points, before anything is timed.
-The worker loads only the plugin that defines its implementation, announces each step before
-it starts (``step``), sends its measurements as it gets them (``data``), each timed build's
-diagram with its timings (``repeat``), then ``done`` or ``failed``. Every message crosses the
-bounded wire (:mod:`vorobench.judge.wire`): the parent checks sizes before it allocates, and it
-judges every repeat's diagram itself. Nothing is judged in this process.
+The runner (:mod:`vorobench.harness.runner`) starts one :class:`~vorobench.judge.sandbox.Sandbox`
+per (implementation, dataset, n, seed, weight family), the same sandbox that judging uses, and
+asks it for :func:`prepare_timing`, then one :func:`timed_repeat` per repeat, each with its own
+timeout. A weighted case builds the power diagram of the points with weights of that family
+(:func:`datasets_gen.weights`), drawn with the points, before anything is timed. Every answer
+crosses the bounded wire (:mod:`vorobench.judge.wire`): the runner checks sizes before it
+allocates and judges every repeat's diagram itself. Nothing is judged in this process.
 
 Timing protocol: inputs are generated and prepared before anything is timed; the warm-up
 (``Implementation.warmup`` plus one untimed build of a small input from the same dataset)
@@ -16,16 +15,14 @@ time with the garbage collector collected before and paused during the build; th
 peak is reset before each build so the build's own peak memory is measured. Repeat i builds the
 sites scaled by ``2**shifts[i]`` (the parent's choice: the same order and the same diagram, the
 vertices scaled alike, but other bytes), so a result cached by its input cannot fake a timing.
-After each repeat the worker waits for the parent to take the diagram in, so the parent's work
-never overlaps a timed build. Builds shorter than a scheduler time slice are repeated until
-``min_time`` seconds are timed (at most ``MAX_REPEAT`` builds).
+Each repeat is a request of its own, so the runner's work never overlaps a timed build. Builds
+shorter than a scheduler time slice are repeated until ``min_time`` seconds are timed (at most
+``MAX_REPEAT`` builds).
 """
 
 from __future__ import annotations
 
 import gc
-import os
-import signal
 import time
 from typing import Any, Callable, Optional
 
@@ -33,18 +30,12 @@ import numpy as np
 
 import datasets_gen
 import impls
-from impls.base import BuildRaised, InputMutated
-from impls.plugins import load_plugin
+from impls.base import BuildRaised
 from vorobench.harness import peakmem
-from vorobench.judge import isolation, wire
-from vorobench.judge.engine import NO_WEIGHTS, _declined, diagram_arrays, prepare_case
+from vorobench.judge.engine import declined_reason, diagram_arrays, prepare_case
 from vorobench.judge.outcomes import COUNTER_PREFIX, timing_column
-from vorobench.judge.sandbox import safe_message
 
-__all__ = ["worker_main", "run_and_report", "scaled_input", "MAX_REPEAT", "WARMUP_N"]
-
-#: ``send(kind, payload, arrays)``: one message to the parent.
-Send = Callable[..., None]
+__all__ = ["prepare_timing", "timed_repeat", "scaled_input", "MAX_REPEAT", "WARMUP_N"]
 
 #: Smallest input used for the untimed warm-up build (capped by the case's own n).
 WARMUP_N = 64
@@ -87,20 +78,19 @@ def _measured_columns(stats: dict, timings: dict) -> dict[str, float]:
             | {timing_column(phase): float(seconds) for phase, seconds in timings.items()})
 
 
-def _run_steps(case: dict, config: dict, send: Send, wait: Callable[[], None]) -> None:
-    if config.get("environ") is not None:
-        os.environ.clear()
-        os.environ.update(config["environ"])
-    for spec in config.get("plugins", ()):
-        load_plugin(spec)
+#: The case a sandbox times: its implementation, input and the repeats' powers of two, kept
+#: between the requests of one case (a sandbox serves one case, then is closed).
+_CASE: dict = {}
 
+
+def prepare_timing(case: dict, shifts: list[int], warmup_shift: int) -> tuple[dict, None]:
+    """Runs in the sandbox: generate and prepare the case's input (outside anything timed),
+    screen it with ``supports``, run the untimed warm-up build on a small input of another
+    scale, and keep the input for :func:`timed_repeat`. Returns the set-up's measurements, or
+    ``{"unsupported": reason}``."""
     impl = impls.get(case["impl"])
     family = case.get("weights") or ""
-    if family and not impl.weighted:
-        send("failed", {"status": "unsupported", "error": f"{NO_WEIGHTS}: {impl.name} builds ordinary Voronoi "
-                                                           f"diagrams only"})
-        return
-    send("data", {"rss_base_mb": peakmem.current_rss_mb()})
+    data: dict[str, Any] = {"rss_base_mb": peakmem.current_rss_mb()}
 
     def case_input(n: int):
         """(points, sites, site weights or None) of the case's dataset at size ``n``."""
@@ -108,82 +98,45 @@ def _run_steps(case: dict, config: dict, send: Send, wait: Callable[[], None]) -
         weights = datasets_gen.weights(family, points, seed=case["seed"]) if family else None
         return (points, *prepare_case(points, weights))
 
-    send("step", "generate")
     t0 = time.perf_counter_ns()
     points, sites, weights = case_input(case["n"])
-    send("data", {"setup_s": (time.perf_counter_ns() - t0) / 1e9, "n_points": int(points.shape[0])})
+    data.update(setup_s=(time.perf_counter_ns() - t0) / 1e9, n_points=int(points.shape[0]))
     del points
-    reason = _declined(impl, sites)
+    reason = declined_reason(impl, sites)
     if reason:
-        send("failed", {"status": "unsupported", "error": reason})
-        return
-    isolation.limit_memory(config.get("memory_limit_mb"))
-
-    send("step", "warmup")
+        return {"unsupported": reason}, None
     t0 = time.perf_counter_ns()
-    if impl.warmup is not None:
-        impl.warmup()
     _, small, small_weights = case_input(min(case["n"], WARMUP_N))
     # Scaled by a power no repeat uses: a small case's warm-up input is not a repeat's input.
-    small, small_weights = scaled_input(small, small_weights, int(config.get("warmup_shift") or 0))
-    impl.run(small, {}, weights=small_weights)
-    send("data", {"warmup_s": (time.perf_counter_ns() - t0) / 1e9})
-
+    small, small_weights = scaled_input(small, small_weights, int(warmup_shift))
+    _unwrapped(impl.run, small, {}, weights=small_weights, wrap_build_errors=True)
+    data["warmup_s"] = (time.perf_counter_ns() - t0) / 1e9
+    _CASE.update(impl=impl, sites=sites, weights=weights, shifts=list(shifts) or [0])
     # Everything alive now (libraries, inputs) is moved out of the collector's reach, so the
     # collection before each build costs microseconds instead of ~0.1 s.
     gc.collect()
     gc.freeze()
-    shifts = list(config.get("shifts") or [0])
-    repeat, min_time = config["repeat"], config.get("min_time") or 0.0
-    timed_ns, i = 0, 0
-    # At least `repeat` builds; fast ones are repeated until `min_time` of timed builds (capped).
-    while i < repeat or (timed_ns < min_time * 1e9 and i < MAX_REPEAT):
-        send("step", f"repeat {i + 1}/{repeat}" if i < repeat else f"repeat {i + 1} (filling min-time)")
-        stats: dict = {}
-        timings: dict = {}
-        shift = shifts[i % len(shifts)]
-        given, given_weights = scaled_input(sites, weights, shift)
-        diagram, ns, peak, own = _timed_build(impl, given, stats, timings, given_weights)
-        timed_ns += ns
-        row = {"time_s": ns / 1e9, "peak_rss_mb": peak, "mem_mb": own, "input_scale_log2": shift} \
-            | _measured_columns({}, timings)
-        if i == 0:
-            counts = diagram.counts()
-            row.update(V=counts["V"], E=counts["E"], **_measured_columns(stats, {}))
-        send("repeat", row, diagram_arrays(diagram))
-        diagram = None                      # free this result before the next build
-        wait()                              # the parent has taken the diagram in: nothing of it overlaps the next build
-        i += 1
-    send("done", None)
+    return data, None
 
 
-def run_and_report(case: dict, config: dict, send: Send, wait: Callable[[], None] = lambda: None) -> None:
-    """Run the case's steps in this process; every failure is sent as ``("failed", ...)``."""
+def timed_repeat(index: int) -> tuple[dict, dict]:
+    """Runs in the sandbox: timed build number ``index`` of the prepared case, on its sites
+    times ``2**shifts[index]``: (timings, memory and counters; the diagram's arrays)."""
+    shifts = _CASE["shifts"]
+    shift = shifts[index % len(shifts)]
+    given, given_weights = scaled_input(_CASE["sites"], _CASE["weights"], shift)
+    stats: dict = {}
+    timings: dict = {}
+    diagram, ns, peak, own = _unwrapped(_timed_build, _CASE["impl"], given, stats, timings, given_weights)
+    row = {"time_s": ns / 1e9, "peak_rss_mb": peak, "mem_mb": own, "input_scale_log2": shift} \
+        | _measured_columns(stats if index == 0 else {}, timings)
+    return row, diagram_arrays(diagram)
+
+
+def _unwrapped(fn: Callable, *args, **kwargs):
+    """``fn(...)``, with an exception the build raised passed on as itself (its class and
+    message are what the judge reports), not as the wrapper that marked it."""
     try:
-        _run_steps(case, config, send, wait)
-    except InputMutated as exc:
-        send("failed", {"status": "error", "verdict": "mutated_input", "error": str(exc)[:500]})
-    except MemoryError as exc:
-        send("failed", {"status": "oom", "error": f"MemoryError: {exc}"[:500]})
-    except BuildRaised as exc:              # whatever its class, raised by the build: the implementation's error
-        send("failed", {"status": "error", "error": safe_message(exc.__cause__ or exc)[:500]})
-    except BaseException as exc:  # noqa: BLE001 - every failure of the case is reported as data
-        send("failed", {"status": "error", "error": safe_message(exc)[:500]})
-
-
-def worker_main(conn, case: dict, config: dict) -> None:
-    """Entry point of the worker process: run the case's steps, report over ``conn`` (duplex:
-    the parent answers each repeat when it has taken it in)."""
-    isolation.enter_worker()
-    signal.signal(signal.SIGINT, signal.SIG_IGN)    # Ctrl-C is the parent's to handle
-
-    def send(kind: str, payload: Any = None, arrays: Optional[dict] = None) -> None:
-        conn.send_bytes(wire.encode(kind, payload, arrays))
-
-    def wait() -> None:
-        conn.recv_bytes(16)
-
-    try:
-        run_and_report(case, config, send, wait)
-    finally:
-        conn.close()
+        return fn(*args, **kwargs)
+    except BuildRaised as exc:
+        raise (exc.__cause__ or exc) from None

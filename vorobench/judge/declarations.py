@@ -4,7 +4,8 @@ The judge never imports an implementation's module (a plugin file, an entry poin
 module-level code would run inside the judge and could replace the judge's own functions.
 So the declarations the judge needs (``exact`` sets the standard a diagram is held to,
 ``weighted`` whether weighted cases are its to build) are read in a sandbox, once per run,
-and every later sandbox of that run must declare the same or it is refused.
+and every later sandbox of that run must declare the same or it is refused
+(:mod:`vorobench.judge.pinning` reads them).
 """
 
 from __future__ import annotations
@@ -12,8 +13,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from typing import Any, Optional
 
-__all__ = ["Declaration", "declaration_of", "declaration_from_data", "declare_here", "declare_in_sandbox",
-           "resolve_declarations", "DeclarationError", "PluginError"]
+__all__ = ["Declaration", "declaration_of", "declaration_from_data", "declare_here", "DeclarationError"]
 
 
 class DeclarationError(ValueError):
@@ -102,54 +102,3 @@ def declare_here(names: Optional[list[str]], plugins: tuple[str, ...] = ()) -> t
         except Exception as exc:  # noqa: BLE001 - an implementation that cannot load says why
             failed[name] = f"{type(exc).__name__}: {exc}"
     return {"available": impls.available(), "declared": declared, "failed": failed}, None
-
-
-def declare_in_sandbox(names: Optional[list[str]], plugins: tuple[str, ...] = (), timeout: float = 120.0
-                       ) -> tuple[list[str], dict[str, Declaration], dict[str, str]]:
-    """(available names, declarations, why each other one failed) of ``names`` (None: all),
-    read in one throwaway sandbox with ``plugins`` loaded there, never here."""
-    from vorobench.judge.sandbox import Sandbox
-
-    box = Sandbox(None, warmup_timeout=timeout)
-    try:
-        outcome = box.call(declare_here, names, tuple(plugins), timeout=timeout, step="reading the declarations")
-    finally:
-        box.close()
-    if not outcome.ok:       # the plugins did not load (or the registry itself failed): nothing is declared
-        return [], {}, {"*": outcome.message.replace(" (its worker could not start)", "")}
-    data, _ = outcome.value
-    if not isinstance(data, dict):
-        return [], {}, {"*": "the declarations are not an object"}
-    available = [str(n) for n in data.get("available") or [] if isinstance(n, str)]
-    declared: dict[str, Declaration] = {}
-    failed = {str(k): str(v) for k, v in (data.get("failed") or {}).items()}
-    for name, item in (data.get("declared") or {}).items():
-        try:
-            declared[name] = declaration_from_data(item, name)
-        except DeclarationError as exc:
-            failed[name] = str(exc)
-    return available, declared, failed
-
-
-class PluginError(ValueError):
-    """The run's plugins could not be loaded (in the sandbox that reads the declarations)."""
-
-
-def resolve_declarations(names: Optional[list[str]], plugins: tuple[str, ...] = (), timeout: float = 120.0
-                         ) -> dict[str, Declaration]:
-    """The declarations of ``names`` (None or ``["all"]``: every implementation available with
-    ``plugins``), read in a sandbox, in the order asked. Raises :class:`PluginError` when the
-    plugins cannot be loaded and ``ValueError`` naming the available ones for an unknown or
-    broken name: usage errors, said in one line."""
-    every = not names or list(names) == ["all"]
-    available, declared, failed = declare_in_sandbox(None if every else list(names), tuple(plugins), timeout)
-    if "*" in failed:
-        raise PluginError(failed["*"].split("\n")[0])
-    wanted = available if every else list(dict.fromkeys(names))
-    unknown = [n for n in wanted if n not in available]
-    if unknown:
-        raise ValueError(f"unknown implementation {unknown[0]!r}; available: {', '.join(available)}")
-    broken = [n for n in wanted if n not in declared]
-    if broken and not every:
-        raise ValueError(f"implementation {broken[0]!r} could not be loaded: {failed.get(broken[0], '')}")
-    return {n: declared[n] for n in wanted if n in declared}

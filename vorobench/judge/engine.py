@@ -43,7 +43,8 @@ from vorobench.core.prepare import prepare, prepare_weighted
 from vorobench.core.scaling import OutsideExactRange, exact_shift, scale_points
 from vorobench.judge.certificate import DEFAULT_PROBES, Certificate, certify
 from vorobench.judge.comparison import Comparison, compare
-from vorobench.judge.declarations import Declaration, declaration_from_data, declaration_of, declare_in_sandbox
+from vorobench.judge.declarations import Declaration, declaration_from_data, declaration_of
+from vorobench.judge.pinning import declare_in_sandbox
 from vorobench.judge.defaults import DEFAULT_TIMEOUT
 from vorobench.judge.outcomes import Verdict
 from vorobench.judge.sandbox import WARMUP_TIMEOUT, Sandbox, safe_message
@@ -61,10 +62,10 @@ VERDICTS = tuple(v.value for v in Verdict
                  if v not in (Verdict.NO_REFERENCE, Verdict.SKIPPED, Verdict.CHECK_ERROR))
 
 #: Verdicts that say the implementation produced no diagram it may be judged on.
-FAILURES = ("not_certified", "wrong_sites", "mutated_input", "oom", "timeout", "crashed")
+FAILURES = (Verdict.NOT_CERTIFIED, Verdict.WRONG_SITES, Verdict.MUTATED_INPUT, Verdict.OOM, Verdict.TIMEOUT, Verdict.CRASHED)
 
 #: Verdicts that pass (``differs`` passes only when the reference is to blame: see ``passed``).
-PASSING = ("exact", "within_tolerance", "certified", "unsupported")
+PASSING = (Verdict.EXACT, Verdict.WITHIN_TOLERANCE, Verdict.CERTIFIED, Verdict.UNSUPPORTED)
 
 #: Why an implementation without ``build_weighted`` is ``unsupported`` on a weighted case.
 NO_WEIGHTS = "does not take weights"
@@ -111,7 +112,7 @@ class BuildResult:
         return None if self.certificate is None else self.certificate.ok
 
 
-def _declined(impl: impls.Implementation, sites: np.ndarray) -> Optional[str]:
+def declined_reason(impl: impls.Implementation, sites: np.ndarray) -> Optional[str]:
     """Why ``impl`` declines ``sites``: its ``supports`` (on the sites, and on the scaled sites it
     would be given), or sites that no power of two brings into the exact range. Nothing else
     declines a case."""
@@ -134,15 +135,15 @@ def build_only(impl_name: str, sites: np.ndarray, weights: Optional[np.ndarray] 
     try:
         impl = impls.get(impl_name)
     except Exception as exc:  # unknown or broken plugin: recorded like a crash
-        return BuildResult(impl_name, True, error=safe_message(exc), failure="crashed")
+        return BuildResult(impl_name, True, error=safe_message(exc), failure=Verdict.CRASHED)
     result = BuildResult(impl_name, bool(impl.exact))
     if weights is not None and not impl.weighted:
         result.unsupported = f"{NO_WEIGHTS} (it builds ordinary Voronoi diagrams only)"
         return result
     try:
-        reason = _declined(impl, sites)
+        reason = declined_reason(impl, sites)
     except Exception as exc:  # a supports() that raises is the implementation's crash
-        result.error, result.failure = f"supports() raised {safe_message(exc)}", "crashed"
+        result.error, result.failure = f"supports() raised {safe_message(exc)}", Verdict.CRASHED
         return result
     if reason:
         result.unsupported = reason
@@ -154,15 +155,15 @@ def build_only(impl_name: str, sites: np.ndarray, weights: Optional[np.ndarray] 
             raise TypeError(f"build returned {type(result.diagram).__name__}, not a Diagram")
     except BuildRaised as exc:              # whatever the class, raised by the build: a crash
         cause = exc.__cause__ or exc
-        result.diagram, result.error, result.failure = None, safe_message(cause), "crashed"
+        result.diagram, result.error, result.failure = None, safe_message(cause), Verdict.CRASHED
     except InputMutated as exc:
-        result.diagram, result.error, result.failure = None, str(exc), "mutated_input"
+        result.diagram, result.error, result.failure = None, str(exc), Verdict.MUTATED_INPUT
     except OutsideExactRange as exc:        # the diagram's vertices have no float representation
         result.diagram, result.unsupported = None, str(exc)
     except MemoryError as exc:
-        result.diagram, result.error, result.failure = None, f"MemoryError: {exc}", "oom"
+        result.diagram, result.error, result.failure = None, f"MemoryError: {exc}", Verdict.OOM
     except Exception as exc:  # a broken contract after the build (counters, weights): its crash
-        result.diagram, result.error, result.failure = None, safe_message(exc), "crashed"
+        result.diagram, result.error, result.failure = None, safe_message(exc), Verdict.CRASHED
     result.seconds = (time.perf_counter_ns() - t0) / 1e9
     return result
 
@@ -176,7 +177,7 @@ def certify_result(result: BuildResult, sites: np.ndarray, *, probes: int = DEFA
     if d is None:
         return result
     if not (d.sites.shape == sites.shape and np.array_equal(d.sites, sites)):
-        result.diagram, result.failure = None, "wrong_sites"
+        result.diagram, result.failure = None, Verdict.WRONG_SITES
         result.error = ("returned the diagram of other sites: "
                         + (f"{d.sites.shape[0]} sites for the {sites.shape[0]} it was given"
                            if d.sites.shape != sites.shape else "some of them moved"))
@@ -184,7 +185,7 @@ def certify_result(result: BuildResult, sites: np.ndarray, *, probes: int = DEFA
     got = None if d.weights is None else np.asarray(d.weights)
     if (got is None) != (weights is None) or (got is not None and not (
             got.shape == weights.shape and np.array_equal(got, weights))):
-        result.diagram, result.failure = None, "wrong_sites"
+        result.diagram, result.failure = None, Verdict.WRONG_SITES
         result.error = ("returned the diagram of other weights" if got is not None and weights is not None else
                         "returned an ordinary diagram for weighted sites" if got is None else
                         "returned a power diagram for unweighted sites")
@@ -192,7 +193,7 @@ def certify_result(result: BuildResult, sites: np.ndarray, *, probes: int = DEFA
     try:
         result.certificate = certify(d, probes=probes, seed=seed)
     except Exception as exc:  # a diagram the certifier cannot even read certifies nothing
-        result.diagram, result.failure = None, "not_certified"
+        result.diagram, result.failure = None, Verdict.NOT_CERTIFIED
         result.error = f"the certifier could not read the diagram: {type(exc).__name__}: {exc}"
     return result
 
@@ -248,19 +249,19 @@ def build_in_sandbox(impl_name: str, sites: np.ndarray, weights: Optional[np.nda
     return data, arrays
 
 
-_FAILURE_KINDS = ("crashed", "oom", "mutated_input")
+_FAILURE_KINDS = (Verdict.CRASHED, Verdict.OOM, Verdict.MUTATED_INPUT)
 
 
 def _result_from_sandbox(impl_name: str, exact: bool, data: Any, arrays: dict) -> BuildResult:
     """A :class:`BuildResult` rebuilt in the judge from what a sandbox sent, held to the
     standard pinned for the run (``exact``), whatever the sandbox says of itself."""
     if not isinstance(data, dict):
-        return BuildResult(impl_name, exact, error="answered no build record", failure="crashed")
+        return BuildResult(impl_name, exact, error="answered no build record", failure=Verdict.CRASHED)
     text = {key: data.get(key) if isinstance(data.get(key), str) else "" for key in ("error", "unsupported", "failure")}
     seconds = data.get("seconds")
     res = BuildResult(impl_name, exact, error=text["error"], unsupported=text["unsupported"],
                       seconds=float(seconds) if type(seconds) in (int, float) else 0.0,
-                      failure=text["failure"] if text["failure"] in _FAILURE_KINDS else ("crashed" if text["error"] else ""))
+                      failure=text["failure"] if text["failure"] in _FAILURE_KINDS else (Verdict.CRASHED if text["error"] else ""))
     if res.failure and not res.error:
         res.error = "failed without saying why"
     if res.error or res.unsupported:
@@ -269,9 +270,9 @@ def _result_from_sandbox(impl_name: str, exact: bool, data: Any, arrays: dict) -
         try:
             res.diagram = diagram_from_arrays(arrays)
         except Exception as exc:  # arrays of the wrong kind or shape
-            res.error, res.failure = f"returned an unreadable diagram: {type(exc).__name__}: {exc}", "crashed"
+            res.error, res.failure = f"returned an unreadable diagram: {type(exc).__name__}: {exc}", Verdict.CRASHED
     else:
-        res.error, res.failure = "returned neither a diagram nor a reason", "crashed"
+        res.error, res.failure = "returned neither a diagram nor a reason", Verdict.CRASHED
     return res
 
 
@@ -374,52 +375,52 @@ def decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) -
 
     if res.unsupported:
         if res.unsupported.startswith(NO_WEIGHTS):
-            return make("unsupported", True, f"{impl_name} {res.unsupported}")
-        return make("unsupported", True, f"{impl_name} does not support these sites: {res.unsupported}")
+            return make(Verdict.UNSUPPORTED, True, f"{impl_name} {res.unsupported}")
+        return make(Verdict.UNSUPPORTED, True, f"{impl_name} does not support these sites: {res.unsupported}")
     if res.crashed:
-        kind = res.failure or "crashed"
+        kind = res.failure or Verdict.CRASHED
         what = {"crashed": "crashed", "timeout": "timed out", "oom": "ran out of memory",
                 "mutated_input": "changed its input", "wrong_sites": "failed", "not_certified": "failed"}.get(kind, kind)
         return make(kind, False, f"{impl_name} {what}: {res.error}", "impl")
     standard = "exactly" if res.exact else "within tolerance (floating point)"
     if not res.certified:
-        return make("not_certified", False, f"{impl_name} is not certified: {_failed_checks(res)}", "impl")
+        return make(Verdict.NOT_CERTIFIED, False, f"{impl_name} is not certified: {_failed_checks(res)}", "impl")
     cert_note = "certified" if res.certificate.ok else "certified within tolerance (floating point)"
     if res is ref or impl_name == reference:
-        return make("certified", True, f"{impl_name} (the reference) is {cert_note}")
+        return make(Verdict.CERTIFIED, True, f"{impl_name} (the reference) is {cert_note}")
     if ref.diagram is None:
         why = ref.error or ref.unsupported or "no diagram"
-        return make("certified", True, f"{impl_name} is {cert_note}; no comparison: reference {reference} "
+        return make(Verdict.CERTIFIED, True, f"{impl_name} is {cert_note}; no comparison: reference {reference} "
                                        f"has no diagram ({why})", "reference" if ref.crashed else "")
     try:
         comp = compare(ref.diagram, res.diagram, labels=(reference, impl_name))
     except Exception as exc:  # a diagram the comparer cannot read is no pass
-        return make("differs", False, f"{impl_name} could not be compared with {reference}: "
+        return make(Verdict.DIFFERS, False, f"{impl_name} could not be compared with {reference}: "
                                       f"{type(exc).__name__}: {exc}", "impl")
     both_exact = res.exact and ref.exact
-    if comp.equal and (comp.verdict == "exact" or not both_exact):
-        note = "" if comp.verdict == "exact" else f" (within tolerance: {reference if not ref.exact else impl_name} " \
+    if comp.equal and (comp.verdict == Verdict.EXACT or not both_exact):
+        note = "" if comp.verdict == Verdict.EXACT else f" (within tolerance: {reference if not ref.exact else impl_name} " \
                                                      f"is floating point; that is a pass)"
         return make(comp.verdict, True, f"{impl_name} agrees with {reference}: {comp.verdict}{note}; {cert_note}",
                     comparison=comp)
     if comp.equal:  # two exact implementations agreeing only within tolerance
-        return make("differs", False, f"{impl_name} and {reference} are both exact but agree only within "
+        return make(Verdict.DIFFERS, False, f"{impl_name} and {reference} are both exact but agree only within "
                                       f"tolerance: exact implementations must agree exactly", "impl", comp)
     impl_exactly = bool(res.certified_exactly)
     ref_exactly = bool(ref.certified_exactly)
     if impl_exactly and not ref_exactly:
         if ref.certified:  # a floating-point reference, certified within tolerance only
-            return make("within_tolerance", True,
+            return make(Verdict.WITHIN_TOLERANCE, True,
                         f"{impl_name} differs from {reference}, but {impl_name} is certified exactly and "
                         f"{reference} (floating point) only within tolerance ({_failed_near(ref)}): the difference "
                         f"is the reference's rounding", comparison=comp)
-        return make("differs", True, f"{impl_name} differs from {reference}; {impl_name} is certified, "
+        return make(Verdict.DIFFERS, True, f"{impl_name} differs from {reference}; {impl_name} is certified, "
                                      f"{reference} is NOT: the reference is wrong ({_failed_checks(ref)})",
                     "reference", comp)
     who = f"{impl_name} certified {'exactly' if impl_exactly else standard}; " \
           f"{reference} certified {'exactly' if ref_exactly else 'within tolerance' if ref.certified else 'NOT'}"
     blame = "unknown" if impl_exactly and ref_exactly else "impl"
-    return make("differs", False, f"{impl_name} differs from {reference} ({comp.n_differences} differences; {who})",
+    return make(Verdict.DIFFERS, False, f"{impl_name} differs from {reference} ({comp.n_differences} differences; {who})",
                 blame, comp)
 
 
@@ -434,20 +435,20 @@ def agree_exactly(first: BuildResult, second: BuildResult) -> CaseVerdict:
     diagrams are judged on their own rows, so they pass here."""
     a, b = first.impl, second.impl
     if first.diagram is None or second.diagram is None:
-        return CaseVerdict(b, a, "unsupported", True, second.certified, first.certified,
+        return CaseVerdict(b, a, Verdict.UNSUPPORTED, True, second.certified, first.certified,
                            f"no comparison of {a} and {b}: a diagram is missing", result=second, reference_result=first)
     try:
         comp = compare(first.diagram, second.diagram, labels=(a, b))
     except Exception as exc:  # a diagram the comparer cannot read is no pass
-        return CaseVerdict(b, a, "differs", False, second.certified, first.certified,
+        return CaseVerdict(b, a, Verdict.DIFFERS, False, second.certified, first.certified,
                            f"{a} and {b} could not be compared: {type(exc).__name__}: {exc}", "impl",
                            result=second, reference_result=first)
-    if comp.equal and comp.verdict == "exact":
-        return CaseVerdict(b, a, "exact", True, second.certified, first.certified,
+    if comp.equal and comp.verdict == Verdict.EXACT:
+        return CaseVerdict(b, a, Verdict.EXACT, True, second.certified, first.certified,
                            f"exact implementations {a} and {b} agree exactly", result=second, reference_result=first,
                            comparison=comp)
     blame = "impl" if not second.certified else "reference" if not first.certified else "unknown"
-    return CaseVerdict(b, a, "differs", False, second.certified, first.certified,
+    return CaseVerdict(b, a, Verdict.DIFFERS, False, second.certified, first.certified,
                        f"exact implementations {a} and {b} disagree ({comp.verdict}, {comp.n_differences} differences): "
                        f"they must agree exactly", blame, result=second, reference_result=first, comparison=comp)
 
@@ -546,7 +547,7 @@ class Judge:
         declared = self.declaration(name)
         if declared is None:
             return BuildResult(name, True, error=f"{name} could not be loaded: {self.why_undeclared(name)}",
-                               failure="crashed")
+                               failure=Verdict.CRASHED)
         if not self.isolate:
             res = build_and_certify(name, sites, probes=probes, seed=self.seed, weights=weights)
             res.exact = declared.exact
@@ -567,7 +568,7 @@ class Judge:
         if outcome.ok:
             return certify_result(_result_from_sandbox(name, declared.exact, *outcome.value), sites, probes=probes,
                                   seed=self.seed, weights=weights)
-        failure = "crashed" if outcome.kind == "error" else outcome.kind
+        failure = Verdict.CRASHED if outcome.kind == "error" else outcome.kind
         return BuildResult(name, declared.exact, error=outcome.message, failure=failure,
                            seconds=(time.perf_counter_ns() - t0) / 1e9)
 

@@ -38,7 +38,8 @@ _PR_SET_PDEATHSIG = 1
 
 #: Modules the fork server imports once, so that every worker forked from it (benchmark
 #: workers and judging sandboxes alike: one server per process) starts with them loaded.
-FORKSERVER_PRELOAD = ("numpy", "scipy.spatial", "numba", "datasets_gen", "impls", "vorobench.core.prepare",
+FORKSERVER_PRELOAD = ("numpy", "scipy.spatial", "numba", "datasets_gen", "impls", "impls.fortune", "impls.halfplane",
+                      "impls.incremental", "impls.qhull", "vorobench.core.prepare",
                       "vorobench.judge.certificate", "vorobench.judge.comparison", "vorobench.judge.engine", "vorobench.judge.sandbox",
                       "vorobench.harness.worker")
 

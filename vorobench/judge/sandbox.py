@@ -118,8 +118,8 @@ def _serve(conn, parent: Optional[int], impl_blobs: dict, name: Optional[str], p
             send("error", safe_message(exc))
 
 
-def _context():
-    method = isolation.default_start_method()
+def _context(method: Optional[str] = None):
+    method = method or isolation.default_start_method()
     ctx = mp.get_context(method)
     if method == "forkserver":
         ctx.set_forkserver_preload(list(isolation.FORKSERVER_PRELOAD))    # only takes effect when the server starts
@@ -145,12 +145,15 @@ class Sandbox:
 
     ``expected``: the declaration pinned for the run; a sandbox whose implementation declares
     anything else does not start (its every request fails, saying so). ``name`` None: a
-    sandbox with no implementation of its own, which reads declarations.
+    sandbox with no implementation of its own, which reads declarations. ``start_method``:
+    "forkserver" (the default where there is one) or "spawn" (a brand-new interpreter).
     """
 
     def __init__(self, name: Optional[str], *, plugins: Sequence[str] = (), memory_limit_mb: Optional[float] = None,
-                 warmup_timeout: float = WARMUP_TIMEOUT, expected: Optional[Declaration] = None) -> None:
+                 warmup_timeout: float = WARMUP_TIMEOUT, expected: Optional[Declaration] = None,
+                 start_method: Optional[str] = None) -> None:
         self.name = name
+        self.start_method = start_method
         self.plugins = tuple(plugins)
         self.memory_limit_mb = memory_limit_mb
         self.warmup_timeout = warmup_timeout
@@ -162,7 +165,7 @@ class Sandbox:
 
     def _start(self) -> Optional[Outcome]:
         """Start the process and wait for its warm-up; a failure is the outcome of the request."""
-        ctx = _context()
+        ctx = _context(self.start_method)
         receiver, sender = ctx.Pipe()
         proc = ctx.Process(target=_serve, name=f"vorobench-judge-{self.name or 'registry'}", daemon=True,
                            args=(sender, os.getpid() if ctx.get_start_method() != "forkserver" else None,
