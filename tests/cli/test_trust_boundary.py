@@ -123,3 +123,18 @@ def test_build_runs_a_plugin_without_importing_it(tmp_path):
     run, pid, imports = vorobench(["build", "--impl", "bomb_npz", "--dataset", "uniform", "--n", "12"], tmp_path)
     assert run.returncode == 1 and "refuses" in run.stderr, run.stderr
     assert imports and pid not in imported_in(imports)
+
+
+def test_demo_and_report_run_a_plugin_without_importing_it(tmp_path):
+    out = tmp_path / "demo"
+    run, pid, imports = vorobench(["demo", "--impls", "judge_patcher", "--datasets", "uniform", "--sizes", "20",
+                                   "--repeat", "1", "--min-time", "0", "--quiet", "--out", str(out)], tmp_path)
+    assert run.returncode == 0, run.stderr[-3000:]
+    assert imports and pid not in imported_in(imports)
+    results = __import__("pandas").read_csv(out / "results.csv")
+    assert set(results["verdict"]) == {"not_certified"}          # the patched judge stayed in its sandbox
+    (tmp_path / "imports.log").unlink()
+    again, pid, imports = vorobench(["report", str(out / "results.csv"), "-o", str(tmp_path / "report")], tmp_path)
+    assert again.returncode == 0, again.stderr[-3000:]
+    assert pid not in imported_in(imports)
+    assert "O(n log n)" in (tmp_path / "report" / "README.md").read_text()    # the complexity the run pinned

@@ -15,30 +15,24 @@ spreadsheet would run as a formula is quoted.
 from __future__ import annotations
 
 import math
-import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Any
 
 from vorobench.harness.markdown_text import cell as _cell
+from vorobench.judge.wire import escaped
 
 __all__ = ["write_junit", "write_markdown", "write_compare_junit", "write_compare_markdown", "printable",
            "formula_safe"]
-
-# What no reader should get raw: the characters XML 1.0 forbids (C0 controls but tab and line
-# breaks, surrogates, U+FFFE, U+FFFF), which also make a UTF-8 writer raise (a lone surrogate
-# from bytes read with surrogateescape) or a terminal obey (ESC), plus DEL and the C1 controls
-# (U+009B is a terminal's CSI too).
-_UNSHOWABLE = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f\ud800-\udfff\ufffe\uffff]")
 
 # A cell starting with one of these is a formula to a spreadsheet the table is pasted into.
 _FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
 
 
 def printable(value: object) -> str:
-    """``value`` as text any file, XML parser or terminal takes: each character of
-    :data:`_UNSHOWABLE` shown as its escape (``\\x1b``, ``\\udcff``), so it stays readable."""
-    return _UNSHOWABLE.sub(lambda m: m.group().encode("unicode_escape").decode("ascii"), str(value))
+    """``value`` as text any file, XML parser or terminal takes (the wire's own rule,
+    :func:`vorobench.judge.wire.escaped`): each unsafe character shown as its escape."""
+    return escaped(value)
 
 
 def formula_safe(text: str) -> str:

@@ -18,6 +18,7 @@ next case starts.
 from __future__ import annotations
 
 import datetime as _dt
+import multiprocessing as mp
 import math
 import os
 import socket
@@ -43,7 +44,7 @@ from vorobench.judge.outcomes import COUNTER_PREFIX, Status, Verdict, status_ran
 from vorobench.judge.sandbox import Sandbox
 
 __all__ = ["Case", "RunConfig", "CaseOutcome", "plan_cases", "run_case", "run_case_in_process", "run_cases",
-           "exit_status", "case_input", "takes_weights"]
+           "exit_status", "case_input", "takes_weights", "case_row"]
 
 #: Allowance for starting the worker, importing, and generating the input (not the impl's time).
 STARTUP_TIMEOUT = 180.0
@@ -229,10 +230,22 @@ def _builds_to_time(config: RunConfig, index: int, timed_s: float) -> bool:
 
 
 class _InProcess:
-    """The sandbox's interface, run in this process (a Dask worker: no per-request timeout,
-    no memory cap, and a hard crash takes the worker down, which the executor records)."""
+    """The sandbox's interface, run in this process (a daemonic Dask worker, which may not start
+    processes: no per-request timeout, no memory cap, and a hard crash takes the worker down,
+    which the executor records). ``plugin``: loaded here, since nowhere else can."""
+
+    def __init__(self, plugin: str = "") -> None:
+        self.plugin = plugin
 
     def start(self):
+        from impls.plugins import load_plugin
+        from vorobench.judge.sandbox import Outcome, safe_message
+
+        try:
+            if self.plugin:
+                load_plugin(self.plugin)
+        except Exception as exc:  # noqa: BLE001 - a plugin that cannot load here fails its case
+            return Outcome("error", message=safe_message(exc))
         return None
 
     def call(self, fn, *args, timeout=None, step="", schema=None):
@@ -265,7 +278,7 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
     shifts = repeat_shifts(sites, builds + 1)
     judging = RepeatJudging(case.impl, declared, sites, weights, shifts[:builds])
     schema = diagram_schema(sites.shape[0], weights is not None)
-    box = _InProcess() if in_process else Sandbox(
+    box = _InProcess(declared.plugin) if in_process else Sandbox(
         case.impl, plugins=(declared.plugin,) if declared.plugin else (), memory_limit_mb=config.memory_limit_mb,
         warmup_timeout=config.allowance("startup") + config.allowance("warmup"), expected=declared,
         start_method=config.start_method)
@@ -319,11 +332,12 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
 
 
 def run_case_in_process(case: Case, config: RunConfig) -> CaseOutcome:
-    """Run one case in this process (a Dask worker: one case per worker thread, no per-step
-    timeout, no memory cap). A hard crash takes this process down; the executor sees the
-    worker die, and the parent retries the case or records it as lost. The implementation
-    shares this process with the judging, so there its verdicts are only as trustworthy as it is."""
-    return run_case(case, config, in_process=True)
+    """Run one case on a Dask worker: in a sandbox, as locally, where the worker may start
+    processes; in the worker's own process where it is daemonic (one case per worker thread,
+    no per-step timeout, no memory cap: a hard crash takes the worker down, and the parent
+    retries the case or records it as lost; the implementation then shares the process with
+    the judging, so its verdicts are only as trustworthy as it is)."""
+    return run_case(case, config, in_process=mp.current_process().daemon)
 
 
 def _judge_repeats(case: Case, config: RunConfig, status: Optional[str], judging: RepeatJudging,
@@ -351,13 +365,20 @@ def _judge_repeats(case: Case, config: RunConfig, status: Optional[str], judging
     info["check_s"] = (time.perf_counter_ns() - t0) / 1e9
 
 
+def case_row(case: Case, config: RunConfig, status: str, host: Optional[str] = None, **fields) -> dict:
+    """The one way a results row starts: the run, the case's key (weight family included), its
+    status, where and when it finished; ``fields`` add the rest."""
+    return {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "weights": case.weights,
+            "n": case.n, "seed": case.seed, "status": status,
+            "host": socket.gethostname() if host is None else host,
+            "finished_at": _dt.datetime.now().isoformat(timespec="seconds"), **fields}
+
+
 def _no_weights(case: Case, config: RunConfig) -> CaseOutcome:
     """The record of a weighted case of an implementation that does not take weights: declared
     out of its scope (``unsupported``), like sites it refuses; no worker is started."""
-    row = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "weights": case.weights,
-           "n": case.n, "seed": case.seed, "status": Status.UNSUPPORTED, "verdict": Verdict.UNSUPPORTED,
-           "error": f"{NO_WEIGHTS}: {case.impl} builds ordinary Voronoi diagrams only",
-           "host": socket.gethostname(), "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
+    row = case_row(case, config, Status.UNSUPPORTED, verdict=Verdict.UNSUPPORTED,
+                   error=f"{NO_WEIGHTS}: {case.impl} builds ordinary Voronoi diagrams only")
     return CaseOutcome(case, Status.UNSUPPORTED, [row], 0.0)
 
 
@@ -365,11 +386,8 @@ def lost_outcome(case: Case, config: RunConfig, why: str, status: str = "lost") 
     """The record of a case whose worker died on every try (status ``lost``), whose task failed
     outside the case (``error``) or overstayed (``timeout``): nothing came back, but the case is
     never dropped."""
-    row = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "weights": case.weights,
-           "n": case.n, "seed": case.seed, "status": status,
-           "verdict": Verdict.TIMEOUT if status == Status.TIMEOUT else Verdict.CRASHED,
-           "error": why, "host": "",
-           "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
+    row = case_row(case, config, status, host="", error=why,
+                   verdict=Verdict.TIMEOUT if status == Status.TIMEOUT else Verdict.CRASHED)
     return CaseOutcome(case, status, [row], 0.0)
 
 
@@ -380,9 +398,7 @@ def _once_per_case(column: str) -> bool:
 
 
 def _rows(case: Case, config: RunConfig, status: str, step: str, info: dict, repeats: list[dict]) -> list[dict]:
-    common = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "weights": case.weights,
-              "n": case.n, "seed": case.seed, "status": status, "host": socket.gethostname(),
-              "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
+    common = case_row(case, config, status)
     common.update({k: v for k, v in info.items() if k not in ("status",)})
     if status == Status.OK:
         counters = repeats[0] if repeats else {}
@@ -445,9 +461,7 @@ def _skip_reason(case: Case, history: dict, config: RunConfig) -> Optional[str]:
 
 
 def _skipped(case: Case, config: RunConfig, reason: str) -> CaseOutcome:
-    row = {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "weights": case.weights,
-           "n": case.n, "seed": case.seed, "status": Status.SKIPPED, "verdict": Verdict.SKIPPED, "error": reason,
-           "host": socket.gethostname(), "finished_at": _dt.datetime.now().isoformat(timespec="seconds")}
+    row = case_row(case, config, Status.SKIPPED, verdict=Verdict.SKIPPED, error=reason)
     return CaseOutcome(case, Status.SKIPPED, [row], 0.0)
 
 

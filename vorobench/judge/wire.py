@@ -19,7 +19,7 @@ from typing import Any, Callable, Mapping, Optional
 
 import numpy as np
 
-__all__ = ["ArraySpec", "WireError", "encode", "decode", "clean_text", "clean_data", "MAX_HEADER_BYTES",
+__all__ = ["ArraySpec", "WireError", "encode", "decode", "escaped", "clean_text", "clean_data", "MAX_HEADER_BYTES",
            "MAX_MESSAGE_BYTES", "TEXT_LIMIT"]
 
 #: Largest JSON header the judge reads (messages, counters, declarations).
@@ -32,8 +32,10 @@ TEXT_LIMIT = 2000
 #: The dtypes an array may have on the wire (little-endian, by name).
 _DTYPES = {"<f8": np.dtype("<f8"), "<i4": np.dtype("<i4"), "<i8": np.dtype("<i8")}
 
-# Characters that XML 1.0 and terminals cannot take, and lone surrogates (what a non-UTF-8
-# byte becomes under surrogateescape): shown as a visible escape instead.
+# What no reader should get raw: the characters XML 1.0 forbids (C0 controls but tab and line
+# breaks, surrogates, U+FFFE, U+FFFF), which also make a UTF-8 writer raise (a lone surrogate
+# from bytes read with surrogateescape) or a terminal obey (ESC), plus DEL and the C1 controls
+# (U+009B is a terminal's CSI too). Shown as a visible escape instead.
 _UNSAFE = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f\ud800-\udfff\ufffe\uffff]")
 
 
@@ -50,16 +52,21 @@ class ArraySpec:
     shape: tuple[Optional[int], ...]
 
 
-def clean_text(text: Any, limit: int = TEXT_LIMIT) -> str:
-    """``text`` as a string that every file format and terminal takes: unsafe characters shown
-    as ``\\xNN``/``\\uNNNN`` escapes, cut to ``limit`` characters."""
+def escaped(text: Any) -> str:
+    """``text`` as a string that every file format, XML parser and terminal takes: each unsafe
+    character shown as its escape (``\\x1b``, ``\\udcff``), so it stays readable."""
     try:
         s = text if isinstance(text, str) else str(text)
     except Exception:  # an object whose __str__ raises still says what it is
         s = f"<unprintable {type(text).__name__}>"
-    s = _UNSAFE.sub(lambda m: f"\\x{ord(m.group()):02x}" if ord(m.group()) < 0x100 else f"\\u{ord(m.group()):04x}",
-                    s[:limit * 2])
-    return s[:limit]
+    return _UNSAFE.sub(lambda m: m.group().encode("unicode_escape").decode("ascii"), s)
+
+
+def clean_text(text: Any, limit: int = TEXT_LIMIT) -> str:
+    """:func:`escaped` ``text``, cut to ``limit`` characters."""
+    if isinstance(text, str) and len(text) > 2 * limit:
+        text = text[:2 * limit]
+    return escaped(text)[:limit]
 
 
 def clean_data(data: Any, limit: int = TEXT_LIMIT, depth: int = 0) -> Any:
