@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .loaders import load
+from .loaders import load, load_weights
 from .registry import DATASETS, Dataset, Family, get
 from .weight_families import WEIGHT_FAMILIES, weights
 
@@ -42,6 +42,7 @@ __all__ = [
     "describe",
     "generate",
     "load",
+    "load_weights",
     "weights",
 ]
 

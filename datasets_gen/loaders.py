@@ -26,7 +26,7 @@ from typing import BinaryIO, Optional
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["TEXT_SUFFIXES", "MAX_FILE_BYTES", "load", "open_regular_file", "read_text", "read_npy", "exact_float",
+__all__ = ["TEXT_SUFFIXES", "MAX_FILE_BYTES", "load", "load_weights", "open_regular_file", "read_text", "read_npy", "exact_float",
            "first_inexact_integer", "number_table"]
 
 #: Suffixes read as whitespace-separated text (any suffix other than .npy/.csv is too).
@@ -50,6 +50,30 @@ def load(path: str | os.PathLike[str]) -> NDArray[np.float64]:
     if p.suffix.lower() == ".csv":
         return parse_rows(_csv_rows(text), p)
     return parse_rows(_whitespace_rows(text), p)
+
+
+def load_weights(path: str | os.PathLike[str]) -> NDArray[np.float64]:
+    """One weight per point from ``.npy`` (a 1-D array) or text (one number per line, or one
+    line of comma-separated numbers). Read as :func:`load` reads points: only a regular file of
+    bounded size, and no integer float64 cannot hold exactly (it is refused, never rounded)."""
+    path = Path(path)
+    try:
+        if path.suffix == ".npy":
+            w = read_npy(path, "weights file")
+            inexact = first_inexact_integer(w)
+            if inexact is not None:
+                raise ValueError(f"{path}: integer {inexact[1]} at index {', '.join(map(str, inexact[0]))} "
+                                 f"has no exact float64 value (it would be read as {float(inexact[1])!r})")
+        else:
+            w = number_table(read_text(path, "weights file"), path)
+            if 1 in w.shape or w.size == 0:     # a column, a single row or nothing: the list of weights
+                w = w.ravel()
+    except FileNotFoundError:
+        raise ValueError(f"{path}: no such weights file") from None
+    w = np.asarray(w, dtype=np.float64)
+    if w.ndim != 1:
+        raise ValueError(f"{path}: weights must be one number per point, got an array of shape {w.shape}")
+    return w
 
 
 def open_regular_file(path: str | os.PathLike[str], what: str = "point file") -> BinaryIO:

@@ -138,3 +138,12 @@ def test_demo_and_report_run_a_plugin_without_importing_it(tmp_path):
     assert again.returncode == 0, again.stderr[-3000:]
     assert pid not in imported_in(imports)
     assert "O(n log n)" in (tmp_path / "report" / "README.md").read_text()    # the complexity the run pinned
+
+
+def test_fuzz_runs_plugins_without_importing_them(tmp_path):
+    run, pid, imports = vorobench(["fuzz", "--impls", "fortune,judge_patcher", "--generators", "uniform", "--budget", "2",
+                                   "--max-n", "10", "--no-shrink", "--out", str(tmp_path / "fuzz")], tmp_path)
+    assert run.returncode == 1, run.stdout[-3000:] + run.stderr[-3000:]
+    summary = json.loads((tmp_path / "fuzz" / "summary.json").read_text())
+    assert summary["failed"] == 2 and summary["declarations"]["judge_patcher"]["exact"] is True
+    assert imports and pid not in imported_in(imports)

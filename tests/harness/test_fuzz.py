@@ -1,12 +1,15 @@
-"""vorobench fuzz: budgets, the case sequence, the integer-box generator, resuming, witnesses,
-and the same verdicts from a local pool and a Dask LocalCluster with a worker killed mid-run."""
+"""vorobench fuzz: budgets, the case sequence, the integer-box generator, resuming (and starting
+afresh once the code under test changed), witnesses, and the same verdicts from a local pool
+and a Dask LocalCluster with a worker killed mid-run."""
 
 from __future__ import annotations
 
 import argparse
 import itertools
 import json
+import sys
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -14,12 +17,27 @@ import pytest
 from vorobench.cli import main
 from vorobench.core.prepare import prepare
 from vorobench.harness import fuzz
-from vorobench.harness.fuzz import Budget, int_box, parse_budget, plan, run_campaign
+from vorobench.harness.fuzz import Budget, int_box, parse_budget, plan, plugin_digest, run_campaign, source_digest
 
 HERE = Path(__file__).parent
 SUPPORT = HERE.parent / "support"
 DOUBLES = str(SUPPORT / "doubles.py")
 DYING = str(SUPPORT / "executor_doubles.py")
+
+#: A plugin that is halfplane under another name; WRONG_BUILD makes it build the reversed sites.
+WRAPPED = """\
+import impls
+from vorobench.plugin import Implementation
+
+
+def build(sites, stats=None):
+    return impls.get("halfplane").build(sites, stats)
+
+
+IMPLEMENTATIONS = [Implementation("wrapped", "halfplane, wrapped", "O(n log n)", build, exact=True)]
+"""
+RIGHT_BUILD = 'impls.get("halfplane").build(sites, stats)'
+WRONG_BUILD = 'impls.get("halfplane").build(sites[::-1].copy(), stats)'
 
 
 def test_parse_budget():
@@ -78,6 +96,60 @@ def test_failures_are_shrunk_to_saved_witnesses(tmp_path):
     again = run_campaign(tmp_path, ["wrong"], ["uniform"], Budget(cases=2), min_n=8, max_n=12, probes=100,
                          plugins=[DOUBLES])
     assert (again.checked, again.witnesses) == (0, [])
+
+
+def _fuzz_wrapped(plugin: Path, out: Path) -> int:
+    return main(["fuzz", "--plugin", str(plugin), "--impls", "wrapped", "--generators", "uniform", "--budget", "2",
+                 "--max-n", "10", "--probes", "100", "--no-shrink", "--out", str(out)])
+
+
+def test_a_rerun_after_the_plugin_changed_checks_its_cases_again(tmp_path):
+    plugin = tmp_path / "wrapped.py"
+    plugin.write_text(WRAPPED)
+    out = tmp_path / "campaign"
+    assert _fuzz_wrapped(plugin, out) == 0
+    plugin.write_text(WRAPPED.replace(RIGHT_BUILD, WRONG_BUILD))      # same path, now wrong
+    assert _fuzz_wrapped(plugin, out) == 1
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["checked"] == 2 and summary["failed"] == 2 and summary["previously_checked"] == 0
+    (old_log,) = (out / "superseded").glob(f"*/{fuzz.LOG_NAME}")      # the old passes are kept aside
+    assert sum(json.loads(line).get("kind") == "case" for line in old_log.read_text().splitlines()) == 2
+
+
+def test_a_rerun_after_the_implementations_changed_starts_afresh(tmp_path):
+    first = run_campaign(tmp_path, ["halfplane"], ["uniform"], Budget(cases=2), max_n=8, probes=100, shrink=False)
+    assert first.checked == 2
+    log = tmp_path / fuzz.LOG_NAME
+    records = [json.loads(line) for line in log.read_text().splitlines()]
+    records[0]["code"] = {**records[0].get("code", {}), "source": "0" * 64}      # as if made by other code
+    log.write_text("".join(json.dumps(r) + "\n" for r in records))
+    again = run_campaign(tmp_path, ["halfplane"], ["uniform"], Budget(cases=2), max_n=8, probes=100, shrink=False)
+    assert (again.checked, again.previously) == (2, 0)
+
+
+def test_the_source_digest_follows_every_python_file(tmp_path):
+    package = tmp_path / "pkg"
+    (package / "sub").mkdir(parents=True)
+    (package / "__init__.py").write_text("")
+    (package / "sub" / "part.py").write_text("X = 1\n")
+    module = SimpleNamespace(__file__=str(package / "__init__.py"))
+    before = source_digest([module])
+    assert source_digest([module]) == before
+    (package / "sub" / "part.py").write_text("X = 2\n")
+    assert source_digest([module]) != before
+
+
+def test_a_module_plugin_is_digested_by_its_source(tmp_path, monkeypatch):
+    package = tmp_path / "digest_probe_pkg"
+    package.mkdir()
+    (package / "__init__.py").write_text("")
+    (package / "impl.py").write_text("IMPLEMENTATIONS = []\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    before = plugin_digest("digest_probe_pkg")
+    (package / "impl.py").write_text("IMPLEMENTATIONS = []  # edited\n")
+    assert plugin_digest("digest_probe_pkg") != before
+    assert plugin_digest("no_such_module_here") == "missing"
+    sys.modules.pop("digest_probe_pkg", None)
 
 
 def test_cli_fuzz_reports_cases_per_second(tmp_path, capsys):

@@ -18,14 +18,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from vorobench.harness.weighted_witness import load_weights
+from datasets_gen.loaders import load_weights
 
 #: Loads argv[2] with the loader argv[1], within 512 MiB more memory; prints the outcome.
 LOAD_SCRIPT = textwrap.dedent("""
     import sys
 
     import datasets_gen
-    from vorobench.harness.weighted_witness import load_weights
+    from datasets_gen.loaders import load_weights
     from vorobench.judge.isolation import limit_memory
 
     loader = {"points": datasets_gen.load, "weights": load_weights}[sys.argv[1]]

@@ -28,7 +28,6 @@ from __future__ import annotations
 import atexit
 import multiprocessing as mp
 import time
-import traceback
 from dataclasses import dataclass, field
 from typing import Any, Mapping, Optional, Sequence
 
@@ -37,7 +36,7 @@ from numpy.typing import ArrayLike
 
 import impls
 from impls import DEFAULT_REFERENCE
-from impls.base import BuildRaised, InputMutated, UnsupportedInput
+from impls.base import BuildRaised, InputMutated
 from vorobench.core.diagram import Diagram
 from vorobench.core.prepare import prepare, prepare_weighted
 from vorobench.core.scaling import OutsideExactRange, exact_shift, scale_points

@@ -4,27 +4,34 @@
 the failure persists, then ever smaller chunks, until no single point can be dropped: a
 1-minimal witness, usually a handful of points. ``write_witness`` saves it as ``.npy``, a
 text file with the command that reproduces it, and a PNG overlaying the implementation's
-diagram on the reference's with the differing edges in red.
+diagram on the reference's with the differing edges in red. A weighted failure (a power
+diagram) keeps its weights row for row: every function here takes them as ``weights``, and
+its witness saves them beside the points (``NAME.weights.npy``).
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shlex
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Optional
+from typing import Callable, Iterator, Optional
 
 import numpy as np
 from numpy.typing import NDArray
 
 from vorobench.core.diagram import Diagram
 from vorobench.core.prepare import prepare
-from vorobench.judge.engine import CaseVerdict, Judge, agree_exactly, check_case
+from vorobench.judge.engine import CaseVerdict, Judge, agree_exactly, check_case, prepare_case
 from vorobench.judge.plotting import save_overlay
 
-__all__ = ["ddmin", "judge", "shrink_case", "write_witness", "Witness"]
+__all__ = ["ddmin", "judge", "bounded_timeout", "shrink_rows", "shrink_case", "write_witness", "Witness",
+           "WEIGHTS_FILE_PREFIX"]
+
+#: ``--weights file:PATH`` reads the weights (one per point) from a file instead of a family.
+WEIGHTS_FILE_PREFIX = "file:"
 
 
 def ddmin(n: int, fails: Callable[[NDArray[np.int64]], bool], *, max_tests: int = 2000,
@@ -32,24 +39,31 @@ def ddmin(n: int, fails: Callable[[NDArray[np.int64]], bool], *, max_tests: int 
     """Indices of a small subset of ``range(n)`` on which ``fails`` still holds (``fails`` must
     hold on all of them). Each round splits the current set into ``k`` chunks and keeps one
     chunk, or drops one chunk, if the failure persists; otherwise it doubles ``k``. Stops at
-    a 1-minimal set, after ``max_tests`` calls or after ``time_budget`` seconds."""
+    a 1-minimal set, after ``max_tests`` calls or within ``time_budget`` seconds: a test that
+    would end past the budget, judging by the slowest test so far, is not started."""
     items = np.arange(n, dtype=np.int64)
     k = 2
     tests = 0
+    slowest = 0.0
     deadline = time.monotonic() + time_budget
     cache: dict[bytes, bool] = {}
 
+    def out_of_budget() -> bool:
+        return tests >= max_tests or time.monotonic() + slowest >= deadline
+
     def test(subset: NDArray[np.int64]) -> bool:
-        nonlocal tests
+        nonlocal tests, slowest
         key = subset.tobytes()
         if key not in cache:
-            if tests >= max_tests or time.monotonic() >= deadline:
+            if out_of_budget():
                 return False                          # out of budget: keep what we have
             tests += 1
+            started = time.monotonic()
             cache[key] = bool(fails(subset))
+            slowest = max(slowest, time.monotonic() - started)
         return cache[key]
 
-    while items.size >= 2 and tests < max_tests and time.monotonic() < deadline:
+    while items.size >= 2 and not out_of_budget():
         chunks = np.array_split(items, min(k, items.size))
         reduced = False
         for chunk in chunks:                          # one chunk alone still fails?
@@ -70,32 +84,79 @@ def ddmin(n: int, fails: Callable[[NDArray[np.int64]], bool], *, max_tests: int 
 
 
 def judge(impl: str, points: NDArray[np.float64], *, reference: str, exact_peer: Optional[str] = None,
-          probes: int = 2000, judge: Optional[Judge] = None) -> CaseVerdict:
-    """``impl`` on ``points``: against ``reference`` (:func:`check_case`), or, with
-    ``exact_peer``, exact agreement with that other exact implementation. Builds go through
-    ``judge`` (isolated workers: a crashing implementation can be shrunk) when given."""
+          probes: int = 2000, judge: Optional[Judge] = None, weights: Optional[NDArray[np.float64]] = None
+          ) -> CaseVerdict:
+    """``impl`` on ``points`` (with ``weights``: their power diagram): against ``reference``
+    (:func:`check_case`), or, with ``exact_peer``, exact agreement with that other exact
+    implementation. Builds go through ``judge`` (isolated workers: a crashing implementation
+    can be shrunk) when given."""
     engine = judge or Judge(reference=reference, isolate=False)
     if exact_peer is None:
-        return check_case(impl, points, reference=reference, probes=probes, judge=engine)
-    return agree_exactly(engine.build(exact_peer, points, probes=probes), engine.build(impl, points, probes=probes))
+        return check_case(impl, points, reference=reference, probes=probes, judge=engine, weights=weights)
+    sites, site_weights = prepare_case(points, weights)
+    return agree_exactly(engine.build(exact_peer, sites, probes=probes, weights=site_weights),
+                         engine.build(impl, sites, probes=probes, weights=site_weights))
 
 
 _judge = judge     # the module function, for callers whose parameter is also called ``judge``
 
 
-def shrink_case(impl: str, points: NDArray[np.float64], verdict: CaseVerdict, *, reference: str,
-                exact_peer: Optional[str] = None, probes: int = 2000, max_tests: int = 2000,
-                time_budget: float = 120.0, judge: Optional[Judge] = None) -> NDArray[np.float64]:
-    """The smallest subset of ``points`` found by :func:`ddmin` on which ``impl`` fails the same
-    way (same verdict and blame) against ``reference`` (or against ``exact_peer``)."""
+@contextlib.contextmanager
+def bounded_timeout(judge: Optional[Judge], seconds: float) -> Iterator[None]:
+    """Within the block, each build ``judge`` isolates may take at most ``seconds`` (and never more
+    than its own timeout), so that one slow build cannot overrun a budget. A judge that builds
+    in this process (or none) cannot stop a build: it is left as it is."""
+    if judge is None or not judge.isolate:
+        yield
+        return
+    own = judge.timeout
+    judge.timeout = max(0.0, seconds if own is None else min(own, seconds))
+    try:
+        yield
+    finally:
+        judge.timeout = own
+
+
+def shrink_rows(n: int, judge_rows: Callable[[NDArray[np.int64]], CaseVerdict], verdict: CaseVerdict, *,
+                judge: Optional[Judge] = None, max_tests: int = 2000, time_budget: float = 120.0
+                ) -> tuple[NDArray[np.int64], CaseVerdict]:
+    """The sorted indices of the smallest subset of ``range(n)`` found by :func:`ddmin` on which
+    ``judge_rows`` fails the way ``verdict`` did (same verdict and blame), with its verdict
+    (``verdict`` itself when no row could be dropped). The builds of each step go through
+    ``judge`` bounded by what is left of ``time_budget``: a step cut short does not count as
+    failing, so the budget ends the shrinking instead of being overrun."""
     want = (verdict.verdict, verdict.blame)
+    deadline = time.monotonic() + time_budget
+    failing: dict[bytes, CaseVerdict] = {}
 
     def fails(idx: NDArray[np.int64]) -> bool:
-        v = _judge(impl, points[idx], reference=reference, exact_peer=exact_peer, probes=probes, judge=judge)
-        return (v.verdict, v.blame) == want and not v.passed
+        with bounded_timeout(judge, deadline - time.monotonic()):
+            v = judge_rows(idx)
+        if (v.verdict, v.blame) != want or v.passed:
+            return False
+        failing[np.sort(idx).tobytes()] = v
+        return True
 
-    keep = ddmin(points.shape[0], fails, max_tests=max_tests, time_budget=time_budget)
-    return points[np.sort(keep)]
+    keep = np.sort(ddmin(n, fails, max_tests=max_tests, time_budget=time_budget))
+    return keep, failing.get(keep.tobytes(), verdict)
+
+
+def shrink_case(impl: str, points: NDArray[np.float64], verdict: CaseVerdict, *, reference: str,
+                exact_peer: Optional[str] = None, probes: int = 2000, max_tests: int = 2000,
+                time_budget: float = 120.0, judge: Optional[Judge] = None,
+                weights: Optional[NDArray[np.float64]] = None
+                ) -> tuple[NDArray[np.float64], Optional[NDArray[np.float64]]]:
+    """(points, weights or None): the smallest subset of the rows of ``points`` (and
+    ``weights``, kept row for row) found by :func:`ddmin` on which ``impl`` fails the same way
+    (same verdict and blame) against ``reference`` (or against ``exact_peer``), within
+    ``time_budget`` seconds (see :func:`shrink_rows`)."""
+    def judge_rows(idx: NDArray[np.int64]) -> CaseVerdict:
+        return _judge(impl, points[idx], reference=reference, exact_peer=exact_peer, probes=probes, judge=judge,
+                      weights=None if weights is None else weights[idx])
+
+    keep, _ = shrink_rows(points.shape[0], judge_rows, verdict, judge=judge, max_tests=max_tests,
+                          time_budget=time_budget)
+    return points[keep], None if weights is None else weights[keep]
 
 
 @dataclass
@@ -117,20 +178,28 @@ def _plugin_word(spec: str) -> str:
 
 def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[np.float64], *, reference: str,
                   exact_peer: Optional[str] = None, probes: int = 2000, judge: Optional[Judge] = None,
-                  verdict: Optional[CaseVerdict] = None) -> Witness:
-    """Save ``points`` as ``NAME.npy`` with ``NAME.txt`` (the command that reproduces the failure,
-    with the ``--plugin`` modules of ``judge``, and what it reports; ``verdict`` if given, else
-    ``points`` judged again) and ``NAME.png`` (both diagrams, differing edges in red)."""
+                  verdict: Optional[CaseVerdict] = None, picture: bool = True,
+                  weights: Optional[NDArray[np.float64]] = None) -> Witness:
+    """Save ``points`` as ``NAME.npy`` (and ``weights`` as ``NAME.weights.npy``) with ``NAME.txt``
+    (the command that reproduces the failure, with the ``--plugin`` modules of ``judge`` and the
+    weights, and what it reports; ``verdict`` if given, else ``points`` judged again) and, with
+    ``picture``, ``NAME.png`` (both diagrams, differing edges in red; a campaign out of time
+    leaves it out)."""
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     npy = directory / f"{name}.npy"
     np.save(npy, np.asarray(points, dtype=np.float64))
     if verdict is None:     # given when judging again would only cost the same timeout twice
-        verdict = _judge(impl, points, reference=reference, exact_peer=exact_peer, probes=probes, judge=judge)
+        verdict = _judge(impl, points, reference=reference, exact_peer=exact_peer, probes=probes, judge=judge,
+                         weights=weights)
     names = impl if exact_peer is None else f"{exact_peer},{impl}"
     plugins = "".join(f"--plugin {shlex.quote(_plugin_word(spec))} " for spec in (judge.plugins if judge else ()))
     command = (f"vorobench validate {plugins}--impls {shlex.quote(names)} --reference {shlex.quote(reference)} "
                f"--points {shlex.quote(str(npy))}")
+    if weights is not None:             # the points alone would judge the ordinary diagram: name the weights too
+        weights_path = directory / f"{name}.weights.npy"
+        np.save(weights_path, np.asarray(weights, dtype=np.float64))
+        command += f" --weights {shlex.quote(WEIGHTS_FILE_PREFIX + str(weights_path))}"
     lines = [command, "", f"{points.shape[0]} points; verdict {verdict.verdict}: {verdict.message}"]
     shown: list = []
     for res in (verdict.result, verdict.reference_result):
@@ -141,13 +210,14 @@ def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[n
         lines += ["", str(verdict.comparison)]
     txt = directory / f"{name}.txt"
     txt.write_text("\n".join(lines) + "\n")
-    picture: Optional[Path] = directory / f"{name}.png"
+    if not picture:
+        return Witness(npy, txt, None, int(points.shape[0]), verdict)
+    png: Optional[Path] = directory / f"{name}.png"
     ref_d = verdict.reference_result.diagram if verdict.reference_result is not None else None
     own_d = verdict.result.diagram if verdict.result is not None else None
     if own_d is ref_d:
         ref_d = None
     if own_d is None and ref_d is None:            # crashed: draw the points at least
-
         own_d = Diagram.empty(prepare(points)[0])
     comp = verdict.comparison
     hl_ref = comp.highlight_a if comp is not None else _offending_half_edges(verdict.reference_result)
@@ -155,12 +225,12 @@ def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[n
     marks = _offending_sites(verdict.result) + _offending_sites(verdict.reference_result)
     try:
         other = exact_peer or reference
-        save_overlay(ref_d, own_d, picture, labels=(other, impl), highlight_first=hl_ref,
+        save_overlay(ref_d, own_d, png, labels=(other, impl), highlight_first=hl_ref,
                      highlight_second=hl_own, mark_sites=marks,
                      title=f"{impl} vs {other}: {verdict.verdict} ({points.shape[0]} points)")
     except Exception:  # nothing to draw (both crashed) or a drawing failure: the witness stands without it
-        picture = None
-    return Witness(npy, txt, picture, int(points.shape[0]), verdict)
+        png = None
+    return Witness(npy, txt, png, int(points.shape[0]), verdict)
 
 
 def _offending_half_edges(res) -> list[int]:
