@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from processes import alive
 
 import datasets_gen
 import impls
@@ -211,12 +212,7 @@ def test_build_command_survives_a_segfault(capsys):
 
 # ------------------------------------------------------------------------- clean shutdown
 
-def _alive(pid: int) -> bool:
-    try:
-        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
-    except (OSError, IndexError):
-        return False
-    return state not in ("Z", "X")
+_alive = alive
 
 
 def _wait_gone(pids, seconds: float) -> list[int]:

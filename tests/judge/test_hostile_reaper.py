@@ -17,6 +17,8 @@ import textwrap
 import time
 from pathlib import Path
 
+from processes import alive
+
 ROOT = Path(__file__).resolve().parents[2]
 DOUBLES = str(ROOT / "tests" / "support" / "doubles.py")
 
@@ -47,13 +49,7 @@ JUDGE_SCRIPT = textwrap.dedent("""
 """)
 
 
-def _alive(pid: int) -> bool:
-    """True while ``pid`` runs (a zombie has ended: only its exit status is left)."""
-    try:
-        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
-    except (OSError, IndexError):
-        return False
-    return state not in ("Z", "X")
+_alive = alive
 
 
 def _parent_of(pid: int) -> int:
