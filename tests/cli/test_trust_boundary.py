@@ -10,8 +10,10 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import subprocess
 import sys
+import time
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -26,11 +28,13 @@ ATTACKERS = ["judge_patcher", "two_faced", "refuses_unsupported", "refuses_outsi
              "bomb_shape", "bomb_deflate", "bomb_npz"]
 
 
-def vorobench(args: list[str], tmp: Path, timeout: float = 300) -> tuple[subprocess.CompletedProcess, int, list[str]]:
-    """Run ``vorobench args`` with every hostile plugin; (result, the judge's pid, the import log)."""
+def vorobench(args: list[str], tmp: Path, timeout: float = 300, plugins: list[Path] = PLUGINS
+              ) -> tuple[subprocess.CompletedProcess, int, list[str]]:
+    """Run ``vorobench args`` with the hostile ``plugins`` (default: all); (result, the judge's
+    pid, the import log)."""
     log = tmp / "imports.log"
     env = {**os.environ, "VOROBENCH_TEST_IMPORT_LOG": str(log), "VOROBENCH_TEST_MARK": str(tmp / "first")}
-    plugins = [arg for p in PLUGINS for arg in ("--plugin", str(p))]
+    plugins = [arg for p in plugins for arg in ("--plugin", str(p))]
     proc = subprocess.Popen([sys.executable, "-m", "vorobench", *args, *plugins], cwd=ROOT, env=env,
                             stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             errors="replace")
@@ -147,3 +151,39 @@ def test_fuzz_runs_plugins_without_importing_them(tmp_path):
     summary = json.loads((tmp_path / "fuzz" / "summary.json").read_text())
     assert summary["failed"] == 2 and summary["declarations"]["judge_patcher"]["exact"] is True
     assert imports and pid not in imported_in(imports)
+
+
+def test_a_broken_exact_implementation_listed_first_is_the_only_one_blamed(tmp_path):
+    """Item 7: with the broken exact implementation first, the exact comparison row of the
+    honest one names the broken one, not itself."""
+    out = tmp_path / "out"
+    run, _, _ = vorobench(["validate", "--impls", "swapped_exact,fortune", "--datasets", "uniform", "--sizes", "12",
+                           "--no-shrink", "--out", str(out)], tmp_path, plugins=[HOSTILE / "refuses_in_build.py"])
+    assert run.returncode == 1, run.stdout[-3000:] + run.stderr[-3000:]
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["failed_impls"] == ["swapped_exact"], summary["failed_impls"]
+    fortune = [r for r in summary["results"] if r["impl"] == "fortune" and not r["exact_peer"]]
+    assert fortune and all(r["passed"] for r in fortune)
+
+
+def test_a_run_killed_while_it_starts_leaves_no_green_summary_behind(tmp_path):
+    """Item 8: the previous run's green summary is gone before any implementation is loaded."""
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "summary.json").write_text(json.dumps({"passed": True, "complete": True}))
+    log = tmp_path / "imports.log"
+    env = {**os.environ, "VOROBENCH_TEST_IMPORT_LOG": str(log), "VOROBENCH_TEST_MARK": str(tmp_path / "first")}
+    proc = subprocess.Popen([sys.executable, "-m", "vorobench", "validate", "--plugin", str(PLUGINS[0]), "--impls",
+                             "judge_patcher", "--datasets", "uniform", "--sizes", "12", "--out", str(out)], cwd=ROOT,
+                            env=env, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 120
+        while not (log.exists() and log.read_text().strip()) and proc.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert log.exists(), "the plugin was never loaded"
+        os.kill(proc.pid, signal.SIGKILL)           # as soon as the first implementation is loaded anywhere
+    finally:
+        proc.kill()
+        proc.wait()
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["passed"] is False and summary["complete"] is False
