@@ -43,6 +43,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from vorobench.cli.args import fraction, non_negative_int, positive_float
+from vorobench.judge.outcomes import Status, Verdict
 
 if TYPE_CHECKING:  # annotations only: the module itself is loaded when the command runs
     from vorobench.harness.regress import CaseChange, RunComparison
@@ -155,7 +156,7 @@ def _verdict_text(c: CaseChange) -> str:
     if c.new_status is None:
         return f"only in BASE ({c.base_status})"
     if c.base_verdict == c.new_verdict:
-        return "not checked" if c.new_verdict == "skipped" and c.new_status == "ok" else str(
+        return "not checked" if c.new_verdict == Verdict.SKIPPED and c.new_status == Status.OK else str(
             c.new_verdict or c.new_status)
     return f"{c.base_verdict} -> {c.new_verdict}"
 

@@ -29,6 +29,7 @@ from impls import DEFAULT_REFERENCE
 from vorobench.cli import args as cli_args
 from vorobench.cli.bench import weight_family
 from vorobench.judge.defaults import DEFAULT_PROBES, DEFAULT_TIMEOUT
+from vorobench.judge.outcomes import Verdict
 
 if TYPE_CHECKING:  # annotations only: the module itself is loaded when the command runs
     from vorobench.judge.declarations import Declaration
@@ -39,11 +40,13 @@ if TYPE_CHECKING:  # annotations only: the module itself is loaded when the comm
 
 __all__ = ["add_arguments", "run"]
 
-_STYLE = {"exact": "green", "within_tolerance": "green", "certified": "green", "unsupported": "dim",
-          "differs": "bold red", "not_certified": "bold red", "crashed": "bold red", "timeout": "bold red",
-          "oom": "bold red", "mutated_input": "bold red"}
-_SHORT = {"within_tolerance": "within tol", "not_certified": "NOT CERTIFIED", "differs": "DIFFERS",
-          "crashed": "CRASHED", "timeout": "TIMEOUT", "oom": "OUT OF MEMORY", "mutated_input": "MUTATED INPUT"}
+_STYLE = {Verdict.EXACT: "green", Verdict.WITHIN_TOLERANCE: "green", Verdict.CERTIFIED: "green",
+          Verdict.UNSUPPORTED: "dim", Verdict.DIFFERS: "bold red", Verdict.NOT_CERTIFIED: "bold red",
+          Verdict.CRASHED: "bold red", Verdict.TIMEOUT: "bold red", Verdict.OOM: "bold red",
+          Verdict.MUTATED_INPUT: "bold red"}
+_SHORT = {Verdict.WITHIN_TOLERANCE: "within tol", Verdict.NOT_CERTIFIED: "NOT CERTIFIED", Verdict.DIFFERS: "DIFFERS",
+          Verdict.CRASHED: "CRASHED", Verdict.TIMEOUT: "TIMEOUT", Verdict.OOM: "OUT OF MEMORY",
+          Verdict.MUTATED_INPUT: "MUTATED INPUT"}
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -29,7 +29,7 @@ from typing import Callable, Mapping, Optional, Union
 import numpy as np
 import pandas as pd
 
-from vorobench.judge.outcomes import counter_columns, timing_columns, verdict_rank
+from vorobench.judge.outcomes import Status, counter_columns, timing_columns, verdict_rank
 
 __all__ = [
     "mixed_hosts_note",
@@ -87,7 +87,7 @@ def case_table(df: pd.DataFrame) -> pd.DataFrame:
 def size_table(df: pd.DataFrame) -> pd.DataFrame:
     """One row per (impl, dataset, n) over the successful repeats of every seed: the median time,
     its quartiles and extremes over the repeats, memory, and time per n log2 n in nanoseconds."""
-    ok = df[df["status"] == "ok"]
+    ok = df[df["status"] == Status.OK]
     if ok.empty:
         return pd.DataFrame(columns=["impl", "dataset", "n", "n_sites", "time_s", "time_q1_s", "time_q3_s",
                                      "time_min_s", "time_max_s", "seeds", "mem_mb", "peak_rss_mb", "repeats",
@@ -125,7 +125,7 @@ def case_repeats(df: pd.DataFrame) -> list[dict]:
     for key, g in df.groupby(["impl", "dataset", "n", "seed"], sort=True, dropna=False):
         impl, dataset, n, seed = key
         first = g.iloc[0]
-        ok = g[g["status"] == "ok"] if "status" in g else g
+        ok = g[g["status"] == Status.OK] if "status" in g else g
         if "repeat" in ok.columns:
             ok = ok.sort_values("repeat", kind="stable")
         times = pd.to_numeric(ok["time_s"], errors="coerce") if "time_s" in ok else pd.Series(dtype=float)
@@ -226,7 +226,7 @@ def correctness_matrix(cases: pd.DataFrame) -> pd.DataFrame:
 
 def failures(cases: pd.DataFrame) -> pd.DataFrame:
     """Cases that did not run to completion (crashed, timeout, oom, error) or were not certified."""
-    bad_status = ~cases["status"].isin(["ok", "unsupported", "skipped"])
+    bad_status = ~cases["status"].isin([Status.OK, Status.UNSUPPORTED, Status.SKIPPED])
     bad_verdict = pd.Series([passed(v, p) is False for v, p in zip(cases["verdict"], cases["check_passed"])],
                             index=cases.index, dtype=bool)
     return cases[bad_status | bad_verdict]
@@ -237,7 +237,7 @@ def mixed_hosts_note(df: pd.DataFrame) -> Optional[str]:
     then compare machines as well as implementations."""
     if "host" not in df.columns:
         return None
-    hosts = sorted({str(h) for h in df.loc[df["status"] == "ok", "host"].dropna() if str(h)})
+    hosts = sorted({str(h) for h in df.loc[df["status"] == Status.OK, "host"].dropna() if str(h)})
     if len(hosts) < 2:
         return None
     return (f"WARNING: the timings come from {len(hosts)} hosts ({', '.join(hosts[:6])}"

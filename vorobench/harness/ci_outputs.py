@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from vorobench.harness.markdown_text import cell as _cell
+from vorobench.judge.outcomes import Verdict
 from vorobench.judge.wire import escaped
 
 __all__ = ["write_junit", "write_markdown", "write_compare_junit", "write_compare_markdown", "printable",
@@ -61,7 +62,7 @@ def write_junit(summary: dict[str, Any], path: str | Path) -> Path:
     """``summary`` (validate's) as a JUnit XML file; returns its path."""
     rows = summary.get("results", [])
     failed = [r for r in rows if not r["passed"]]
-    skipped = [r for r in rows if r["passed"] and r["verdict"] == "unsupported"]
+    skipped = [r for r in rows if r["passed"] and r["verdict"] == Verdict.UNSUPPORTED]
     suite = ET.Element("testsuite", name="vorobench validate", tests=str(len(rows)), failures=str(len(failed)),
                        skipped=str(len(skipped)), errors="0",
                        time=f"{sum(float(r.get('seconds') or 0.0) for r in rows):.3f}")
@@ -71,7 +72,7 @@ def write_junit(summary: dict[str, Any], path: str | Path) -> Path:
         if not row["passed"]:
             failure = ET.SubElement(case, "failure", type=str(row["verdict"]), message=str(row["message"])[:500])
             failure.text = str(row["message"])
-        elif row["verdict"] == "unsupported":
+        elif row["verdict"] == Verdict.UNSUPPORTED:
             ET.SubElement(case, "skipped", message=str(row["message"])[:500])
     for name in summary.get("never_judged", []):
         case = ET.SubElement(suite, "testcase", classname=f"vorobench.{name}", name=f"{name} judged at all")

@@ -37,20 +37,20 @@ _MARKERS = "osD^vP*Xh<>"
 #: protanopia, deuteranopia and tritanopia. Passes are blues and green, "said nothing" greys,
 #: failures warm or dark; every cell also names its verdict, so colour is never the only cue.
 VERDICT_COLOURS: dict[str, str] = {
-    "exact": "#009E73",             # bluish green
-    "within_tolerance": "#56B4E9",  # sky blue
-    "certified": "#0072B2",         # blue
-    "no_reference": "#BFD8EE",      # pale blue
-    "unsupported": "#BBBBBB",       # grey
-    "skipped": "#E8E8E8",           # light grey
-    "differs": "#E69F00",           # orange
-    "not_certified": "#D55E00",     # vermillion
-    "check_error": "#F0E442",       # yellow
-    "wrong_sites": "#CC79A7",       # reddish purple
-    "mutated_input": "#882255",     # wine (Tol)
-    "oom": "#332288",               # indigo (Tol)
-    "timeout": "#6F4E37",           # brown
-    "crashed": "#000000",           # black
+    Verdict.EXACT: "#009E73",             # bluish green
+    Verdict.WITHIN_TOLERANCE: "#56B4E9",  # sky blue
+    Verdict.CERTIFIED: "#0072B2",         # blue
+    Verdict.NO_REFERENCE: "#BFD8EE",      # pale blue
+    Verdict.UNSUPPORTED: "#BBBBBB",       # grey
+    Verdict.SKIPPED: "#E8E8E8",           # light grey
+    Verdict.DIFFERS: "#E69F00",           # orange
+    Verdict.NOT_CERTIFIED: "#D55E00",     # vermillion
+    Verdict.CHECK_ERROR: "#F0E442",       # yellow
+    Verdict.WRONG_SITES: "#CC79A7",       # reddish purple
+    Verdict.MUTATED_INPUT: "#882255",     # wine (Tol)
+    Verdict.OOM: "#332288",               # indigo (Tol)
+    Verdict.TIMEOUT: "#6F4E37",           # brown
+    Verdict.CRASHED: "#000000",           # black
 }
 assert list(VERDICT_COLOURS) == [v.value for v in Verdict], "one colour per verdict, in the schema's order"
 
@@ -64,7 +64,7 @@ def verdict_colour(verdict: object) -> str:
 
 def verdict_label(verdict: object) -> str:
     """How a verdict reads in a legend: "within tolerance"; "skipped" reads "not checked"."""
-    return "not checked" if str(verdict) == "skipped" else str(verdict).replace("_", " ")
+    return "not checked" if str(verdict) == Verdict.SKIPPED else str(verdict).replace("_", " ")
 
 
 def text_colour(background: str) -> str:

@@ -33,6 +33,7 @@ from vorobench.harness.atomic import replace_atomically
 from vorobench.harness.campaign import INT_BOX, LOG_NAME, Budget, parse_budget
 from vorobench.harness.executors import run_tasks
 from vorobench.judge.engine import CaseVerdict, Judge, prepare_case, shared_judge
+from vorobench.judge.outcomes import Status, Verdict
 from vorobench.judge.shrink import Witness, bounded_timeout, judge, shrink_rows, write_witness
 
 __all__ = ["Budget", "parse_budget", "FuzzCase", "Failure", "plan", "generate", "check_fuzz_case",
@@ -45,7 +46,7 @@ SHRINK_SHARE = 0.25
 #: written as found: one more witness of the same finding is not worth a shrink each.
 SHRINK_PER_KIND = 3
 #: Verdicts whose every judging costs the whole allowance: their witnesses are written as found.
-COSTLY_VERDICTS = ("timeout", "oom")
+COSTLY_VERDICTS = (Verdict.TIMEOUT, Verdict.OOM)
 #: A case is not started with less of the budget left (or a tenth of a short budget).
 MIN_CASE_SECONDS = 1.0
 #: The code whose change voids earlier verdicts: implementations, geometry, judge, case generators.
@@ -162,7 +163,7 @@ def check_fuzz_case(case: FuzzCase) -> dict[str, Any]:
     with bounded_timeout(engine, allowance):
         judged = engine.judge(points, names, weights=weights)
     results = [_verdict_record(v, peer) for _, v, peer in judged.rows]
-    late = [v["impl"] for v in results if v["verdict"] == "timeout"]
+    late = [v["impl"] for v in results if v["verdict"] == Verdict.TIMEOUT]
     if late and allowance < case.timeout:
         return _cut_record(case, f"{', '.join(late)} did not finish in the {allowance:.1f} s left of the budget")
     record = {"generator": case.generator, "n": case.n, "seed": case.seed, "weights": case.weights,
@@ -261,7 +262,7 @@ def shrink_failure(task: ShrinkTask) -> Shrunk:
     with bounded_timeout(engine, ends - time.monotonic()):
         verdict = judge_rows(np.arange(sites.shape[0]))
     if verdict.passed or verdict.verdict != failure.verdict:
-        return Shrunk(sites, weights, failure.recorded_verdict() if verdict.verdict == "timeout" else verdict)
+        return Shrunk(sites, weights, failure.recorded_verdict() if verdict.verdict == Verdict.TIMEOUT else verdict)
     keep, verdict = shrink_rows(sites.shape[0], judge_rows, verdict, judge=engine,
                                 time_budget=ends - time.monotonic())
     return Shrunk(sites[keep], None if weights is None else weights[keep], verdict)
@@ -598,7 +599,7 @@ class _Campaign:
         else:
             # The worker died (every try) or the task raised: recorded, never dropped.
             record = {"generator": case.generator, "n": case.n, "seed": case.seed, "weights": case.weights,
-                      "status": "lost" if res.lost else "error", "error": res.lost or res.error,
+                      "status": Status.LOST if res.lost else Status.ERROR, "error": res.lost or res.error,
                       "attempts": res.attempts, "results": [], "passed": False}
             self.summary.lost += bool(res.lost)
             self.summary.errors += bool(res.error)
@@ -612,7 +613,7 @@ class _Campaign:
         """Remember the implementations that timed out on the whole allowance: later cases of
         this run do not build them, so a hanging implementation costs one timeout, not one a case."""
         for v in record["results"]:
-            if v["verdict"] == "timeout" and v["impl"] != self.reference and v["impl"] not in self.summary.hung:
+            if v["verdict"] == Verdict.TIMEOUT and v["impl"] != self.reference and v["impl"] not in self.summary.hung:
                 self.summary.hung[v["impl"]] = str(case)
                 self.say(f"[yellow]{escape(v['impl'])} timed out on {case}[/]: not built again in this run")
 

@@ -14,7 +14,7 @@ import pandas as pd
 from scipy.stats import bootstrap, mannwhitneyu, median_abs_deviation, ttest_1samp
 
 from vorobench.harness import results, store
-from vorobench.judge.outcomes import counter_columns, status_rank, verdict_rank
+from vorobench.judge.outcomes import Status, counter_columns, status_rank, verdict_rank
 
 __all__ = ["CaseChange", "Overall", "RunComparison", "compare_frames", "compare_runs",
            "compare_files", "load_side", "bootstrap_ratio_ci", "slowdown_p_value", "overall_change",
@@ -67,7 +67,7 @@ class CaseChange:
     @property
     def check_lost(self) -> bool:
         """BASE built and checked the case; NEW built it without checking it."""
-        return self.base_status == "ok" and verdict_rank(self.base_verdict) is not None and self.unchecked
+        return self.base_status == Status.OK and verdict_rank(self.base_verdict) is not None and self.unchecked
 
 
 @dataclass
@@ -211,21 +211,21 @@ def overall_change(changes: Sequence[CaseChange], threshold: float, level: float
 
 def _unchecked(status: Optional[str], verdict: Optional[str]) -> bool:
     """A built case with no verdict on its correctness ("skipped" or none at all)."""
-    return status == "ok" and verdict_rank(verdict) is None
+    return status == Status.OK and verdict_rank(verdict) is None
 
 
 def _usable_times(rows) -> np.ndarray:
     """The build times of ``rows`` that ran, as seconds a ratio can be taken of: a missing, zero,
     negative or infinite time says nothing about speed (and a zero one divides by zero)."""
-    times = np.asarray(pd.to_numeric(rows.loc[rows["status"] == "ok", "time_s"], errors="coerce"), float)
+    times = np.asarray(pd.to_numeric(rows.loc[rows["status"] == Status.OK, "time_s"], errors="coerce"), float)
     return times[np.isfinite(times) & (times > 0)]
 
 
 def _why_not_comparable(change: CaseChange, base_times: np.ndarray, new_times: np.ndarray) -> str:
     """Why a case both sides ran cannot be timed against itself; "" when it can (or need not)."""
-    if change.new_status == "ok" and not new_times.size:
+    if change.new_status == Status.OK and not new_times.size:
         return "NEW has no usable timing (time_s missing, zero, negative or infinite)"
-    if change.base_status == "ok" and change.new_status == "ok" and not base_times.size:
+    if change.base_status == Status.OK and change.new_status == Status.OK and not base_times.size:
         return "BASE has no usable timing (time_s missing, zero, negative or infinite)"
     return ""
 
@@ -340,7 +340,7 @@ def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05
 
 def _compare_counters(change: CaseChange, base_rows, new_rows, stat_cols: list[str]) -> None:
     """Flag ``change`` when a counter differs between the first rows that ran on each side."""
-    ran_base, ran_new = base_rows[base_rows["status"] == "ok"], new_rows[new_rows["status"] == "ok"]
+    ran_base, ran_new = base_rows[base_rows["status"] == Status.OK], new_rows[new_rows["status"] == Status.OK]
     if not stat_cols or ran_base.empty or ran_new.empty:
         return
     change.counters = _counters(ran_base.iloc[0].to_dict(), ran_new.iloc[0].to_dict(), stat_cols)
@@ -368,7 +368,7 @@ def case_noise(history) -> dict[tuple, tuple[float, int]]:
     if history is None or history.empty or "run_id" not in history.columns:
         return {}
     history = results.with_weights_in_dataset(history)
-    ok = history[(history["status"] == "ok") & history["time_s"].notna()]
+    ok = history[(history["status"] == Status.OK) & history["time_s"].notna()]
     medians = ok.groupby(KEY + ["run_id"])["time_s"].median()
     out = {}
     for key, per_run in medians.groupby(level=[0, 1, 2, 3]):

@@ -21,6 +21,7 @@ from vorobench.core.diagram import Diagram
 from vorobench.core.scaling import exact_shift
 from vorobench.judge.declarations import Declaration
 from vorobench.judge.engine import BuildResult, certify_result, decide, diagram_from_arrays
+from vorobench.judge.outcomes import Verdict
 
 __all__ = ["RepeatJudging", "repeat_shifts", "reference_result", "SHIFTS_NOTE"]
 
@@ -131,7 +132,7 @@ class RepeatJudging:
     def _judge(self, diagram: object, reference: Optional[str], ref: Optional[BuildResult], probes: int,
                index: int = 0) -> dict:
         if isinstance(diagram, str):
-            res = BuildResult(self.impl, self.declared.exact, error=diagram, failure="wrong_sites")
+            res = BuildResult(self.impl, self.declared.exact, error=diagram, failure=Verdict.WRONG_SITES)
         else:
             res = certify_result(BuildResult(self.impl, self.declared.exact, diagram), self.sites, probes=probes,
                                  weights=self.weights)

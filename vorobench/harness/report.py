@@ -29,6 +29,7 @@ from vorobench.harness.power_figure import plot_power_case
 from vorobench.harness.report_html import PageInput, plotly_styles, render
 from vorobench.harness.results import load_checked, metadata_path, read_metadata, with_weights_in_dataset
 from vorobench.harness.units import factor_text, percent_text, seconds_text, size_text
+from vorobench.judge.outcomes import Status, Verdict
 
 __all__ = ["write_report", "Report", "reading", "busy_machine_note"]
 
@@ -182,14 +183,14 @@ def reading(cases, sizes, exponents, ratios, reference: str, check=None, repeats
                       f"exponent over the same sizes by more than {MISMATCH_TOLERANCE:g} (n log n counts as about "
                       "n^1.12 over 1k-30k, n^2 as 2).")
     # Correctness.
-    ran = cases[cases["status"] == "ok"]
+    ran = cases[cases["status"] == Status.OK]
     if not ran.empty:
         others, own = ran[ran["impl"] != reference], ran[ran["impl"] == reference]
-        tally = others["verdict"].fillna("none").replace({"skipped": "not checked"}).value_counts()
+        tally = others["verdict"].fillna("none").replace({Verdict.SKIPPED: "not checked"}).value_counts()
         parts = ", ".join(f"{v} {_text(str(k).replace('_', ' '))}" for k, v in tally.items()) or "none"
         text = f"**Correctness** of the {len(others)} cases that ran, against {_code(reference)}: {parts}."
         if not own.empty:
-            certified = int((own["verdict"] == "certified").sum())
+            certified = int((own["verdict"] == Verdict.CERTIFIED).sum())
             text += (f" {_code(reference)}'s own {len(own)} cases are judged on their certificates alone: "
                      f"{certified} certified.")
         points.append(text)
@@ -198,11 +199,11 @@ def reading(cases, sizes, exponents, ratios, reference: str, check=None, repeats
         points.append("**No failures**: no case crashed, hung, ran out of memory or was refuted.")
     else:
         listed = [f"{_code(r.impl)} {_text(r.dataset)} n={size_text(r.n)}: {_text(r.status)}"
-                  + (f" / {_text(r.verdict)}" if r.status == "ok" else "") for r in bad.head(8).itertuples()]
+                  + (f" / {_text(r.verdict)}" if r.status == Status.OK else "") for r in bad.head(8).itertuples()]
         more = f" and {len(bad) - 8} more" if len(bad) > 8 else ""
         points.append(f"**{len(bad)} case(s) failed or were not verified**: " + "; ".join(listed) + more
                       + " (details in the table below).")
-    skipped = cases[cases["status"] == "skipped"]
+    skipped = cases[cases["status"] == Status.SKIPPED]
     if not skipped.empty:
         points.append(f"{len(skipped)} case(s) were skipped (a smaller size timed out, or the extrapolated "
                       "time exceeded the run's budget).")
@@ -342,7 +343,7 @@ def write_report(results_path: str | Path, out: str | Path, title: Optional[str]
 
 
 def _skipped_md(cases) -> Optional[str]:
-    skipped = cases[cases["status"] == "skipped"]
+    skipped = cases[cases["status"] == Status.SKIPPED]
     if skipped.empty:
         return None
     first = skipped.sort_values("n").groupby(["impl", "dataset"], sort=True).first().reset_index()
@@ -352,7 +353,7 @@ def _skipped_md(cases) -> Optional[str]:
 
 
 def _warmup_md(cases) -> Optional[str]:
-    warm = cases[cases["status"] == "ok"].groupby("impl")["warmup_s"].median().dropna()
+    warm = cases[cases["status"] == Status.OK].groupby("impl")["warmup_s"].median().dropna()
     if warm.empty:
         return None
     return ("Warm-up per worker (JIT compilation or cache load, plus one small build), median: "

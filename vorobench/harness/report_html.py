@@ -34,7 +34,7 @@ from vorobench.harness.figures import VERDICT_COLOURS, has_data, text_colour, ve
 from vorobench.harness.html_page import escape, page
 from vorobench.harness.markdown_text import one_line
 from vorobench.harness.units import seconds_text, size_text
-from vorobench.judge.outcomes import status_rank
+from vorobench.judge.outcomes import Status, status_rank
 
 __all__ = ["PageInput", "render", "plotly_styles", "VIEW_TITLES"]
 
@@ -571,7 +571,7 @@ def _case_rows(inp: PageInput) -> str:
         else:
             timing = "<td>-</td><td>-</td><td>-</td>"
         bad = (status_rank(c["status"]) or 0) > 0
-        status = ("" if c["status"] in ("ok", c["verdict"]) else
+        status = ("" if c["status"] in (Status.OK, c["verdict"]) else
                   f' <span class="{"bad" if bad else "note"}">{_esc(c["status"])}</span>')
         rows.append(f'<tr data-case="{i}" data-impl="{_esc(c["impl"])}" data-dataset="{_esc(c["dataset"])}" '
                     f'data-n="{c["n"]}" tabindex="0"><td>{_esc(c["impl"])}</td><td>{_esc(c["dataset"])}</td>'

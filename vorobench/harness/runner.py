@@ -40,7 +40,7 @@ from vorobench.judge import wire
 from vorobench.judge.declarations import Declaration
 from vorobench.judge.engine import NO_WEIGHTS, diagram_schema, prepare_case, shared_judge
 from vorobench.judge.isolation import default_start_method
-from vorobench.judge.outcomes import COUNTER_PREFIX, Status, Verdict, status_rank, verdict_rank
+from vorobench.judge.outcomes import COUNTER_PREFIX, OutcomeKind, Status, Verdict, status_rank, verdict_rank
 from vorobench.judge.sandbox import Sandbox
 
 __all__ = ["Case", "RunConfig", "CaseOutcome", "plan_cases", "run_case", "run_case_in_process", "run_cases",
@@ -201,7 +201,8 @@ _SETUP_KEYS = ("rss_base_mb", "setup_s", "n_points", "warmup_s")
 _REPEAT_KEYS = ("time_s", "peak_rss_mb", "mem_mb", "input_scale_log2")
 
 #: A sandbox's failure (``Outcome.kind``) as the case's status.
-_STATUS_OF = {"crashed": Status.CRASHED, "timeout": Status.TIMEOUT, "oom": Status.OOM, "error": Status.ERROR}
+_STATUS_OF = {OutcomeKind.CRASHED: Status.CRASHED, OutcomeKind.TIMEOUT: Status.TIMEOUT, OutcomeKind.OOM: Status.OOM,
+              OutcomeKind.ERROR: Status.ERROR}
 
 
 def _numbers(payload, keys: Sequence[str], phases: bool = False, counters: bool = False) -> dict:
@@ -218,7 +219,7 @@ def _numbers(payload, keys: Sequence[str], phases: bool = False, counters: bool 
 def _failure(outcome, info: dict) -> str:
     """Record a sandbox's failed request in ``info``; the case's status."""
     info["error"] = wire.clean_text(outcome.message, 500)
-    if outcome.kind == "error" and outcome.message.startswith("InputMutated"):
+    if outcome.kind == OutcomeKind.ERROR and outcome.message.startswith("InputMutated"):
         info["verdict"] = Verdict.MUTATED_INPUT
     return _STATUS_OF.get(outcome.kind, Status.CRASHED)
 
@@ -245,18 +246,18 @@ class _InProcess:
             if self.plugin:
                 load_plugin(self.plugin)
         except Exception as exc:  # noqa: BLE001 - a plugin that cannot load here fails its case
-            return Outcome("error", message=safe_message(exc))
+            return Outcome(OutcomeKind.ERROR, message=safe_message(exc))
         return None
 
     def call(self, fn, *args, timeout=None, step="", schema=None):
         from vorobench.judge.sandbox import Outcome, safe_message
 
         try:
-            return Outcome("ok", fn(*args))
+            return Outcome(OutcomeKind.OK, fn(*args))
         except MemoryError as exc:
-            return Outcome("oom", message=f"MemoryError: {exc}")
+            return Outcome(OutcomeKind.OOM, message=f"MemoryError: {exc}")
         except Exception as exc:  # noqa: BLE001 - the implementation's failure, as a sandbox reports it
-            return Outcome("error", message=safe_message(exc))
+            return Outcome(OutcomeKind.ERROR, message=safe_message(exc))
 
     def close(self) -> None:
         return None
@@ -269,7 +270,8 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
     judge's process. ``in_process``: build in this process instead (see :class:`_InProcess`)."""
     declared = config.declaration(case.impl)
     if declared is None:
-        return lost_outcome(case, config, f"{case.impl} declared nothing readable: it could not be loaded", "error")
+        return lost_outcome(case, config, f"{case.impl} declared nothing readable: it could not be loaded",
+                            Status.ERROR)
     if case.weights and not declared.weighted:
         return _no_weights(case, config)
     started = time.perf_counter()
@@ -382,7 +384,7 @@ def _no_weights(case: Case, config: RunConfig) -> CaseOutcome:
     return CaseOutcome(case, Status.UNSUPPORTED, [row], 0.0)
 
 
-def lost_outcome(case: Case, config: RunConfig, why: str, status: str = "lost") -> CaseOutcome:
+def lost_outcome(case: Case, config: RunConfig, why: str, status: str = Status.LOST) -> CaseOutcome:
     """The record of a case whose worker died on every try (status ``lost``), whose task failed
     outside the case (``error``) or overstayed (``timeout``): nothing came back, but the case is
     never dropped."""
@@ -439,9 +441,9 @@ def _skip_reason(case: Case, history: dict, config: RunConfig) -> Optional[str]:
     if not smaller:
         return None
     n_last, st_last, t_last = smaller[-1]
-    if st_last in ("timeout", "oom"):
+    if st_last in (Status.TIMEOUT, Status.OOM):
         return f"n={n_last} already ended in {st_last}"
-    if st_last == "skipped":
+    if st_last == Status.SKIPPED:
         return f"n={n_last} was skipped"
     if not (config.budget and t_last):
         return None
@@ -450,9 +452,9 @@ def _skip_reason(case: Case, history: dict, config: RunConfig) -> Optional[str]:
         others = [st for (impl, ds, seed), entries in history.items()
                   if impl != case.impl and ds == case.history_key[1] and seed == case.seed
                   for n, st, _ in entries if n == case.n]
-        if "ok" in others:
+        if Status.OK in others:
             return None
-    exponent = _growth_exponent([(n, t) for n, st, t in smaller if st == "ok" and t])
+    exponent = _growth_exponent([(n, t) for n, st, t in smaller if st == Status.OK and t])
     predicted = t_last * (case.n / n_last) ** exponent
     if predicted > config.budget:
         return (f"extrapolated build time {predicted:.3g} s (from n={n_last}, exponent "
@@ -575,10 +577,10 @@ def _run_on_executor(todo: Sequence[Case], config: RunConfig, history: dict,
             finish(res.value)
         elif res.timed_out:
             finish(lost_outcome(case, config, f"{res.error} on the Dask worker (its worker thread stays busy "
-                                              f"until the build returns)", "timeout"))
+                                              f"until the build returns)", Status.TIMEOUT))
         else:
             finish(lost_outcome(case, config, res.lost or f"task failed: {res.error}",
-                                "lost" if res.lost else "error"))
+                                Status.LOST if res.lost else Status.ERROR))
 
 
 def _one_line(outcome: CaseOutcome) -> str:

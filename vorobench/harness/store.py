@@ -33,6 +33,7 @@ from typing import Any, Optional
 import pandas as pd
 
 from vorobench.harness import results
+from vorobench.judge.outcomes import Status
 
 __all__ = ["Store", "FILE_NAME", "is_reference", "split_reference", "load_reference"]
 
@@ -157,7 +158,8 @@ class Store:
         run_id = str(meta.get("run_id") or rows["run_id"].iloc[0])
         rows = rows.assign(run_id=run_id).reset_index(drop=True)
         cases = rows.drop_duplicates([c for c in results.CASE_KEY if c in rows.columns])
-        failed = int((cases["status"] != "ok").sum() - cases["status"].isin(["unsupported", "skipped"]).sum())
+        failed = int((cases["status"] != Status.OK).sum()
+                     - cases["status"].isin([Status.UNSUPPORTED, Status.SKIPPED]).sum())
         record = {
             "run_id": run_id, "date": meta.get("date"), "commit": meta.get("commit"),
             "dirty": None if meta.get("dirty") is None else int(bool(meta.get("dirty"))),

@@ -21,7 +21,7 @@ from plotly.subplots import make_subplots
 from vorobench.harness.changepoints import counter_steps, time_steps
 from vorobench.harness.html_page import escape, page
 from vorobench.harness.results import with_weights_in_dataset
-from vorobench.judge.outcomes import counter_columns
+from vorobench.judge.outcomes import Status, counter_columns
 
 __all__ = ["Run", "Series", "Machine", "ChangePoint", "load", "detect", "render",
            "trend_json"]
@@ -183,7 +183,7 @@ def _text(value) -> Optional[str]:
 def _series_of(rows, n_runs: int, counters: list[str]) -> list[Series]:
     """The series of one machine's rows (column ``_run``: the run's position), one per case, sorted."""
     group = KEY + ["_run"]
-    ok = rows[rows["status"] == "ok"]
+    ok = rows[rows["status"] == Status.OK]
     timed = ok[np.isfinite(ok["time_s"].to_numpy(float))].sort_values(group, kind="stable")
     by_case: dict[tuple, Series] = {}
 

@@ -53,11 +53,12 @@ from vorobench.core.tolerances import (
     circumcentre_tolerance,
     data_scale,
 )
+from vorobench.judge.outcomes import Verdict
 
 __all__ = ["compare", "Comparison", "Difference", "VERDICTS", "DIFFERENCE_KINDS"]
 
 #: Possible values of :attr:`Comparison.verdict`.
-VERDICTS = ("exact", "within_tolerance", "differs")
+VERDICTS = (Verdict.EXACT, Verdict.WITHIN_TOLERANCE, Verdict.DIFFERS)
 
 #: Kinds of difference counted in :attr:`Comparison.counts`, with a readable label.
 DIFFERENCE_KINDS: dict[str, str] = {
@@ -99,7 +100,7 @@ class Comparison:
     """Result of :func:`compare`: the verdict, counts of each kind of difference, examples."""
 
     equal: bool
-    verdict: str
+    verdict: Verdict
     counts: dict[str, int]
     differences: list[Difference]
     labels: tuple[str, str] = ("a", "b")
@@ -135,7 +136,8 @@ class Comparison:
     def __str__(self) -> str:
         a, b = self.labels
         sa, sb = self.sizes.get(a, {}), self.sizes.get(b, {})
-        head = {"exact": "EQUAL (exact)", "within_tolerance": "EQUAL within tolerance"}.get(self.verdict, "DIFFERENT")
+        head = {Verdict.EXACT: "EQUAL (exact)",
+                Verdict.WITHIN_TOLERANCE: "EQUAL within tolerance"}.get(self.verdict, "DIFFERENT")
         lines = [f"compare {a} vs {b}: {head}  [n={self.n_sites}; V={sa.get('V', '?')}/{sb.get('V', '?')}, "
                  f"E={sa.get('E', '?')}/{sb.get('E', '?')}]"]
         if self.sites_reordered:
@@ -775,8 +777,8 @@ def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coor
 
     >>> import impls, datasets_gen
     >>> d = impls.build("qhull", datasets_gen.generate("grid", 16))
-    >>> compare(d, d).verdict
-    'exact'
+    >>> print(compare(d, d).verdict)
+    exact
     """
     coord_tol = VERTEX_MATCH_REL_TOL if coord_tol is None else float(coord_tol)
     la, lb = labels
@@ -788,17 +790,19 @@ def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coor
     site_map, site_diffs, site_count = _site_matching(a, b)
     if site_map is None:
         counts["site_mismatch"] = site_count
-        return Comparison(False, "differs", counts, site_diffs, **base)
+        return Comparison(False, Verdict.DIFFERS, counts, site_diffs, **base)
     reordered = not np.array_equal(site_map, np.arange(site_map.size))
     weights, weight_diffs = _common_weights(a, b, site_map, (la, lb))
     if weight_diffs:
         counts["weight_mismatch"] = len(weight_diffs)
-        return Comparison(False, "differs", counts, weight_diffs[:_MAX_LISTED], sites_reordered=reordered, **base)
+        return Comparison(False, Verdict.DIFFERS, counts, weight_diffs[:_MAX_LISTED], sites_reordered=reordered,
+                          **base)
     err_a, err_b = _structure_error(a), _structure_error(b)
     structure = {name: msg for name, msg in ((la, err_a), (lb, err_b)) if msg}
     counts["invalid_structure"] = int(err_a is not None) + int(err_b is not None)
     if not (_indices_usable(a) and _indices_usable(b)):
-        return Comparison(False, "differs", counts, [], sites_reordered=reordered, structure_errors=structure, **base)
+        return Comparison(False, Verdict.DIFFERS, counts, [], sites_reordered=reordered, structure_errors=structure,
+                          **base)
     identity = np.arange(n, dtype=np.int64)
     # Compared at 2**shift times the coordinates (largest site coordinate in [0.5, 1)): exact.
     shift, _ = comfortable_shift(np.asarray(a.sites, np.float64).reshape(-1, 2))
@@ -809,7 +813,7 @@ def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coor
     sites = np.asarray(a.sites, np.float64)
     unit_scale = data_scale(sites)
     result = None
-    for stage, tol in (("exact", None), ("within_tolerance", rel_tol)):
+    for stage, tol in ((Verdict.EXACT, None), (Verdict.WITHIN_TOLERANCE, rel_tol)):
         forms = [_canonical(a, identity, n, tol, unit_scale, err_a is None, normal_min, weights),
                  _canonical(b, site_map, n, tol, unit_scale, err_b is None, normal_min, weights)]
         _joint_vertex_ids(forms, n)
@@ -824,10 +828,10 @@ def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coor
     short = [dict(diagram=lbl, sites=[x, y], length=math.ldexp(length, -shift))
              for lbl, f in zip((la, lb), forms) for x, y, length in f.short]
     return Comparison(
-        equal=ok, verdict=stage if ok else "differs", counts=diff.counts, differences=diff.differences,
+        equal=ok, verdict=stage if ok else Verdict.DIFFERS, counts=diff.counts, differences=diff.differences,
         max_vertex_error=diff.max_vertex_error, max_vertex_error_ratio=diff.max_vertex_error_ratio,
         sites_reordered=reordered,
         zero_length_edges={la: forms[0].n_exact, lb: forms[1].n_exact},
-        short_edge_counts={la: forms[0].n_short, lb: forms[1].n_short} if stage != "exact" else {},
+        short_edge_counts={la: forms[0].n_short, lb: forms[1].n_short} if stage != Verdict.EXACT else {},
         short_edges=short, structure_errors=structure,
         highlight_a=diff.highlight_a, highlight_b=diff.highlight_b, **base)

@@ -45,7 +45,7 @@ from vorobench.judge.comparison import Comparison, compare
 from vorobench.judge.declarations import Declaration, declaration_from_data, declaration_of
 from vorobench.judge.pinning import declare_in_sandbox
 from vorobench.judge.defaults import DEFAULT_TIMEOUT
-from vorobench.judge.outcomes import Verdict
+from vorobench.judge.outcomes import OutcomeKind, Verdict
 from vorobench.judge.sandbox import WARMUP_TIMEOUT, Sandbox, safe_message
 from vorobench.judge.wire import ArraySpec
 
@@ -258,9 +258,10 @@ def _result_from_sandbox(impl_name: str, exact: bool, data: Any, arrays: dict) -
         return BuildResult(impl_name, exact, error="answered no build record", failure=Verdict.CRASHED)
     text = {key: data.get(key) if isinstance(data.get(key), str) else "" for key in ("error", "unsupported", "failure")}
     seconds = data.get("seconds")
+    failure = (Verdict(text["failure"]) if text["failure"] in _FAILURE_KINDS
+               else Verdict.CRASHED if text["error"] else "")
     res = BuildResult(impl_name, exact, error=text["error"], unsupported=text["unsupported"],
-                      seconds=float(seconds) if type(seconds) in (int, float) else 0.0,
-                      failure=text["failure"] if text["failure"] in _FAILURE_KINDS else (Verdict.CRASHED if text["error"] else ""))
+                      seconds=float(seconds) if type(seconds) in (int, float) else 0.0, failure=failure)
     if res.failure and not res.error:
         res.error = "failed without saying why"
     if res.error or res.unsupported:
@@ -378,8 +379,9 @@ def decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) -
         return make(Verdict.UNSUPPORTED, True, f"{impl_name} does not support these sites: {res.unsupported}")
     if res.crashed:
         kind = res.failure or Verdict.CRASHED
-        what = {"crashed": "crashed", "timeout": "timed out", "oom": "ran out of memory",
-                "mutated_input": "changed its input", "wrong_sites": "failed", "not_certified": "failed"}.get(kind, kind)
+        what = {Verdict.CRASHED: "crashed", Verdict.TIMEOUT: "timed out", Verdict.OOM: "ran out of memory",
+                Verdict.MUTATED_INPUT: "changed its input", Verdict.WRONG_SITES: "failed",
+                Verdict.NOT_CERTIFIED: "failed"}.get(kind, kind)
         return make(kind, False, f"{impl_name} {what}: {res.error}", "impl")
     standard = "exactly" if res.exact else "within tolerance (floating point)"
     if not res.certified:
@@ -567,7 +569,8 @@ class Judge:
         if outcome.ok:
             return certify_result(_result_from_sandbox(name, declared.exact, *outcome.value), sites, probes=probes,
                                   seed=self.seed, weights=weights)
-        failure = Verdict.CRASHED if outcome.kind == "error" else outcome.kind
+        # An exception in the sandbox is the build's crash; timeout, oom and crashed are verdicts as they are.
+        failure = Verdict.CRASHED if outcome.kind == OutcomeKind.ERROR else Verdict(outcome.kind)
         return BuildResult(name, declared.exact, error=outcome.message, failure=failure,
                            seconds=(time.perf_counter_ns() - t0) / 1e9)
 

@@ -31,6 +31,8 @@ import time
 from pathlib import Path
 from typing import Optional, Sequence
 
+from vorobench.judge.outcomes import OutcomeKind
+
 __all__ = ["FORKSERVER_PRELOAD", "enter_worker", "watch", "release", "kill_worker", "limit_memory", "describe_death", "Terminated",
            "install_termination_handler", "default_start_method", "guard_group"]
 
@@ -205,21 +207,22 @@ def limit_memory(extra_mb: Optional[float]) -> None:
     resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
 
 
-def describe_death(exitcode: Optional[int]) -> tuple[str, str]:
+def describe_death(exitcode: Optional[int]) -> tuple[OutcomeKind, str]:
     """(kind, how) for a worker that ended without a result: kind "oom" for SIGKILL (the
     out-of-memory killer's signal), "crashed" for any other signal or any exit status."""
     if exitcode is None:
-        return "crashed", "the worker ended without a result"
+        return OutcomeKind.CRASHED, "the worker ended without a result"
     if exitcode < 0:
         try:
             name = signal.Signals(-exitcode).name
         except ValueError:
             name = f"signal {-exitcode}"
         if -exitcode == signal.SIGKILL:
-            return "oom", (f"the worker was killed by {name} (most likely the out-of-memory killer; "
-                           f"or the implementation killed itself)")
-        return "crashed", f"the worker was killed by {name}"
-    return "crashed", f"the worker exited with status {exitcode} (os._exit or sys.exit inside the implementation)"
+            return OutcomeKind.OOM, (f"the worker was killed by {name} (most likely the out-of-memory killer; "
+                                     f"or the implementation killed itself)")
+        return OutcomeKind.CRASHED, f"the worker was killed by {name}"
+    return OutcomeKind.CRASHED, (f"the worker exited with status {exitcode} (os._exit or sys.exit inside the "
+                                 "implementation)")
 
 
 class _Reaper:

@@ -20,14 +20,12 @@ import re
 from enum import Enum
 from typing import Optional
 
-import numpy as np
-import pandas as pd
-
 from vorobench.core.counters import DURATION_NAME
 
 __all__ = [
     "Status",
     "Verdict",
+    "OutcomeKind",
     "VERDICT_RANK",
     "STATUS_RANK",
     "COUNTER_PREFIX",
@@ -81,27 +79,41 @@ class Verdict(str, Enum):
         return self.value
 
 
+class OutcomeKind(str, Enum):
+    """How one request to a sandbox ended (:class:`vorobench.judge.sandbox.Outcome`)."""
+
+    OK = "ok"                      # it answered (the outcome's ``value``)
+    ERROR = "error"                # the function raised
+    CRASHED = "crashed"            # the process died or exited, or answered what the wire does not allow
+    TIMEOUT = "timeout"
+    OOM = "oom"
+
+    def __str__(self) -> str:
+        return self.value
+
+
 #: Correctness rank of a verdict, 0 = exact; None = says nothing about correctness.
 VERDICT_RANK: dict[str, Optional[int]] = {
-    "exact": 0,
-    "within_tolerance": 1,
-    "certified": 1,
-    "no_reference": 1,
-    "unsupported": None,
-    "skipped": None,
-    "differs": 2,
-    "not_certified": 3,
-    "check_error": 3,
-    "wrong_sites": 3,
-    "mutated_input": 4,
-    "oom": 4,
-    "timeout": 4,
-    "crashed": 5,
+    Verdict.EXACT: 0,
+    Verdict.WITHIN_TOLERANCE: 1,
+    Verdict.CERTIFIED: 1,
+    Verdict.NO_REFERENCE: 1,
+    Verdict.UNSUPPORTED: None,
+    Verdict.SKIPPED: None,
+    Verdict.DIFFERS: 2,
+    Verdict.NOT_CERTIFIED: 3,
+    Verdict.CHECK_ERROR: 3,
+    Verdict.WRONG_SITES: 3,
+    Verdict.MUTATED_INPUT: 4,
+    Verdict.OOM: 4,
+    Verdict.TIMEOUT: 4,
+    Verdict.CRASHED: 5,
 }
 
 #: Rank of a status, 0 = ran; None = did not run by choice (declared or planned).
 STATUS_RANK: dict[str, Optional[int]] = {
-    "ok": 0, "unsupported": None, "skipped": None, "error": 1, "lost": 2, "oom": 2, "timeout": 2, "crashed": 3,
+    Status.OK: 0, Status.UNSUPPORTED: None, Status.SKIPPED: None, Status.ERROR: 1, Status.LOST: 2, Status.OOM: 2,
+    Status.TIMEOUT: 2, Status.CRASHED: 3,
 }
 
 assert set(VERDICT_RANK) == {v.value for v in Verdict} and set(STATUS_RANK) == {s.value for s in Status}
@@ -115,14 +127,14 @@ def verdict_rank(verdict: object) -> Optional[int]:
     """Rank of a verdict (0 = exact, higher = worse); an unknown verdict ranks as a failed check."""
     if _missing(verdict):
         return None
-    return VERDICT_RANK.get(str(verdict), VERDICT_RANK["check_error"])
+    return VERDICT_RANK.get(str(verdict), VERDICT_RANK[Verdict.CHECK_ERROR])
 
 
 def status_rank(status: object) -> Optional[int]:
     """Rank of a status (0 = ran); an unknown status ranks as an error."""
     if _missing(status):
         return None
-    return STATUS_RANK.get(str(status), STATUS_RANK["error"])
+    return STATUS_RANK.get(str(status), STATUS_RANK[Status.ERROR])
 
 
 def timing_column(phase: str) -> str:
@@ -159,6 +171,9 @@ def upgrade_legacy(df):
 def check_table(df, source: str = "results") -> None:
     """Refuse a table whose counters are not integers (ValueError naming the first bad cell):
     such a column would make the regression compare flag noise, or miss a change."""
+    import numpy as np        # here, not at the top: the enums above are imported by light modules
+    import pandas as pd       # (the command-line parser, the sandbox's isolation) that need no pandas
+
     for column in counter_columns(df.columns):
         values = pd.to_numeric(df[column], errors="coerce")
         bad = (values.notna() & (values != np.round(values))) | (values.isna() & df[column].notna())

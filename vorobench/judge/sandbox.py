@@ -34,23 +34,24 @@ from impls.plugins import load_plugin
 from vorobench.judge import isolation, wire
 from vorobench.judge.declarations import Declaration, DeclarationError, declaration_from_data, declaration_of
 from vorobench.judge.defaults import WARMUP_TIMEOUT
+from vorobench.judge.outcomes import OutcomeKind
 
-__all__ = ["Sandbox", "Outcome", "WARMUP_TIMEOUT", "safe_message"]
+__all__ = ["Sandbox", "Outcome", "OutcomeKind", "WARMUP_TIMEOUT", "safe_message"]
 
 
 @dataclass
 class Outcome:
-    """What one request produced: ``kind`` is "ok" (``value`` holds the result), "error" (the
-    function raised: ``message``), "crashed" (the process died or exited, or answered what the
-    wire does not allow), "timeout" or "oom"."""
+    """What one request produced: ``kind`` (:class:`OutcomeKind`) is "ok" (``value`` holds the
+    result), "error" (the function raised: ``message``), "crashed" (the process died or exited,
+    or answered what the wire does not allow), "timeout" or "oom"."""
 
-    kind: str
+    kind: OutcomeKind
     value: Any = None
     message: str = ""
 
     @property
     def ok(self) -> bool:
-        return self.kind == "ok"
+        return self.kind == OutcomeKind.OK
 
 
 def _describe_death(exitcode: Optional[int], step: str) -> Outcome:
@@ -102,7 +103,7 @@ def _serve(conn, parent: Optional[int], impl_blobs: dict, name: Optional[str], p
         isolation.limit_memory(memory_limit_mb)
         send("ready", declared)
     except BaseException as exc:  # noqa: BLE001 - a sandbox that cannot start says why
-        send("error", safe_message(exc))
+        send(OutcomeKind.ERROR, safe_message(exc))
         return
     while True:
         try:
@@ -111,11 +112,11 @@ def _serve(conn, parent: Optional[int], impl_blobs: dict, name: Optional[str], p
             return
         try:
             data, arrays = fn(*args, **kwargs)
-            send("ok", data, arrays)
+            send(OutcomeKind.OK, data, arrays)
         except MemoryError as exc:
-            send("oom", f"MemoryError: {exc}")
+            send(OutcomeKind.OOM, f"MemoryError: {exc}")
         except BaseException as exc:  # noqa: BLE001 - SystemExit included: it is the implementation's
-            send("error", safe_message(exc))
+            send(OutcomeKind.ERROR, safe_message(exc))
 
 
 def _context(method: Optional[str] = None):
@@ -176,9 +177,9 @@ class Sandbox:
         sender.close()
         self._proc, self._conn = proc, receiver
         outcome = self._receive(self.warmup_timeout, "start-up and warm-up", None)
-        if outcome.kind == "ok":
+        if outcome.ok:
             outcome = self._check_declaration(outcome.value[0])
-        if outcome.kind == "ok":
+        if outcome.ok:
             return None
         self.close()
         return outcome
@@ -186,18 +187,19 @@ class Sandbox:
     def _check_declaration(self, data: Any) -> Outcome:
         """The ready answer's declaration against the run's pinned one."""
         if self.name is None:
-            return Outcome("ok")
+            return Outcome(OutcomeKind.OK)
         try:
             declared = declaration_from_data(data, self.name)
         except DeclarationError as exc:
-            return Outcome("crashed", message=f"declared nothing readable ({exc})")
+            return Outcome(OutcomeKind.CRASHED, message=f"declared nothing readable ({exc})")
         if self.expected is not None and declared != self.expected:
             changed = [k for k, v in declared.to_dict().items() if v != getattr(self.expected, k)]
-            return Outcome("crashed", message=f"declared {', '.join(f'{k}={getattr(declared, k)!r}' for k in changed)} "
-                                              f"in this worker, not what it declared at the start of the run "
-                                              f"({', '.join(f'{k}={getattr(self.expected, k)!r}' for k in changed)})")
+            return Outcome(OutcomeKind.CRASHED,
+                           message=f"declared {', '.join(f'{k}={getattr(declared, k)!r}' for k in changed)} "
+                                   f"in this worker, not what it declared at the start of the run "
+                                   f"({', '.join(f'{k}={getattr(self.expected, k)!r}' for k in changed)})")
         self.declared = declared
-        return Outcome("ok")
+        return Outcome(OutcomeKind.OK)
 
     def _receive(self, timeout: Optional[float], step: str, schema: Any) -> Outcome:
         """The next answer; a worker that died (even if a child of it still holds the pipe),
@@ -216,10 +218,11 @@ class Sandbox:
                     self._proc.join(5)
                     return _describe_death(self._proc.exitcode, step)
                 if deadline is not None and time.monotonic() >= deadline:
-                    return Outcome("timeout", message=f"no result within {timeout:g} s during {step}")
+                    return Outcome(OutcomeKind.TIMEOUT, message=f"no result within {timeout:g} s during {step}")
         except OSError as exc:
             if self._proc.is_alive() and "bad message length" in str(exc):
-                return Outcome("crashed", message=f"answered more than {wire.MAX_MESSAGE_BYTES} bytes during {step}")
+                return Outcome(OutcomeKind.CRASHED,
+                               message=f"answered more than {wire.MAX_MESSAGE_BYTES} bytes during {step}")
             self._proc.join(10)
             return _describe_death(self._proc.exitcode, step)
         except EOFError:
@@ -231,12 +234,13 @@ class Sandbox:
             else:
                 kind, data, arrays = wire.decode(message, schema)
         except wire.WireError as exc:   # not an answer the wire allows: the implementation's failure
-            return Outcome("crashed", message=f"sent an answer the judge refuses during {step}: {exc}")
+            return Outcome(OutcomeKind.CRASHED, message=f"sent an answer the judge refuses during {step}: {exc}")
         finally:
             del message
-        if kind in ("ok", "ready"):
-            return Outcome("ok", (data, arrays))
-        return Outcome(kind if kind in ("error", "oom") else "crashed", message=wire.clean_text(data, 600))
+        if kind in (OutcomeKind.OK, "ready"):
+            return Outcome(OutcomeKind.OK, (data, arrays))
+        failed = OutcomeKind(kind) if kind in (OutcomeKind.ERROR, OutcomeKind.OOM) else OutcomeKind.CRASHED
+        return Outcome(failed, message=wire.clean_text(data, 600))
 
     def start(self) -> Optional[Outcome]:
         """Start the sandbox now if it is not running; its failure, or None."""
@@ -266,7 +270,7 @@ class Sandbox:
             self.close()
             return outcome
         outcome = self._receive(timeout, step, schema)
-        if outcome.kind != "ok" and (outcome.kind != "error" or not self._proc.is_alive()):
+        if outcome.kind != OutcomeKind.OK and (outcome.kind != OutcomeKind.ERROR or not self._proc.is_alive()):
             self.close()    # dead, stuck, out of memory (maybe fragmented) or lying: the next request gets a fresh one
         return outcome
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from vorobench.core.diagram import Diagram
 from vorobench.judge.comparison import Comparison, compare
+from vorobench.judge.outcomes import Verdict
 
 __all__ = ["assert_diagrams_equal"]
 
@@ -16,7 +17,7 @@ def assert_diagrams_equal(a: Diagram, b: Diagram, exact: bool = False, **kwargs)
     Returns the :class:`~vorobench.judge.comparison.Comparison` for further checks.
     """
     comparison = compare(a, b, **kwargs)
-    if not comparison.equal or (exact and comparison.verdict != "exact"):
+    if not comparison.equal or (exact and comparison.verdict != Verdict.EXACT):
         want = "exactly equal" if exact else "equal"
         raise AssertionError(f"diagrams are not {want}:\n{comparison}")
     return comparison
