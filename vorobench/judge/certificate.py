@@ -10,6 +10,11 @@ by being wrong consistently:
   and the edge runs the right way along perp(b - a): the other sites of its start vertex lie
   strictly right of a->b and those of its end vertex strictly left (exact orient2d; this
   also orients rays and zero-length edges, where coordinates cannot).
+* ``topology`` (exact): every vertex joins exactly cocircular sites (``incircle`` == 0; the
+  power test for a power diagram), and every finite edge is locally Delaunay (no site strictly
+  inside the circle across it): :mod:`vorobench.judge.topology`. An epsilon merge of nearly
+  cocircular sites fails it; a floating-point library's such merge is near-degenerate
+  ("within tolerance").
 * ``euler``: V - E + n == 1 and the edge graph plus the point at infinity is connected.
 * ``hull``: the unbounded cells are exactly the sites on the convex-hull boundary, collinear
   boundary points included (monotone chain with exact orient2d).
@@ -73,11 +78,13 @@ from vorobench.core.tolerances import (
     length_tolerance,
 )
 from vorobench.judge.defaults import DEFAULT_PROBES
+from vorobench.judge.outcomes import Verdict
+from vorobench.judge.topology import judge_topology
 
 __all__ = ["certify", "Certificate", "Check", "CHECKS"]
 
 #: The checks, in the order they run.
-CHECKS = ("structure", "vertices", "edges", "euler", "hull", "probes")
+CHECKS = ("structure", "vertices", "edges", "topology", "euler", "hull", "probes")
 
 
 _MAX_IDS = 10
@@ -124,9 +131,10 @@ class Certificate:
         return all(c.within_tolerance for c in self.checks)
 
     @property
-    def verdict(self) -> str:
+    def verdict(self) -> Verdict:
         """"certified", "within_tolerance" or "not_certified"."""
-        return "certified" if self.ok else "within_tolerance" if self.ok_within_tolerance else "not_certified"
+        return (Verdict.CERTIFIED if self.ok else Verdict.WITHIN_TOLERANCE if self.ok_within_tolerance
+                else Verdict.NOT_CERTIFIED)
 
     def check(self, name: str) -> Check:
         """The result of the check called ``name``."""
@@ -445,6 +453,37 @@ def _check_edges(ctx: _Context) -> Check:
     return Check("edges", True, f"{e.size} edges on their bisectors, oriented along perp(b - a)")
 
 
+def _check_topology(ctx: _Context) -> Check:
+    """Exact: every vertex's sites cocircular, every finite edge locally Delaunay
+    (:mod:`vorobench.judge.topology`)."""
+    if ctx.H == 0 or ctx.V == 0:
+        return Check("topology", True, "no finite vertex")
+    e = np.flatnonzero(np.arange(ctx.H) < ctx.twin)
+    ptr, s = ctx.vertex_sites
+    found = judge_topology(ctx.sites, ctx.weights, ctx.weighted, ctx.xy, ptr, s, ctx.site[e], ctx.site[ctx.twin[e]],
+                           ctx.origin[e], ctx.dest[e], ctx.scale, ctx.magnitude)
+    circle = "power circle" if ctx.weighted else "circle"
+    problems = []
+    if found["not_cocircular"].size:
+        problems.append(f"{found['not_cocircular'].size} vertices join sites that are not exactly on one {circle} "
+                        f"(nearly cocircular sites merged into one vertex)")
+    if found["collinear"].size:
+        problems.append(f"{found['collinear'].size} vertices join sites that all lie on one line")
+    if found["not_delaunay"].size:
+        problems.append(f"{found['not_delaunay'].size} edges are not locally Delaunay (a site strictly inside "
+                        f"the {circle} of the vertex across the edge: an empty {circle} violated)")
+    if problems:
+        if found["within"]:
+            problems.append("all near-degenerate (within the near tolerance of the data scale)")
+        ids = np.concatenate([found["not_cocircular"], found["collinear"]])
+        kind = "vertex" if ids.size else "half-edge"
+        if not ids.size:
+            ids = e[found["not_delaunay"]]
+        return Check("topology", False, "; ".join(problems), _ids(ids), kind, within_tolerance=found["within"])
+    return Check("topology", True, f"exact: {int((np.diff(ptr) > 0).sum())} vertices on exact {circle}s, "
+                 f"{e.size} edges locally Delaunay")
+
+
 def _check_euler(ctx: _Context) -> Check:
     n, H = ctx.n, ctx.H
     if ctx.weighted:                    # hidden sites have no cell: count the visible ones
@@ -715,6 +754,7 @@ _RUNNERS: dict[str, Callable[[_Context], Check]] = {
     "structure": _check_structure,
     "vertices": _check_vertices,
     "edges": _check_edges,
+    "topology": _check_topology,
     "euler": _check_euler,
     "hull": _check_hull,
     "probes": _check_probes,

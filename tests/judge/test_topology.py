@@ -1,0 +1,93 @@
+"""The certificate decides topology exactly: a vertex joins only exactly cocircular sites, and
+every edge is locally Delaunay, whatever float tolerance the coordinates get. An epsilon merge
+of nearly cocircular sites is no longer certified for exact code, and stays within tolerance
+for a floating-point library (issue 22, first part)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import datasets_gen
+import impls
+from impls.base import Implementation
+from impls.qhull import build as qhull_build
+from vorobench.core.diagram import Diagram
+from vorobench.judge.certificate import certify
+from vorobench.judge.engine import Judge
+
+
+def _topology(cert):
+    return next(c for c in cert.checks if c.name == "topology")
+
+
+def _rounded_circle(k: int) -> np.ndarray:
+    """k points of the unit circle, rounded to floats: nearly, not exactly, cocircular."""
+    t = 2 * np.pi * np.arange(k) / k
+    return np.column_stack([np.cos(t), np.sin(t)])
+
+
+def test_qhulls_merge_of_rounded_circle_points_is_only_within_tolerance():
+    points = _rounded_circle(24)
+    cert = certify(impls.build("qhull", points))
+    assert not cert.ok and cert.ok_within_tolerance, str(cert)
+    assert not _topology(cert).ok and _topology(cert).within_tolerance
+
+
+def test_the_exact_diagram_of_rounded_circle_points_certifies_exactly():
+    d = impls.build("incremental", _rounded_circle(24))
+    cert = certify(d)
+    assert cert.ok, str(cert)
+    assert d.n_vertices == 22           # no four of the rounded points are exactly cocircular
+
+
+@pytest.mark.parametrize("dataset", ["grid", "cocircular", "near_grid", "uniform", "duplicates"])
+@pytest.mark.parametrize("name", ["fortune", "incremental", "halfplane"])
+def test_exact_implementations_pass_the_exact_topology_check(name, dataset):
+    cert = certify(impls.build(name, datasets_gen.generate(dataset, 100, seed=3)), probes=200)
+    assert _topology(cert).ok, _topology(cert).detail
+
+
+def test_an_exact_declared_epsilon_merge_fails_validate_against_qhull_alone():
+    """Qhull's own diagram of near_grid merges nearly cocircular sites: a pass for Qhull (within
+    tolerance), a failure for an implementation that declares exact decisions."""
+    merging = Implementation("qhull_declared_exact", "qhull's float merges, declared exact", "O(n log n)",
+                             qhull_build, exact=True)
+    impls.register(merging)
+    try:
+        points = datasets_gen.generate("near_grid", 100, seed=0)
+        with Judge(["qhull_declared_exact"], "qhull", isolate=False, probes=500) as judge:
+            rows = {name: v for name, v, peer in judge.judge(points).rows if peer is None}
+    finally:
+        impls.unregister(merging.name)
+    assert rows["qhull"].passed and rows["qhull"].result.certificate.ok_within_tolerance
+    assert not rows["qhull"].result.certificate.ok                       # exactly: it merged
+    bad = rows["qhull_declared_exact"]
+    assert bad.verdict == "not_certified" and not bad.passed, bad.message
+    assert "topology" in bad.message
+
+
+def test_a_vertex_with_a_site_swapped_in_from_elsewhere_is_not_certified():
+    """One vertex's site replaced by a far site (labels only, coordinates untouched): the
+    exact check names it, whatever the float checks say."""
+    d = impls.build("incremental", datasets_gen.generate("uniform", 60, seed=2))
+    site = np.array(d.site)
+    h = int(np.flatnonzero(np.array(d.origin) >= 0)[0])
+    v = int(d.origin[h])
+    around = {int(site[k]) for k in np.flatnonzero(np.array(d.origin) == v)}
+    stranger = next(x for x in range(d.n_sites) if x not in around)
+    swapped = site.copy()
+    swapped[site == site[h]] = stranger
+    swapped[site == stranger] = site[h]
+    wrong = Diagram(d.sites, d.vertices, d.origin, d.twin, d.next, swapped)
+    cert = certify(wrong, probes=200)
+    assert not cert.ok and not _topology(cert).ok and not _topology(cert).within_tolerance, _topology(cert).detail
+
+
+@pytest.mark.parametrize("family", ["radii", "integer", "hidden"])
+@pytest.mark.parametrize("name", ["incremental", "halfplane"])
+def test_exact_power_diagrams_pass_the_exact_topology_check(name, family):
+    points = datasets_gen.generate("near_grid", 120, seed=5)
+    weights = datasets_gen.weights(family, points, seed=5)
+    cert = certify(impls.build(name, points, weights=weights), probes=200)
+    assert _topology(cert).ok, _topology(cert).detail

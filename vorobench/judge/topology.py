@@ -1,0 +1,153 @@
+"""The certificate's exact topology check: every decision about which sites meet is taken with
+exact predicates, on the sites themselves; only the vertices' coordinates are floats.
+
+* A vertex's sites are exactly cocircular (``incircle`` == 0; ``power_test`` == 0 in a power
+  diagram: their lifts are coplanar) and not all on one line: a vertex of four or more cells
+  exists only where the sites are exactly cocircular, so an epsilon merge of nearly
+  cocircular sites is caught.
+* Every finite edge (a, b) between vertices u and w is locally Delaunay (locally regular): a
+  site d of w (other than a and b) lies on or outside the circle through a, b and a site c
+  of u, i.e. ``incircle(a, b, c, d) * orient2d(a, b, c) <= 0``; positive means d is inside
+  (an empty circle is violated). Zero means u and w are one circle: the zero-length edge of
+  a vertex of four or more cocircular sites given as degree-3 vertices, which the DCEL
+  conventions allow (docs/dcel.md). Local Delaunay on every edge of a valid subdivision (the
+  structure, orientation and hull checks) implies the global empty-circle property.
+
+A floating-point library may break these only at near-degenerate configurations: the
+violation is then "within tolerance" when, measured at the library's own vertex, the
+offending site lies within the near-degenerate length tolerance of the circle (the same
+tolerance the float checks use). This is the same for exact and floating-point
+implementations; only what passes differs (``Check.ok`` for exact code).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+from numpy.typing import NDArray
+
+from vorobench.core.predicates import incircle, orient2d, power_test
+from vorobench.core.tolerances import NEAR_DEGENERATE_REL_TOL, length_tolerance
+
+__all__ = ["topology_violations", "judge_topology"]
+
+#: Why a vertex fails: its sites are not exactly cocircular, or all on one line.
+NOT_COCIRCULAR = 1
+COLLINEAR = 2
+
+
+@njit(cache=True)
+def _in_circle(sites, weights, weighted, a, b, c, d):
+    """Exact: for counter-clockwise a, b, c, +1 if d is inside their (power) circle, -1 outside,
+    0 on it; the sign flipped for clockwise a, b, c."""
+    if weighted:
+        return power_test(sites[a, 0], sites[a, 1], weights[a], sites[b, 0], sites[b, 1], weights[b],
+                          sites[c, 0], sites[c, 1], weights[c], sites[d, 0], sites[d, 1], weights[d])
+    return incircle(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[c, 0], sites[c, 1],
+                    sites[d, 0], sites[d, 1])
+
+
+@njit(cache=True)
+def _gap(px, py, sites, weights, a, d):
+    """How far d is from the (power) circle of the vertex (px, py) through a, as a length
+    (float): the power difference over twice the local radius sqrt(|x - p|^2 + |w|), the
+    distance itself in an ordinary diagram; positive: d is outside. Also that radius."""
+    dax, day = px - sites[a, 0], py - sites[a, 1]
+    ddx, ddy = px - sites[d, 0], py - sites[d, 1]
+    pa = dax * dax + day * day - weights[a]
+    pd = ddx * ddx + ddy * ddy - weights[d]
+    r = max(np.sqrt(dax * dax + day * day + abs(weights[a])), np.sqrt(ddx * ddx + ddy * ddy + abs(weights[d])),
+            1e-300)
+    return (pd - pa) / (2.0 * r), r
+
+
+@njit(cache=True)
+def _first_off_line(sites, ptr, s, v, a, b):
+    """A site of vertex v not on the line ab (-1 if there is none)."""
+    for j in range(ptr[v], ptr[v + 1]):
+        x = s[j]
+        if x != a and x != b and orient2d(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1],
+                                          sites[x, 0], sites[x, 1]) != 0:
+            return x
+    return -1
+
+
+@njit(cache=True)
+def _other_site(ptr, s, v, a, b):
+    for j in range(ptr[v], ptr[v + 1]):
+        if s[j] != a and s[j] != b:
+            return s[j]
+    return -1
+
+
+@njit(cache=True)
+def _kernel(sites, weights, weighted, xy, ptr, s, ea, eb, eu, ew, v_bad, v_gap, v_rad, e_bad, e_gap, e_rad):
+    for v in range(ptr.size - 1):
+        if ptr[v + 1] - ptr[v] < 3:
+            continue                    # fewer than three cells: the vertices check says so
+        a, b = s[ptr[v]], s[ptr[v] + 1]
+        c = _first_off_line(sites, ptr, s, v, a, b)
+        if c < 0:
+            v_bad[v] = COLLINEAR
+            continue
+        for j in range(ptr[v], ptr[v + 1]):
+            x = s[j]
+            if x == a or x == b or x == c:
+                continue
+            if _in_circle(sites, weights, weighted, a, b, c, x) != 0:
+                v_bad[v] = NOT_COCIRCULAR
+                g, r = _gap(xy[v, 0], xy[v, 1], sites, weights, a, x)
+                if not abs(g) <= v_gap[v]:
+                    v_gap[v], v_rad[v] = abs(g), r
+    for k in range(ea.size):
+        u, w, a, b = eu[k], ew[k], ea[k], eb[k]
+        if u < 0 or w < 0 or u == w:
+            continue                    # rays: the hull check; a loop: the structure check
+        c, d = _other_site(ptr, s, u, a, b), _other_site(ptr, s, w, a, b)
+        if c < 0 or d < 0:
+            continue
+        o = orient2d(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[c, 0], sites[c, 1])
+        if o == 0:
+            continue                    # a vertex of collinear sites: already its failure
+        if _in_circle(sites, weights, weighted, a, b, c, d) * o > 0:
+            e_bad[k] = True
+            g, r = _gap(xy[u, 0], xy[u, 1], sites, weights, a, d)
+            e_gap[k], e_rad[k] = max(0.0, -g) if g == g else np.inf, r
+
+
+def topology_violations(sites: NDArray[np.float64], weights: NDArray[np.float64], weighted: bool,
+                        xy: NDArray[np.float64], ptr: NDArray[np.int64], s: NDArray[np.int64],
+                        a: NDArray[np.int64], b: NDArray[np.int64], u: NDArray[np.int64], w: NDArray[np.int64]):
+    """Per vertex (0, NOT_COCIRCULAR or COLLINEAR, with the largest gap of an offending site from
+    its circle and the local radius) and per edge (a's half-edge from u to w: not locally
+    Delaunay: a site strictly inside the circle across it, with how far inside it lies and the
+    local radius)."""
+    V, E = ptr.size - 1, a.size
+    v_bad = np.zeros(V, dtype=np.int64)
+    v_gap, v_rad = np.zeros(V), np.zeros(V)
+    e_bad = np.zeros(E, dtype=np.bool_)
+    e_gap, e_rad = np.zeros(E), np.zeros(E)
+    wt = weights if weighted else np.zeros(sites.shape[0])
+    _kernel(sites, wt, weighted, xy, ptr, s, a, b, u, w, v_bad, v_gap, v_rad, e_bad, e_gap, e_rad)
+    return v_bad, v_gap, v_rad, e_bad, e_gap, e_rad
+
+
+def judge_topology(sites, weights, weighted, xy, ptr, s, a, b, u, w, scale: float, magnitude) -> dict:
+    """The exact topology verdict: counts and ids of the failing vertices and edges, and whether
+    every failure is near-degenerate (within the near tolerance of the data scale)."""
+    v_bad, v_gap, v_rad, e_bad, e_gap, e_rad = topology_violations(sites, weights, weighted, xy, ptr, s, a, b, u, w)
+    bad_v = np.flatnonzero(v_bad)
+    bad_e = np.flatnonzero(e_bad)
+    near_v = (v_gap[bad_v] <= length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(scale, v_rad[bad_v]),
+                                               _largest(xy[bad_v], magnitude))) & (v_bad[bad_v] != COLLINEAR)
+    near_e = e_gap[bad_e] <= length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(scale, e_rad[bad_e]),
+                                              _largest(xy[u[bad_e]], magnitude))
+    return dict(not_cocircular=bad_v[v_bad[bad_v] == NOT_COCIRCULAR], collinear=bad_v[v_bad[bad_v] == COLLINEAR],
+                not_delaunay=bad_e, within=bool(near_v.all() and near_e.all()))
+
+
+def _largest(points: NDArray[np.float64], magnitude) -> NDArray[np.float64]:
+    """The largest coordinate magnitude of each point (for the roundoff part of a tolerance)."""
+    if points.shape[0] == 0:
+        return np.zeros(0)
+    return magnitude(np.abs(points).max(axis=1))
