@@ -91,3 +91,46 @@ def test_exact_power_diagrams_pass_the_exact_topology_check(name, family):
     weights = datasets_gen.weights(family, points, seed=5)
     cert = certify(impls.build(name, points, weights=weights), probes=200)
     assert _topology(cert).ok, _topology(cert).detail
+
+
+# ----------------------------------------------------------------- every magnitude of the range
+
+def _spread_2_62() -> np.ndarray:
+    """Six sites within 5e-10 of the origin and five at +-2e9: coordinates 2**62 apart, inside
+    the documented range. From afar the cluster's sites tie to the last bit."""
+    rng = np.random.default_rng(0)
+    small = rng.uniform(-5e-10, 5e-10, (6, 2))
+    big = np.array([[2e9, 0.0], [-2e9, 0.0], [0.0, 2e9], [0.0, -2e9], [2e9, 2e9]])
+    return np.vstack([small, big])
+
+
+def _mixed(kind: str) -> np.ndarray:
+    rng = np.random.default_rng(1)
+    unit = rng.random((200, 2))
+    if kind == "2^+-31":
+        return unit * np.ldexp(1.0, rng.integers(-31, 32, (200, 1)))
+    scale = {"1e12": 1e12, "1e-12": 1e-12}[kind]
+    return unit * np.where(rng.random((200, 1)) < 0.5, scale, 1.0)
+
+
+@pytest.mark.parametrize("name", ["fortune", "incremental", "halfplane"])
+def test_correct_diagrams_of_the_2_62_spread_set_are_certified(name):
+    cert = certify(impls.build(name, _spread_2_62()))
+    assert cert.ok, str(cert)
+
+
+@pytest.mark.parametrize("kind", ["1e12", "1e-12", "2^+-31"])
+def test_correct_diagrams_of_mixed_magnitudes_are_certified(kind):
+    cert = certify(impls.build("incremental", _mixed(kind)))
+    assert cert.ok, str(cert)
+
+
+@pytest.mark.parametrize("pair", [(0, 1), (0, 7)], ids=["two of the cluster", "cluster and far"])
+def test_a_diagram_of_the_spread_set_with_two_cells_swapped_is_not_certified(pair):
+    d = impls.build("incremental", _spread_2_62())
+    site = np.array(d.site)
+    a, b = pair
+    swapped = site.copy()
+    swapped[site == a], swapped[site == b] = b, a
+    cert = certify(Diagram(d.sites, d.vertices, d.origin, d.twin, d.next, swapped))
+    assert not cert.ok and not cert.ok_within_tolerance, str(cert)

@@ -666,6 +666,47 @@ def _site_probe_kernel(sites, xy, site, twin, origin, scale, normal_min, rel_tol
             outside[a] = True
 
 
+#: The most tied candidates a probe is checked against when every nearer one ties.
+_MAX_TIES = 256
+
+
+def _nearest_cells(ctx: _Context, pts: NDArray[np.float64], k: int) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """(distances, site ids), each (m, k): the k sites nearest each point (smallest power, the
+    power differences as lengths by the local radius of the smallest, in a power diagram)."""
+    if ctx.weighted:
+        # by power, recomputed for the tree's candidates; differences as lengths by the local
+        # radius of the smallest (never by the largest weight anywhere)
+        powers, near = _smallest_powers(ctx, pts, k)
+        diff0 = pts - ctx.sites[near[:, 0]]
+        local = np.sqrt((diff0 ** 2).sum(axis=1) + np.abs(ctx.weights[near[:, 0]]))
+        return (powers - powers[:, :1]) / (2 * np.maximum(local, 1e-300))[:, None], near
+    dist, near = ctx.query(pts, k=k)
+    return dist.reshape(pts.shape[0], k), near.reshape(pts.shape[0], k).astype(np.int64)
+
+
+def _probe_cells(ctx: _Context, pts: NDArray[np.float64], near: NDArray[np.int64]
+                 ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """(outside, strictly inside), each (m, k): where each point lies relative to the cells of
+    its candidate sites ``near``, as the diagram draws them (:func:`_probe_kernel`)."""
+    n, k = ctx.n, near.shape[1]
+    rows = np.repeat(pts, k, axis=0)
+    cell = near.reshape(-1)
+    # Through the half-edges of the cells touched, grouped by cell.
+    touched = np.zeros(n, dtype=bool)
+    touched[cell] = True
+    hs = np.flatnonzero(touched[ctx.site])
+    by_cell = hs[argsort_keys(ctx.site[hs])]
+    cptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(ctx.site[hs], minlength=n), out=cptr[1:])
+    outside = np.zeros(rows.shape[0], dtype=bool)
+    strictly_inside = np.zeros(rows.shape[0], dtype=bool)
+    xy = ctx.xy if ctx.V else np.zeros((1, 2))
+    wt = ctx.weights if ctx.weighted else np.zeros(n)
+    _probe_kernel(rows, cell, cptr, by_cell, ctx.sites, xy, ctx.site, ctx.twin, ctx.origin,
+                  ctx.scale, ctx.normal_min, PROBE_REL_TOL, outside, strictly_inside, wt)
+    return outside.reshape(-1, k), strictly_inside.reshape(-1, k)
+
+
 def _check_probes(ctx: _Context) -> Check:
     n = ctx.n
     if n <= 1:
@@ -681,48 +722,32 @@ def _check_probes(ctx: _Context) -> Check:
             return Check("probes", False, f"the diagram has no edge, but {owner.size} different sites have the "
                          f"smallest power among {random.shape[0]} probes", _ids(owner), "site")
     k = min(n, 1 + _PROBE_NEIGHBOURS)
-    if ctx.weighted:
-        # by power, recomputed for the tree's candidates; differences as lengths by the local
-        # radius of the smallest (never by the largest weight anywhere)
-        powers, near = _smallest_powers(ctx, random, k)
-        diff0 = random - ctx.sites[near[:, 0]]
-        local = np.sqrt((diff0 ** 2).sum(axis=1) + np.abs(ctx.weights[near[:, 0]]))
-        dist = (powers - powers[:, :1]) / (2 * np.maximum(local, 1e-300))[:, None]
-    else:
-        dist, near = ctx.query(random, k=k)
-        dist = dist.reshape(random.shape[0], k)
-        near = near.reshape(random.shape[0], k).astype(np.int64)
+    dist, near = _nearest_cells(ctx, random, k)
     # Sites as near as the nearest one, to float precision, are ties: the probe may be in any
     # of their cells (on their common boundary, as far as floats can tell).
     slack = length_tolerance(PROBE_REL_TOL, ctx.scale, ctx.magnitude(np.abs(random).max(1)))
     tie = dist - dist[:, :1] <= slack[:, None]
-    # Rows: each random probe against its k nearest cells, through the half-edges of the
-    # cells touched (grouped by cell); then every site against its own cell (its nearest site
-    # is itself: sites are distinct) in one pass over all half-edges.
-    pts = np.repeat(random, k, axis=0)
-    cell = near.reshape(-1)
-    touched = np.zeros(n, dtype=bool)
-    touched[cell] = True
-    hs = np.flatnonzero(touched[ctx.site])
-    by_cell = hs[argsort_keys(ctx.site[hs])]
-    cptr = np.zeros(n + 1, dtype=np.int64)
-    np.cumsum(np.bincount(ctx.site[hs], minlength=n), out=cptr[1:])
-    outside = np.zeros(pts.shape[0], dtype=bool)
-    strictly_inside = np.zeros(pts.shape[0], dtype=bool)
+    out_q, in_q = _probe_cells(ctx, random, near)
+    bad_own = np.flatnonzero(~(tie & ~out_q).any(axis=1))      # in no cell of a nearest site
+    # Every candidate a tie: sites far closer to each other than to the probe (a cluster seen
+    # from afar, 2**62 away) tie beyond the k the tree returned, and the probe's own cell may
+    # be one of those. Ask again, with every tie.
+    crowded = bad_own[tie[bad_own].all(axis=1)] if k < n else bad_own[:0]
+    if crowded.size:
+        kk = min(n, _MAX_TIES)
+        dist2, near2 = _nearest_cells(ctx, random[crowded], kk)
+        tie2 = dist2 - dist2[:, :1] <= slack[crowded, None]
+        out2, _ = _probe_cells(ctx, random[crowded], near2)
+        found = (tie2 & ~out2).any(axis=1)
+        bad_own = np.setdiff1d(bad_own, crowded[found])
+    claims = in_q & ~tie                                        # strictly inside a farther site's cell
+    bad_other = np.flatnonzero(claims.reshape(-1))
     xy = ctx.xy if ctx.V else np.zeros((1, 2))
-    wt = ctx.weights if ctx.weighted else np.zeros(n)
-    _probe_kernel(pts, cell, cptr, by_cell, ctx.sites, xy, ctx.site, ctx.twin, ctx.origin,
-                  ctx.scale, ctx.normal_min, PROBE_REL_TOL, outside, strictly_inside, wt)
     site_outside = np.zeros(n, dtype=bool)
     if not ctx.weighted:                # a power cell need not hold its own site
         site_outside[np.bincount(ctx.site, minlength=n) == 0] = True          # a site without a cell
         _site_probe_kernel(ctx.sites, xy, ctx.site, ctx.twin, ctx.origin, ctx.scale, ctx.normal_min, PROBE_REL_TOL,
                            site_outside)
-    out_q = outside.reshape(-1, k)
-    in_q = strictly_inside.reshape(-1, k)
-    bad_own = np.flatnonzero(~(tie & ~out_q).any(axis=1))      # in no cell of a nearest site
-    claims = in_q & ~tie                                        # strictly inside a farther site's cell
-    bad_other = np.flatnonzero(claims.reshape(-1))
     bad_sites = np.flatnonzero(site_outside)
     if bad_own.size or bad_other.size or bad_sites.size:
         parts, ids = [], []
