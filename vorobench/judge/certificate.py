@@ -79,7 +79,7 @@ from vorobench.core.tolerances import (
 )
 from vorobench.judge.defaults import DEFAULT_PROBES
 from vorobench.judge.outcomes import Verdict
-from vorobench.judge.topology import judge_topology
+from vorobench.judge.topology import judge_topology, wrongly_hidden
 
 __all__ = ["certify", "Certificate", "Check", "CHECKS"]
 
@@ -464,6 +464,21 @@ def _check_topology(ctx: _Context) -> Check:
                            ctx.origin[e], ctx.dest[e], ctx.scale, ctx.magnitude)
     circle = "power circle" if ctx.weighted else "circle"
     problems = []
+    within = found["within"]
+    wrongly = np.zeros(0, dtype=np.int64)
+    if ctx.weighted:
+        hidden = np.flatnonzero(~ctx.visible)
+        if hidden.size:
+            visible = np.flatnonzero(ctx.visible)
+            k = min(visible.size, 4)
+            _, near = _smallest_powers(ctx, ctx.sites[hidden], min(ctx.n, k + 1))
+            near = np.where(near == hidden[:, None], -1, near)   # its own (empty) cell is no candidate
+            wrongly, near_ok = wrongly_hidden(ctx.sites, ctx.weights, ctx.xy, ptr, s, hidden, near, ctx.site,
+                                              ctx.origin, ctx.scale, ctx.magnitude)
+            if wrongly.size:
+                within = within and near_ok
+                problems.append(f"{wrongly.size} hidden sites are in conflict with the triangle of the dual that "
+                                f"holds them (exact power test): they have a cell")
     if found["not_cocircular"].size:
         problems.append(f"{found['not_cocircular'].size} vertices join sites that are not exactly on one {circle} "
                         f"(nearly cocircular sites merged into one vertex)")
@@ -473,13 +488,13 @@ def _check_topology(ctx: _Context) -> Check:
         problems.append(f"{found['not_delaunay'].size} edges are not locally Delaunay (a site strictly inside "
                         f"the {circle} of the vertex across the edge: an empty {circle} violated)")
     if problems:
-        if found["within"]:
+        if within:
             problems.append("all near-degenerate (within the near tolerance of the data scale)")
         ids = np.concatenate([found["not_cocircular"], found["collinear"]])
-        kind = "vertex" if ids.size else "half-edge"
+        kind = "vertex" if ids.size else "half-edge" if found["not_delaunay"].size else "site"
         if not ids.size:
-            ids = e[found["not_delaunay"]]
-        return Check("topology", False, "; ".join(problems), _ids(ids), kind, within_tolerance=found["within"])
+            ids = e[found["not_delaunay"]] if found["not_delaunay"].size else wrongly
+        return Check("topology", False, "; ".join(problems), _ids(ids), kind, within_tolerance=within)
     return Check("topology", True, f"exact: {int((np.diff(ptr) > 0).sum())} vertices on exact {circle}s, "
                  f"{e.size} edges locally Delaunay")
 
@@ -564,8 +579,17 @@ def _check_hull(ctx: _Context) -> Check:
     missing = np.flatnonzero(hull & ~unbounded)
     extra = np.flatnonzero(unbounded & ~hull)
     if hidden_corners.size:
+        # Near-degenerate: each hidden corner within tolerance of the segment joining its hull
+        # neighbours (a corner by a hair: a floating-point library sees a hull edge there).
+        pos = np.full(n, -1, dtype=np.int64)
+        pos[polygon] = np.arange(polygon.size)
+        k = pos[hidden_corners]
+        prev, nxt = polygon[(k - 1) % polygon.size], polygon[(k + 1) % polygon.size]
+        dist = _segment_distance(ctx.sites[hidden_corners], ctx.sites[prev], ctx.sites[nxt])
+        within = bool((dist <= NEAR_DEGENERATE_REL_TOL * ctx.scale).all())
         return Check("hull", False, f"{hidden_corners.size} corners of the convex hull are hidden (a hull corner "
-                     f"always has a cell)", _ids(hidden_corners), "site")
+                     f"always has a cell)" + ("; all corners by a hair (near-degenerate)" if within else ""),
+                     _ids(hidden_corners), "site", within_tolerance=within)
     if not (missing.size or extra.size):
         what = "visible sites on the convex-hull boundary" if ctx.weighted else "sites on the convex-hull boundary"
         return Check("hull", True, f"{int(hull.sum())} unbounded cells = {what}")

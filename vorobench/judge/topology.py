@@ -13,6 +13,10 @@ exact predicates, on the sites themselves; only the vertices' coordinates are fl
   conventions allow (docs/dcel.md). Local Delaunay on every edge of a valid subdivision (the
   structure, orientation and hull checks) implies the global empty-circle property.
 
+* In a power diagram, a hidden site (no cell) is located exactly in a triangle of the dual
+  (the sites of a vertex) and must not be in conflict with it (its lift on or above their
+  plane, the exact power test): a wrongly hidden site is caught.
+
 A floating-point library may break these only at near-degenerate configurations: the
 violation is then "within tolerance" when, measured at the library's own vertex, the
 offending site lies within the near-degenerate length tolerance of the circle (the same
@@ -29,7 +33,7 @@ from numpy.typing import NDArray
 from vorobench.core.predicates import incircle, orient2d, power_test
 from vorobench.core.tolerances import NEAR_DEGENERATE_REL_TOL, length_tolerance
 
-__all__ = ["topology_violations", "judge_topology"]
+__all__ = ["topology_violations", "judge_topology", "wrongly_hidden"]
 
 #: Why a vertex fails: its sites are not exactly cocircular, or all on one line.
 NOT_COCIRCULAR = 1
@@ -151,3 +155,65 @@ def _largest(points: NDArray[np.float64], magnitude) -> NDArray[np.float64]:
     if points.shape[0] == 0:
         return np.zeros(0)
     return magnitude(np.abs(points).max(axis=1))
+
+
+@njit(cache=True)
+def _in_triangle(sites, a, b, c, x):
+    """Exact: x lies in the closed triangle abc (any orientation, not degenerate)."""
+    o = orient2d(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[c, 0], sites[c, 1])
+    if o == 0:
+        return False
+    for p, q in ((a, b), (b, c), (c, a)):
+        if orient2d(sites[p, 0], sites[p, 1], sites[q, 0], sites[q, 1], sites[x, 0], sites[x, 1]) * o < 0:
+            return False
+    return True
+
+
+@njit(cache=True)
+def _hidden_kernel(sites, weights, xy, ptr, s, hidden, candidates, cell_ptr, cell_half_edges, origin, bad, gap, rad):
+    """For each hidden site h: the triangle of the regular triangulation that holds it (a
+    vertex's sites around a candidate cell, exact point location), then the exact power test:
+    h in conflict with that triangle (its lift strictly below their plane) should have a cell."""
+    for i in range(hidden.size):
+        h = hidden[i]
+        located = False
+        for j in range(candidates.shape[1]):
+            cell = candidates[i, j]
+            if cell < 0 or located:
+                continue
+            for e in range(cell_ptr[cell], cell_ptr[cell + 1]):
+                u = origin[cell_half_edges[e]]
+                if u < 0 or located:
+                    continue
+                lo, hi = ptr[u], ptr[u + 1]
+                for p in range(lo, hi):
+                    for q in range(p + 1, hi):
+                        for r in range(q + 1, hi):
+                            a, b, c = s[p], s[q], s[r]
+                            if located or not _in_triangle(sites, a, b, c, h):
+                                continue
+                            located = True
+                            o = orient2d(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1],
+                                         sites[c, 0], sites[c, 1])
+                            if _in_circle(sites, weights, True, a, b, c, h) * o > 0:
+                                bad[i] = True
+                                g, radius = _gap(xy[u, 0], xy[u, 1], sites, weights, a, h)
+                                gap[i], rad[i] = max(0.0, -g) if g == g else np.inf, radius
+
+
+def wrongly_hidden(sites, weights, xy, ptr, s, hidden, candidates, site_of_half_edge, origin, scale: float,
+                   magnitude) -> tuple[NDArray[np.int64], bool]:
+    """(the hidden sites that the exact power test says have a cell, whether every one is
+    near-degenerate): each hidden site is located exactly in a triangle of the diagram's dual
+    around its ``candidates`` (sites of smallest power at it, nearest first); one that no
+    candidate's triangles hold is left to the float checks."""
+    order = np.argsort(site_of_half_edge, kind="stable")
+    cell_ptr = np.zeros(sites.shape[0] + 1, dtype=np.int64)
+    np.cumsum(np.bincount(site_of_half_edge, minlength=sites.shape[0]), out=cell_ptr[1:])
+    bad = np.zeros(hidden.size, dtype=np.bool_)
+    gap, rad = np.zeros(hidden.size), np.zeros(hidden.size)
+    _hidden_kernel(sites, weights, xy, ptr, s, hidden, candidates, cell_ptr, order.astype(np.int64), origin,
+                   bad, gap, rad)
+    near = gap[bad] <= length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(scale, rad[bad]),
+                                        magnitude(np.full(int(bad.sum()), 1.0)))
+    return hidden[bad], bool(near.all())
