@@ -20,7 +20,7 @@ from impls.base import Implementation, InputMutated, UnsupportedInput
 from vorobench.core.diagram import Diagram
 
 __all__ = ["Implementation", "UnsupportedInput", "InputMutated", "available", "get", "build", "register", "registered",
-           "unregister", "of_kind", "weighted", "is_builtin", "ENTRY_POINT_GROUP", "DEFAULT_REFERENCE"]
+           "unregister", "of_kind", "weighted", "is_builtin", "builtin", "ENTRY_POINT_GROUP", "DEFAULT_REFERENCE"]
 
 ENTRY_POINT_GROUP = "vorobench.impls"
 
@@ -81,8 +81,16 @@ def available() -> list[str]:
 
 def is_builtin(name: str) -> bool:
     """Whether ``name`` is one of vorobench's own implementations or adapters (not a plugin or
-    an entry point): code the judge may import."""
-    return name in _BUILTIN
+    an entry point) that can run here: code the judge may import."""
+    return name in _BUILTIN and _runs_here(_BUILTIN[name])
+
+
+def builtin(name: str) -> Implementation:
+    """vorobench's own implementation or adapter ``name`` (never a plugin or an entry point of
+    that name); ``KeyError`` when it is none, or cannot run here."""
+    if not is_builtin(name):
+        raise KeyError(f"{name!r} is not a built-in implementation that runs here")
+    return _resolve(_BUILTIN[name][0])
 
 
 def register(impl: Implementation) -> None:

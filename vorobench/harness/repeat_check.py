@@ -90,7 +90,7 @@ class RepeatJudging:
         try:
             got = diagram_from_arrays(arrays)
         except Exception as exc:  # arrays of the wrong kind or shape
-            self._keep(index, f"returned an unreadable diagram: {type(exc).__name__}: {exc}")
+            self._keep(index, f"returned an unreadable diagram: {type(exc).__name__}: {exc}", Verdict.CRASHED)
             return
         expected = self.sites if shift == 0 else np.ldexp(self.sites, shift)
         if not (got.sites.shape == expected.shape and np.array_equal(got.sites, expected)):
@@ -112,8 +112,8 @@ class RepeatJudging:
         elif digest != self.judged_digest:
             self.others[index] = diagram
 
-    def _keep(self, index: int, why: str) -> None:
-        self.others[index] = why
+    def _keep(self, index: int, why: str, failure: Verdict = Verdict.WRONG_SITES) -> None:
+        self.others[index] = (why, failure)
         if index == 0:
             self.judged_digest = b"-"
 
@@ -121,7 +121,8 @@ class RepeatJudging:
                  ) -> list[dict]:
         """The verdict columns of repeats 0 .. count - 1 (``ref``: the reference's judged build of
         the same sites; for the reference's own case, None)."""
-        judged = self._judge(self.judged if self.judged is not None else self.others.get(0, "no diagram"),
+        judged = self._judge(self.judged if self.judged is not None
+                             else self.others.get(0, ("returned no diagram", Verdict.CRASHED)),
                              reference, ref, probes)
         out = []
         for index in range(count):
@@ -131,8 +132,8 @@ class RepeatJudging:
 
     def _judge(self, diagram: object, reference: Optional[str], ref: Optional[BuildResult], probes: int,
                index: int = 0) -> dict:
-        if isinstance(diagram, str):
-            res = BuildResult(self.impl, self.declared.exact, error=diagram, failure=Verdict.WRONG_SITES)
+        if isinstance(diagram, tuple):           # (why, failure verdict): no diagram to certify
+            res = BuildResult(self.impl, self.declared.exact, error=diagram[0], failure=diagram[1])
         else:
             res = certify_result(BuildResult(self.impl, self.declared.exact, diagram), self.sites, probes=probes,
                                  weights=self.weights)

@@ -82,7 +82,7 @@ def _complexity(name: str) -> Optional[str]:
     if not impls.is_builtin(name):
         return None
     try:
-        return impls.get(name).complexity
+        return impls.builtin(name).complexity
     except Exception:  # an implementation that is not installed here is still reported
         return None
 

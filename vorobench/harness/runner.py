@@ -44,7 +44,7 @@ from vorobench.judge.outcomes import COUNTER_PREFIX, OutcomeKind, Status, Verdic
 from vorobench.judge.sandbox import Sandbox
 
 __all__ = ["Case", "RunConfig", "CaseOutcome", "plan_cases", "run_case", "run_case_in_process", "run_cases",
-           "exit_status", "case_input", "takes_weights", "case_row"]
+           "exit_status", "case_input", "case_row"]
 
 #: Allowance for starting the worker, importing, and generating the input (not the impl's time).
 STARTUP_TIMEOUT = 180.0
@@ -94,10 +94,6 @@ class RunConfig:
     budget: Optional[float] = None      # skip a case whose extrapolated build time exceeds this
     start_method: str = field(default_factory=default_start_method)
     run_id: str = field(default_factory=lambda: _dt.datetime.now().strftime("%Y%m%dT%H%M%S-") + os.urandom(2).hex())
-
-    def for_worker(self) -> dict:
-        return {k: v for k, v in asdict(self).items()
-                if k in ("repeat", "min_time", "memory_limit_mb")}
 
     def declaration(self, impl: str) -> Optional[Declaration]:
         """``impl``'s declaration pinned for the run (read now, in a sandbox, if the run has none)."""
@@ -166,13 +162,6 @@ def plan_cases(impls: Sequence[str], datasets: Sequence[str], sizes: Sequence[in
     per_dataset = {d: set(_distinct_sizes(d, sizes)) for d in datasets}
     return [Case(i, d, n, s, weights or "") for n in sorted(set(sizes)) for d in datasets if n in per_dataset[d]
             for s in seeds for i in ordered]
-
-
-def takes_weights(impl: str, config: Optional["RunConfig"] = None) -> Optional[bool]:
-    """Whether implementation ``impl`` builds power diagrams, as it declared for the run (None:
-    it declared nothing readable; its case reports why)."""
-    declared = (config or RunConfig()).declaration(impl)
-    return None if declared is None else declared.weighted
 
 
 def case_input(case: Case):
@@ -569,7 +558,9 @@ def _run_on_executor(todo: Sequence[Case], config: RunConfig, history: dict,
     limit = None
     if in_process:
         builds = max(config.repeat, MAX_REPEAT if config.min_time else 0)
-        limit = config.allowance("generate") + config.allowance("warmup") + (builds + 1) * config.timeout
+        # start-up and warm-up (the sandbox's, then the warm-up build), every build, and the check
+        limit = (config.allowance("startup") + config.allowance("generate") + 2 * config.allowance("warmup")
+                 + (builds + 2) * config.timeout)
     for res in run_tasks(executor, workers, _case_task, items(), in_flight=None if in_process else workers,
                          timeout=limit):
         case = res.item[0]

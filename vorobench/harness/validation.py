@@ -3,14 +3,13 @@ shrunk to witnesses, the gate decided and summarised. The command line only pars
 
 Each case goes through the judging engine (:class:`~vorobench.judge.engine.Judge`: sandboxes,
 pinned declarations) here or on an executor; a case whose worker died on every try is
-``lost``, a failure on every implementation's row. Witnesses are written with
-:func:`write_failure_witness`, which ``fuzz`` shares.
+``lost``, a failure on every implementation's row. Witnesses are shrunk and written with
+:mod:`vorobench.judge.shrink` (weights kept row for row), as ``fuzz`` does.
 """
 
 from __future__ import annotations
 
 import contextlib
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Optional, Sequence
@@ -18,7 +17,7 @@ from typing import Any, Callable, Optional, Sequence
 import numpy as np
 
 import datasets_gen
-from vorobench.harness.atomic import replace_atomically
+from vorobench.harness.atomic import write_json
 from vorobench.judge.declarations import Declaration
 from vorobench.judge.engine import VERDICTS, CaseVerdict, shared_judge
 from vorobench.judge.outcomes import Verdict
@@ -213,19 +212,6 @@ def summarise(campaign: Campaign, cases: int, names: Sequence[str], reference: s
                 lost=len(campaign.lost), failed_impls=sorted({f.blamed for f in campaign.failures}),
                 never_judged=never_judged, timeout=timeout, notes=notes, witnesses=campaign.witnesses,
                 declarations={n: d.to_dict() for n, d in declared.items()}, results=records)
-
-
-def _json_default(x: Any) -> Any:
-    if isinstance(x, np.generic):
-        return x.item()
-    if isinstance(x, np.ndarray):
-        return x.tolist()
-    return str(x)
-
-
-def write_json(path: Path, data: dict) -> None:
-    """Write ``data`` atomically: a reader never sees half a summary."""
-    replace_atomically(path, lambda f: json.dump(data, f, indent=1, default=_json_default))
 
 
 def mark_unfinished(out: Path, **fields: Any) -> Path:

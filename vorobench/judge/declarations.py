@@ -52,10 +52,10 @@ def _module_version(impl: Any) -> str:
         if isinstance(version, str):
             return version
     try:
-        from importlib.metadata import PackageNotFoundError, version as dist_version
+        from importlib.metadata import version as dist_version
 
         return dist_version(top)
-    except (PackageNotFoundError, ValueError, Exception):  # noqa: BLE001 - no distribution: no version
+    except Exception:  # noqa: BLE001 - no distribution (PackageNotFoundError, or a bad name): no version
         return ""
 
 
@@ -91,8 +91,7 @@ def declare_here(names: Optional[list[str]], plugins: tuple[str, ...] = ()) -> t
 
     defined_by: dict[str, str] = {}
     for spec in plugins:
-        for name in load_plugin(spec):
-            defined_by.setdefault(name, spec)
+        defined_by.update(dict.fromkeys(load_plugin(spec), spec))     # the last one registered wins, as in the registry
     wanted = impls.available() if names is None else list(names)
     declared: dict[str, dict] = {}
     failed: dict[str, str] = {}

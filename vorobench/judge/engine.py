@@ -50,7 +50,7 @@ from vorobench.judge.sandbox import WARMUP_TIMEOUT, Sandbox, safe_message
 from vorobench.judge.wire import ArraySpec
 
 __all__ = ["CaseVerdict", "BuildResult", "CaseJudgement", "Judge", "judge_case", "build_only", "certify_result", "build_and_certify", "build_in_sandbox", "diagram_arrays", "diagram_from_arrays", "diagram_schema", "check_case",
-           "decide", "agree_exactly", "is_exact", "prepare_case", "VERDICTS", "PASSING", "FAILURES", "NO_WEIGHTS",
+           "decide", "agree_exactly", "prepare_case", "VERDICTS", "PASSING", "FAILURES", "NO_WEIGHTS",
            "DEFAULT_TIMEOUT", "shared_judge", "close_shared_judges"]
 
 
@@ -68,6 +68,7 @@ PASSING = (Verdict.EXACT, Verdict.WITHIN_TOLERANCE, Verdict.CERTIFIED, Verdict.U
 
 #: Why an implementation without ``build_weighted`` is ``unsupported`` on a weighted case.
 NO_WEIGHTS = "does not take weights"
+_NO_WEIGHTS_REASON = f"{NO_WEIGHTS} (it builds ordinary Voronoi diagrams only)"
 
 
 def prepare_case(points: ArrayLike, weights: Optional[ArrayLike] = None
@@ -137,7 +138,7 @@ def build_only(impl_name: str, sites: np.ndarray, weights: Optional[np.ndarray] 
         return BuildResult(impl_name, True, error=safe_message(exc), failure=Verdict.CRASHED)
     result = BuildResult(impl_name, bool(impl.exact))
     if weights is not None and not impl.weighted:
-        result.unsupported = f"{NO_WEIGHTS} (it builds ordinary Voronoi diagrams only)"
+        result.unsupported = _NO_WEIGHTS_REASON
         return result
     try:
         reason = declined_reason(impl, sites)
@@ -226,8 +227,8 @@ def diagram_from_arrays(arrays: dict[str, np.ndarray]) -> Diagram:
 
 def diagram_schema(n_sites: int, weighted: bool = False) -> dict[str, ArraySpec]:
     """What the arrays of a diagram of ``n_sites`` sites may be on the wire: a Voronoi diagram
-    of n sites has at most 2n - 5 vertices and 3n - 6 edges; four times that (and a constant)
-    leaves room for any honest layout and still bounds what the judge allocates."""
+    of n sites has at most 2n - 5 vertices and 3n - 6 edges; twice that (and a constant) leaves
+    room for any honest layout and still bounds what the judge allocates."""
     n = max(int(n_sites), 0)
     ints = ("<i4", "<i8")
     half_edges = 12 * n + 32
@@ -354,16 +355,6 @@ def check_case(impl_name: str, sites: ArrayLike, reference_diagram: Optional[Dia
     verdict.n_sites = int(sites.shape[0])
     verdict.seconds = (time.perf_counter_ns() - t0) / 1e9
     return verdict
-
-
-def is_exact(name: str) -> bool:
-    """Whether implementation ``name``, loaded in this process, declares exact decisions (an
-    unknown one is judged strictly). The judge uses the declarations pinned for its run
-    (:meth:`Judge.declaration`) instead: this is for callers that built in this process."""
-    try:
-        return bool(impls.get(name).exact)
-    except Exception:  # an unknown reference is judged strictly
-        return True
 
 
 def decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) -> CaseVerdict:
@@ -521,8 +512,11 @@ class Judge:
         return {n: self._declared[n] for n in names if n in self._declared}
 
     def declaration(self, name: str) -> Optional[Declaration]:
-        """``name``'s pinned declaration (None: it could not be read)."""
-        return self.declarations([name]).get(name)
+        """``name``'s pinned declaration (None: it could not be read); the first miss reads the
+        judge's whole set in one sandbox."""
+        if name not in self._declared and name not in self._undeclared:
+            self.declarations(self.names + [self.reference, name])
+        return self._declared.get(name)
 
     def why_undeclared(self, name: str) -> str:
         """Why ``name`` has no declaration ("" if it has one)."""
@@ -554,8 +548,7 @@ class Judge:
             res.exact = declared.exact
             return res
         if weights is not None and not declared.weighted:
-            return BuildResult(name, declared.exact, unsupported=f"{NO_WEIGHTS} (it builds ordinary Voronoi diagrams "
-                                                                 f"only)")
+            return BuildResult(name, declared.exact, unsupported=_NO_WEIGHTS_REASON)
 
         box = self._sandboxes.get(name)
         if box is None:

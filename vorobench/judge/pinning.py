@@ -43,21 +43,24 @@ class PluginError(ValueError):
     """The run's plugins could not be loaded (in the sandbox that reads the declarations)."""
 
 
-def resolve_declarations(names: Optional[list[str]], plugins: tuple[str, ...] = (), timeout: float = 120.0
-                         ) -> dict[str, Declaration]:
+def resolve_declarations(names: Optional[list[str]], plugins: tuple[str, ...] = (), timeout: float = 120.0,
+                         also: tuple[str, ...] = ()) -> dict[str, Declaration]:
     """The declarations of ``names`` (None or ``["all"]``: every implementation available with
-    ``plugins``), read in a sandbox, in the order asked. Raises :class:`PluginError` when the
+    ``plugins``, one that fails to load left out) and of ``also`` (the reference: always
+    required), read in one sandbox, in the order asked. Raises :class:`PluginError` when the
     plugins cannot be loaded and ``ValueError`` naming the available ones for an unknown or
     broken name: usage errors, said in one line."""
     every = not names or list(names) == ["all"]
-    available, declared, failed = declare_in_sandbox(None if every else list(names), tuple(plugins), timeout)
+    asked = None if every else list(dict.fromkeys([*names, *also]))
+    available, declared, failed = declare_in_sandbox(asked, tuple(plugins), timeout)
     if "*" in failed:
         raise PluginError(failed["*"].split("\n")[0])
-    wanted = available if every else list(dict.fromkeys(names))
+    wanted = list(dict.fromkeys([*available, *also])) if every else asked
     unknown = [n for n in wanted if n not in available]
     if unknown:
         raise ValueError(f"unknown implementation {unknown[0]!r}; available: {', '.join(available)}")
-    broken = [n for n in wanted if n not in declared]
-    if broken and not every:
+    required = list(also) if every else wanted
+    broken = [n for n in required if n not in declared]
+    if broken:
         raise ValueError(f"implementation {broken[0]!r} could not be loaded: {failed.get(broken[0], '')}")
     return {n: declared[n] for n in wanted if n in declared}

@@ -159,7 +159,6 @@ class Sandbox:
         self.memory_limit_mb = memory_limit_mb
         self.warmup_timeout = warmup_timeout
         self.expected = expected
-        self.declared: Optional[Declaration] = None
         self._proc = None
         self._conn = None
         self.start_failure: Optional[Outcome] = None
@@ -198,7 +197,6 @@ class Sandbox:
                            message=f"declared {', '.join(f'{k}={getattr(declared, k)!r}' for k in changed)} "
                                    f"in this worker, not what it declared at the start of the run "
                                    f"({', '.join(f'{k}={getattr(self.expected, k)!r}' for k in changed)})")
-        self.declared = declared
         return Outcome(OutcomeKind.OK)
 
     def _receive(self, timeout: Optional[float], step: str, schema: Any) -> Outcome:
@@ -229,10 +227,7 @@ class Sandbox:
             self._proc.join(10)
             return _describe_death(self._proc.exitcode, step)
         try:
-            if callable(schema):
-                kind, data, arrays = wire.decode(message, schema_for=schema)
-            else:
-                kind, data, arrays = wire.decode(message, schema)
+            kind, data, arrays = wire.decode(message, schema)
         except wire.WireError as exc:   # not an answer the wire allows: the implementation's failure
             return Outcome(OutcomeKind.CRASHED, message=f"sent an answer the judge refuses during {step}: {exc}")
         finally:
@@ -255,7 +250,7 @@ class Sandbox:
         return None
 
     def call(self, fn: Callable, *args, timeout: Optional[float], step: str = "build",
-             schema: Optional[Mapping[str, wire.ArraySpec] | Callable] = None, **kwargs) -> Outcome:
+             schema: Optional[Mapping[str, wire.ArraySpec]] = None, **kwargs) -> Outcome:
         """``fn(*args, **kwargs)`` in the sandbox, within ``timeout`` seconds (None: no limit;
         start-up and warm-up have their own allowance). ``schema`` bounds the arrays of the
         answer (see :func:`vorobench.judge.wire.decode`); without one, none may come."""

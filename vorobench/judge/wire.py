@@ -15,7 +15,7 @@ import json
 import math
 import re
 from dataclasses import dataclass
-from typing import Any, Callable, Mapping, Optional
+from typing import Any, Mapping, Optional
 
 import numpy as np
 
@@ -79,8 +79,6 @@ def clean_data(data: Any, limit: int = TEXT_LIMIT, depth: int = 0) -> Any:
         return {clean_text(k, 200): clean_data(v, limit, depth + 1) for k, v in data.items()}
     if isinstance(data, list):
         return [clean_data(v, limit, depth + 1) for v in data]
-    if isinstance(data, float) and not math.isfinite(data):
-        return data
     return data
 
 
@@ -116,13 +114,11 @@ def _checked_layout(entry: Any, schema: Mapping[str, ArraySpec]) -> tuple[str, n
     return name, _DTYPES[dtype], tuple(shape)
 
 
-def decode(message: bytes, schema: Optional[Mapping[str, ArraySpec]] = None,
-           schema_for: Optional[Callable[[str, Any], Mapping[str, ArraySpec]]] = None
+def decode(message: bytes, schema: Optional[Mapping[str, ArraySpec]] = None
            ) -> tuple[str, Any, dict[str, np.ndarray]]:
     """(kind, data, arrays) of an answer, every size checked before it is used.
 
-    ``schema`` (or ``schema_for(kind, data)``, which sees the cleaned header first) says which
-    arrays may come and how large; none may come without one. Arrays are read-only views of
+    ``schema`` says which arrays may come and how large; none may come without one. Arrays are read-only views of
     ``message``. Raises :class:`WireError` for anything else.
     """
     if len(message) < 8:
@@ -141,8 +137,6 @@ def decode(message: bytes, schema: Optional[Mapping[str, ArraySpec]] = None,
     layout = header.get("arrays") or []
     if not isinstance(layout, list):
         raise WireError("the answer's array layout is not a list")
-    if layout and schema is None and schema_for is not None:
-        schema = schema_for(kind, data)
     schema = schema or {}
     arrays: dict[str, np.ndarray] = {}
     offset = 8 + size
