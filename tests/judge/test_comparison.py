@@ -309,3 +309,19 @@ def test_moved_vertex_is_reported_in_the_input_units_at_any_magnitude(k):
     assert np.allclose(c.differences[0].points, [d.vertices[5], vertices[5]], rtol=1e-12, atol=0)
     vertices[5] = d.vertices[5] + [np.ldexp(1e-14, k), 0.0]
     assert compare(d, with_arrays(d, vertices=vertices)).verdict == "exact"
+
+
+@pytest.mark.parametrize("scale", [1.0, 2.0 ** -40, 2.0 ** 30])
+def test_compare_forgives_a_merge_within_rounding_and_not_beyond(scale):
+    """The comparer's rule is the certifier's: nudged by 1e-13 of the lattice, four merged sites
+    are one vertex within tolerance; by 1e-9 they are a different diagram (an edge length of
+    ~1e-9 of the data, which the old 1e-8 equidistance tolerance contracted). Any scale."""
+    from tests.judge.test_topology import _merged_grid
+
+    near, exact_near = _merged_grid(1e-13, scale)
+    far, exact_far = _merged_grid(1e-9, scale)
+    c = compare(near, exact_near, labels=("float", "exact"))
+    assert c.equal and c.verdict == "within_tolerance", str(c)
+    assert c.short_edge_counts["exact"] > 0 and "near-degenerate" in str(c)
+    c = compare(far, exact_far, labels=("float", "exact"))
+    assert not c.equal and c.verdict == "differs", str(c)

@@ -189,3 +189,34 @@ def test_a_hull_corner_by_a_hair_hidden_by_qhull_is_near_degenerate():
     assert not hull.ok and hull.within_tolerance, hull.detail
     assert cert.ok_within_tolerance, str(cert)
     assert certify(impls.build("incremental", points, weights=weights)).ok
+
+
+# ----------------------------------------------------------------- the rule for floating-point code
+
+def _merged_grid(noise: float, scale: float = 1.0, offset: float = 0.0) -> tuple[Diagram, Diagram]:
+    """(the diagram of the exact 6 x 6 lattice, whose degree-4 vertices merge each square's four
+    sites, relabelled onto the lattice nudged by ``noise``; the exact diagram of the nudged
+    sites): an epsilon merge of nearly cocircular sites, as a floating-point library makes it."""
+    rng = np.random.default_rng(4)
+    lattice = np.array([(i, j) for i in range(6) for j in range(6)], dtype=float) * scale + offset
+    nudged = lattice + rng.uniform(-noise, noise, lattice.shape) * scale
+    merged = impls.build("incremental", lattice)
+    assert np.array_equal(merged.sites, lattice)
+    with_nudged = Diagram(nudged, merged.vertices, merged.origin, merged.twin, merged.next, merged.site)
+    return with_nudged, impls.build("incremental", nudged)
+
+
+@pytest.mark.parametrize("scale, offset", [(1.0, 0.0), (2.0 ** -40, 7 * 2.0 ** -40), (2.0 ** 30, -7 * 2.0 ** 30)],
+                         ids=["unit", "tiny and moved", "huge and moved"])
+def test_a_merge_within_rounding_is_forgiven_a_merge_beyond_it_is_not(scale, offset):
+    """The rule is per configuration and in roundings of the data: a merge of sites nudged by
+    1e-13 of the lattice (hundreds of roundings) is near-degenerate; by 1e-9 (millions) it is
+    wrong, although 1e-9 is inside the old fixed tolerance of 1e-8 x the data scale. The same
+    at every scale and place."""
+    near, _ = _merged_grid(1e-13, scale, offset)
+    far, exact = _merged_grid(1e-9, scale, offset)
+    near_topology, far_topology = _topology(certify(near, probes=200)), _topology(certify(far, probes=200))
+    assert not near_topology.ok and near_topology.within_tolerance, near_topology.detail
+    assert not far_topology.ok and not far_topology.within_tolerance, far_topology.detail
+    assert "not all near-degenerate" in far_topology.detail
+    assert certify(exact, probes=200).ok

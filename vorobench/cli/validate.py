@@ -258,3 +258,12 @@ def _print_matrix(console: Console, summary: dict, names: list[str], reference: 
             row.append(f"[{style}]{text}[/]" if style else text)
         table.add_row(*row)
     console.print(table)
+    from vorobench.harness.ci_outputs import certificate_counts
+
+    levels = []
+    for name in names:
+        counts = certificate_counts([r for r in records if r["impl"] == name])
+        if counts:
+            levels.append(f"{escape(name)} " + ", ".join(f"{c} {k.replace('_', ' ')}" for k, c in counts.items()))
+    if levels:
+        console.print("certificates: " + "; ".join(levels))

@@ -6,6 +6,8 @@ Lengths are judged relative to a *local scale*: the larger of the sites' boundin
 and the radius of the vertex's empty circle (far-away vertices of nearly collinear sites
 carry proportionally larger rounding errors), plus a few ulps of the coordinates' magnitude
 (sites around 1e9 with unit spacing cannot be resolved better than ulp(1e9) ~ 1.2e-7).
+One number is not a length: NEAR_DEGENERATE_ULPS, the rule by which a floating-point library's
+topology may differ from the exact one, counted in roundings of the data.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ __all__ = [
     "EQUIDISTANCE_REL_TOL",
     "PROBE_REL_TOL",
     "NEAR_DEGENERATE_REL_TOL",
+    "NEAR_DEGENERATE_ULPS",
     "COINCIDENCE_FILTER_REL_TOL",
     "COINCIDENCE_FILTER_ULPS",
     "ROUNDOFF_ULPS",
@@ -30,8 +33,9 @@ __all__ = [
     "circumcentre_tolerance",
 ]
 
-#: compare(): edges shorter than this fraction of the data scale are contracted for the
-#: ``within_tolerance`` verdict (Qhull merges nearly cocircular sites, exact code keeps them).
+#: certify()'s edges check (coordinates only): an edge that runs the wrong way is a rounding of
+#: its vertices when it is shorter than this fraction of the data scale. (Topology is decided
+#: by NEAR_DEGENERATE_ULPS, never by an edge's length.)
 SHORT_EDGE_REL_TOL = 1e-10
 
 #: compare(): matched vertices may differ by this fraction of their local scale.
@@ -51,6 +55,14 @@ PROBE_REL_TOL = 1e-9
 #: near-degenerate error, tolerated in the ``within_tolerance`` verdict (never for exact
 #: code). Qhull's precision is relative to the bounding box, not to the local spacing.
 NEAR_DEGENERATE_REL_TOL = 1e-8
+
+#: certify() and compare() of a floating-point library: its topology may differ from the exact
+#: diagram only at configurations that moving the sites (and weights) by at most this many
+#: roundings of the data's extent (EPSILON * half the bounding box's longer side; of the largest
+#: weight) makes degenerate: four sites cocircular, three collinear
+#: (:mod:`vorobench.core.predicates.degeneracy`). Qhull's rounding measured on near_grid and
+#: weighted tiny_spacing at 10^2..10^5 sites stays below 450 (benchmarks/degeneracy_margins.py).
+NEAR_DEGENERATE_ULPS = 4096.0
 
 #: qhull adapter: a finite ridge whose end vertices are further apart than this fraction of
 #: their magnitude is oriented by its float direction; shorter ones combinatorially.

@@ -67,9 +67,11 @@ def case_table(df: pd.DataFrame) -> pd.DataFrame:
     """One row per case (impl, dataset, n, seed): status, verdict, median time and memory."""
     keys = ["impl", "dataset", "n", "seed"]
     grouped = df.groupby(keys, sort=True, dropna=False)
+    certificate = {"certificate": ("certificate", "first")} if "certificate" in df.columns else {}
     out = grouped.agg(
         status=("status", "first"),
         verdict=("verdict", "first"),
+        **certificate,
         check_passed=("check_passed", "first"),
         time_s=("time_s", "median"),
         time_min_s=("time_s", "min"),
@@ -141,7 +143,8 @@ def case_repeats(df: pd.DataFrame) -> list[dict]:
             "seed": int(seed) if isinstance(seed, (int, np.integer)) or (isinstance(seed, float) and seed == seed)
             else str(seed),
             "n_sites": int(first["n_sites"]) if "n_sites" in g and pd.notna(first["n_sites"]) else None,
-            "status": text("status"), "verdict": text("verdict"), "detail": text("verdict_detail"),
+            "status": text("status"), "verdict": text("verdict"), "certificate": text("certificate"),
+            "detail": text("verdict_detail"),
             "error": text("error"), "phase": text("phase"),
             "repeat_ids": [int(r) if pd.notna(r) else i for i, r in
                            enumerate(ok["repeat"] if "repeat" in ok else range(len(ok)))],

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from vorobench.harness.markdown_text import cell as _cell
-from vorobench.judge.outcomes import Verdict
+from vorobench.judge.outcomes import CertificateLevel, Verdict
 from vorobench.judge.wire import escaped
 
 __all__ = ["write_junit", "write_markdown", "write_compare_junit", "write_compare_markdown", "printable",
@@ -69,6 +69,10 @@ def write_junit(summary: dict[str, Any], path: str | Path) -> Path:
     for row in rows:
         case = ET.SubElement(suite, "testcase", classname=f"vorobench.{row['impl']}", name=_case_name(row),
                              time=f"{float(row.get('seconds') or 0.0):.3f}")
+        properties = ET.SubElement(case, "properties")
+        for key in ("verdict", "certificate_level", "reference_certificate_level"):
+            if row.get(key):
+                ET.SubElement(properties, "property", name=key.replace("_level", ""), value=str(row[key]))
         if not row["passed"]:
             failure = ET.SubElement(case, "failure", type=str(row["verdict"]), message=str(row["message"])[:500])
             failure.text = str(row["message"])
@@ -103,6 +107,13 @@ def _make_printable(root: ET.Element) -> None:
             element.tail = printable(element.tail)
 
 
+def certificate_counts(rows: list[dict[str, Any]]) -> dict[str, int]:
+    """How many judged diagrams reached each certificate level, in the levels' order (each
+    implementation's own diagram once per row; the reference's on its own row)."""
+    found = [str(r.get("certificate_level") or "") for r in rows]
+    return {level.value: found.count(level.value) for level in CertificateLevel if level.value in found}
+
+
 def write_markdown(summary: dict[str, Any], path: str | Path) -> Path:
     """``summary`` (validate's) as a short Markdown digest; returns its path."""
     rows = summary.get("results", [])
@@ -112,12 +123,17 @@ def write_markdown(summary: dict[str, Any], path: str | Path) -> Path:
              f"{summary.get('judged', 0)} of {summary.get('cases', 0)} cases judged against "
              f"`{_md(summary.get('reference', '?'))}`; {len(rows)} verdicts, {len(failed)} failing, "
              f"{summary.get('lost', 0)} cases lost.", ""]
+    levels = certificate_counts(rows)
+    if levels:
+        lines += ["Certificates: " + ", ".join(f"{count} {level.replace('_', ' ')}" for level, count in levels.items())
+                  + " (`certified`: exact topology; `certified within tolerance`: differs from the exact diagram "
+                  "only at near-degenerate configurations, the standard for floating-point libraries).", ""]
     if summary.get("never_judged"):
         lines += [f"Never judged (unsupported on every case): {_md(', '.join(summary['never_judged']))}", ""]
     if failed:
-        lines += ["| implementation | case | verdict | message |", "|---|---|---|---|"]
+        lines += ["| implementation | case | verdict | certificate | message |", "|---|---|---|---|---|"]
         lines += [f"| {_md_cell(r['impl'])} | {_md_cell(_case_name(r))} | {_md_cell(r['verdict'])} | "
-                  f"{_md_cell(r['message'])[:300]} |" for r in failed]
+                  f"{_md_cell(r.get('certificate_level') or '-')} | {_md_cell(r['message'])[:300]} |" for r in failed]
         lines.append("")
     return _write_text(lines, path)
 

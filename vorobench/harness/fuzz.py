@@ -139,7 +139,7 @@ def plan(generators: Sequence[str], min_n: int, max_n: int, campaign_seed: int) 
 
 def _verdict_record(v, peer: Optional[str]) -> dict[str, Any]:
     return {"impl": v.impl, "peer": peer, "verdict": v.verdict, "passed": bool(v.passed), "blame": v.blame,
-            "message": v.message[:300]}
+            "certificate": v.certificate_level, "message": v.message[:300]}
 
 
 def _cut_record(case: FuzzCase, note: str) -> dict[str, Any]:

@@ -143,7 +143,7 @@ class RepeatJudging:
         if index:
             detail = f"repeat {index} differs from repeat 0: {detail}"
         return {"verdict": verdict.verdict, "check_passed": bool(verdict.passed), "blame": verdict.blame or "",
-                "verdict_detail": detail}
+                "certificate": verdict.certificate_level, "verdict_detail": detail}
 
 
 #: The reference's judged builds, by (reference, dataset, n, seed, weight family): the last few.

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Optional
 
 import numpy as np
+import pandas as pd
 
 import impls
 from vorobench.harness import analysis, figures
@@ -29,7 +30,7 @@ from vorobench.harness.power_figure import plot_power_case
 from vorobench.harness.report_html import PageInput, plotly_styles, render
 from vorobench.harness.results import load_checked, metadata_path, read_metadata, with_weights_in_dataset
 from vorobench.harness.units import factor_text, percent_text, seconds_text, size_text
-from vorobench.judge.outcomes import Status, Verdict
+from vorobench.judge.outcomes import CertificateLevel, Status, Verdict
 
 __all__ = ["write_report", "Report", "reading", "busy_machine_note"]
 
@@ -56,6 +57,18 @@ class Report:
 # ------------------------------------------------------------------------------ formatting
 
 _one_line, _text = one_line, text     # results text as Markdown (vorobench.harness.markdown_text)
+
+
+def certificate_tally(cases: pd.DataFrame) -> str:
+    """"12 certified, 3 certified within tolerance": the certificate levels of ``cases`` (from the
+    ``certificate`` column; older results without it count their ``certified`` verdicts)."""
+    if "certificate" in cases.columns and cases["certificate"].fillna("").astype(str).str.len().any():
+        levels = cases["certificate"].fillna("").astype(str)
+    else:
+        levels = cases["verdict"].map(lambda v: CertificateLevel.CERTIFIED.value if v == Verdict.CERTIFIED else "")
+    tally = levels[levels != ""].value_counts()
+    order = [level.value for level in CertificateLevel]
+    return ", ".join(f"{int(tally[k])} {k.replace('_', ' ')}" for k in order if k in tally) or "none certified"
 
 
 def _code(value: object) -> str:
@@ -190,9 +203,10 @@ def reading(cases, sizes, exponents, ratios, reference: str, check=None, repeats
         parts = ", ".join(f"{v} {_text(str(k).replace('_', ' '))}" for k, v in tally.items()) or "none"
         text = f"**Correctness** of the {len(others)} cases that ran, against {_code(reference)}: {parts}."
         if not own.empty:
-            certified = int((own["verdict"] == Verdict.CERTIFIED).sum())
             text += (f" {_code(reference)}'s own {len(own)} cases are judged on their certificates alone: "
-                     f"{certified} certified.")
+                     f"{certificate_tally(own)}.")
+        if "certificate" in others.columns and others["certificate"].fillna("").astype(str).str.len().any():
+            text += f" Certificates of the others: {certificate_tally(others)}."
         points.append(text)
     bad = failures(cases)
     if bad.empty:

@@ -68,9 +68,11 @@ from vorobench.core.incidence import vertex_site_lists
 from vorobench.core.predicates import orient2d
 from vorobench.core.scaling import comfortable_shift, scale_points, smallest_normal
 from vorobench.core.sorting import argsort_keys, sorted_unique
+from vorobench.core.predicates.degeneracy import lift_extent, orient2d_ulps
 from vorobench.core.tolerances import (
     EQUIDISTANCE_REL_TOL,
     NEAR_DEGENERATE_REL_TOL,
+    NEAR_DEGENERATE_ULPS,
     PROBE_REL_TOL,
     SHORT_EDGE_REL_TOL,
     allowed_error,
@@ -78,7 +80,7 @@ from vorobench.core.tolerances import (
     length_tolerance,
 )
 from vorobench.judge.defaults import DEFAULT_PROBES
-from vorobench.judge.outcomes import Verdict
+from vorobench.judge.outcomes import CertificateLevel, Verdict
 from vorobench.judge.topology import judge_topology, wrongly_hidden
 
 __all__ = ["certify", "Certificate", "Check", "CHECKS"]
@@ -101,7 +103,8 @@ class Check:
     id_kind: str = ""
     seconds: float = 0.0
     #: Passed, or failed only on near-degenerate decisions that a floating-point library may
-    #: get wrong (see ``NEAR_DEGENERATE_REL_TOL``). None: same as ``ok``.
+    #: get wrong (``NEAR_DEGENERATE_ULPS`` for topology, ``NEAR_DEGENERATE_REL_TOL`` for
+    #: coordinates). None: same as ``ok``.
     within_tolerance: Optional[bool] = None
 
     def __post_init__(self) -> None:
@@ -131,6 +134,12 @@ class Certificate:
         return all(c.within_tolerance for c in self.checks)
 
     @property
+    def level(self) -> CertificateLevel:
+        """``certified`` (exact topology), ``certified_within_tolerance`` or ``not_certified``."""
+        return (CertificateLevel.CERTIFIED if self.ok else CertificateLevel.WITHIN_TOLERANCE
+                if self.ok_within_tolerance else CertificateLevel.NOT_CERTIFIED)
+
+    @property
     def verdict(self) -> Verdict:
         """"certified", "within_tolerance" or "not_certified"."""
         return (Verdict.CERTIFIED if self.ok else Verdict.WITHIN_TOLERANCE if self.ok_within_tolerance
@@ -150,7 +159,8 @@ class Certificate:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-serialisable summary."""
-        return {"ok": self.ok, "ok_within_tolerance": self.ok_within_tolerance, "verdict": self.verdict,
+        return {"ok": self.ok, "ok_within_tolerance": self.ok_within_tolerance, "level": self.level.value,
+                "verdict": self.verdict,
                 "counts": dict(self.counts), "checks": [asdict(c) for c in self.checks]}
 
     def __str__(self) -> str:
@@ -213,6 +223,13 @@ class _Context:
         return np.maximum(mag, self.normal_min)
 
     @property
+    def extents(self) -> tuple[float, float]:
+        """(half the longer side of the sites' bounding box, the lifted coordinates' extent): the
+        units of a floating-point library's rounding (:mod:`vorobench.core.predicates.degeneracy`)."""
+        weight = float(np.abs(self.weights).max()) if self.weighted and self.weights.size else 0.0
+        return self.scale / 2.0, lift_extent(self.scale / 2.0, weight)
+
+    @property
     def tree(self):
         """k-d tree of the sites; lifted to (x, y, sqrt(W - w)) for a power diagram, so that a
         query at (x, y, 0) finds the site of smallest power."""
@@ -259,6 +276,11 @@ def _usable(d: Diagram) -> Optional[str]:
 
 
 # ---------------------------------------------------------------------------------- checks
+def _ulps(x: float) -> str:
+    """A distance from degenerate, in roundings of the data, for messages."""
+    return "infinitely many roundings" if not np.isfinite(x) else f"{x:.3g} roundings"
+
+
 def _check_structure(ctx: _Context) -> Check:
     try:
         ctx.d.validate()
@@ -460,11 +482,12 @@ def _check_topology(ctx: _Context) -> Check:
         return Check("topology", True, "no finite vertex")
     e = np.flatnonzero(np.arange(ctx.H) < ctx.twin)
     ptr, s = ctx.vertex_sites
-    found = judge_topology(ctx.sites, ctx.weights, ctx.weighted, ctx.xy, ptr, s, ctx.site[e], ctx.site[ctx.twin[e]],
-                           ctx.origin[e], ctx.dest[e], ctx.scale, ctx.magnitude)
+    extent, lifted = ctx.extents
+    found = judge_topology(ctx.sites, ctx.weights, ctx.weighted, ptr, s, ctx.site[e], ctx.site[ctx.twin[e]],
+                           ctx.origin[e], ctx.dest[e], extent, lifted)
     circle = "power circle" if ctx.weighted else "circle"
     problems = []
-    within = found["within"]
+    worst = found["worst_ulps"]
     wrongly = np.zeros(0, dtype=np.int64)
     if ctx.weighted:
         hidden = np.flatnonzero(~ctx.visible)
@@ -473,12 +496,13 @@ def _check_topology(ctx: _Context) -> Check:
             k = min(visible.size, 4)
             _, near = _smallest_powers(ctx, ctx.sites[hidden], min(ctx.n, k + 1))
             near = np.where(near == hidden[:, None], -1, near)   # its own (empty) cell is no candidate
-            wrongly, near_ok = wrongly_hidden(ctx.sites, ctx.weights, ctx.xy, ptr, s, hidden, near, ctx.site,
-                                              ctx.origin, ctx.scale, ctx.magnitude)
+            wrongly, hidden_ulps = wrongly_hidden(ctx.sites, ctx.weights, ptr, s, hidden, near, ctx.site,
+                                                  ctx.origin, extent, lifted)
             if wrongly.size:
-                within = within and near_ok
+                worst = max(worst, hidden_ulps)
                 problems.append(f"{wrongly.size} hidden sites are in conflict with the triangle of the dual that "
                                 f"holds them (exact power test): they have a cell")
+    within = bool(worst <= NEAR_DEGENERATE_ULPS)
     if found["not_cocircular"].size:
         problems.append(f"{found['not_cocircular'].size} vertices join sites that are not exactly on one {circle} "
                         f"(nearly cocircular sites merged into one vertex)")
@@ -488,8 +512,9 @@ def _check_topology(ctx: _Context) -> Check:
         problems.append(f"{found['not_delaunay'].size} edges are not locally Delaunay (a site strictly inside "
                         f"the {circle} of the vertex across the edge: an empty {circle} violated)")
     if problems:
-        if within:
-            problems.append("all near-degenerate (within the near tolerance of the data scale)")
+        problems.append(f"{'all' if within else 'not all'} near-degenerate (the farthest is {_ulps(worst)} of the "
+                        f"data from a degenerate configuration; {NEAR_DEGENERATE_ULPS:.0f} are forgiven a "
+                        f"floating-point library)")
         ids = np.concatenate([found["not_cocircular"], found["collinear"]])
         kind = "vertex" if ids.size else "half-edge" if found["not_delaunay"].size else "site"
         if not ids.size:
@@ -579,23 +604,25 @@ def _check_hull(ctx: _Context) -> Check:
     missing = np.flatnonzero(hull & ~unbounded)
     extra = np.flatnonzero(unbounded & ~hull)
     if hidden_corners.size:
-        # Near-degenerate: each hidden corner within tolerance of the segment joining its hull
-        # neighbours (a corner by a hair: a floating-point library sees a hull edge there).
+        # Near-degenerate: each hidden corner nearly on the line of its hull neighbours (a
+        # corner by a hair: a floating-point library sees a hull edge there).
         pos = np.full(n, -1, dtype=np.int64)
         pos[polygon] = np.arange(polygon.size)
         k = pos[hidden_corners]
         prev, nxt = polygon[(k - 1) % polygon.size], polygon[(k + 1) % polygon.size]
-        dist = _segment_distance(ctx.sites[hidden_corners], ctx.sites[prev], ctx.sites[nxt])
-        within = bool((dist <= NEAR_DEGENERATE_REL_TOL * ctx.scale).all())
+        extent = ctx.extents[0]
+        ulps = [orient2d_ulps(*ctx.sites[p], *ctx.sites[c], *ctx.sites[q], extent)
+                for p, c, q in zip(prev, hidden_corners, nxt)]
+        within = bool(max(ulps) <= NEAR_DEGENERATE_ULPS)
         return Check("hull", False, f"{hidden_corners.size} corners of the convex hull are hidden (a hull corner "
                      f"always has a cell)" + ("; all corners by a hair (near-degenerate)" if within else ""),
                      _ids(hidden_corners), "site", within_tolerance=within)
     if not (missing.size or extra.size):
         what = "visible sites on the convex-hull boundary" if ctx.weighted else "sites on the convex-hull boundary"
         return Check("hull", True, f"{int(hull.sum())} unbounded cells = {what}")
-    # Near-degenerate: an interior site within tolerance of the hull boundary, or a hull site
-    # within tolerance of the segment joining its two hull neighbours.
-    limit = NEAR_DEGENERATE_REL_TOL * ctx.scale
+    # Near-degenerate: an interior site, or a hull site, that a move of NEAR_DEGENERATE_ULPS
+    # roundings of the data puts on the hull boundary (the segment joining its hull neighbours).
+    limit = NEAR_DEGENERATE_ULPS * np.finfo(np.float64).eps / 2 * ctx.extents[0]
     within = True
     q0, q1 = ctx.sites[polygon], ctx.sites[np.roll(polygon, -1)]
     for chunk in np.array_split(extra, max(1, extra.size * polygon.size // 4_000_000)):

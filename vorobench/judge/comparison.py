@@ -9,13 +9,17 @@ Normalisation: a Voronoi vertex of degree k >= 4 (k cocircular sites) may be one
 k - 2 vertices joined by zero-length edges. An edge is contracted when *all* the sites of
 both its end vertices are cocircular, decided with the exact ``incircle`` predicate on the
 sites (never from the rounded vertex coordinates), so both forms compare equal ("exact").
-Floating-point libraries (Qhull) also merge *nearly* cocircular sites, so if the exact
-comparison fails, edges shorter than ``rel_tol`` times the data scale are contracted in both
-diagrams as well, and so are edges whose end vertices are equidistant from the sites of both
-to within ``rel_tol`` of the radius (nearly cocircular sites: what Qhull merges, even when
-the sites are nearly collinear and the exact vertices lie far apart), and the comparison
-is repeated ("within_tolerance"). A vertex merged under tolerance may then lie anywhere
-within its members' spread when coordinates are matched.
+Floating-point libraries (Qhull) also decide *nearly* degenerate configurations either way,
+so if the exact comparison fails, an edge is contracted in both diagrams as well when its
+configuration is near-degenerate by the certifier's rule: every site of its two end vertices
+is within ``ulps`` roundings of the data (``NEAR_DEGENERATE_ULPS``) of lying on the circle of
+the edge's sites and a third, or that third on their line
+(:mod:`vorobench.core.predicates.degeneracy`). A vertex whose sites are all within ``ulps``
+roundings of one line (a sliver's circumcentre, far out) is taken to be at infinity, as a
+floating-point library may put it: its edges become rays, and an edge between two such
+vertices is dropped. That is decided per configuration from the sites, never from an edge's length, so it is the same at 10 and at 10^6 sites; then the
+comparison is repeated ("within_tolerance"). A vertex merged under tolerance may then lie
+anywhere within its members' spread when coordinates are matched.
 
 Any magnitude: both diagrams are compared at their coordinates times one power of two (exact),
 the largest site coordinate in [0.5, 1) (:func:`vorobench.core.scaling.comfortable_shift`), where
@@ -42,14 +46,14 @@ from scipy.sparse.csgraph import connected_components
 from vorobench.core.diagram import Diagram
 from vorobench.core.incidence import vertex_site_lists
 from vorobench.core.predicates import incircle, orient2d, power_test
+from vorobench.core.predicates.degeneracy import incircle_ulps, lift_extent, orient2d_ulps, power_test_ulps
 from vorobench.core.scaling import comfortable_shift, scale_points, smallest_normal
 from vorobench.core.sorting import argsort_keys, dense_rank, is_member, sorted_unique
 from vorobench.core.tolerances import (
     COINCIDENCE_FILTER_REL_TOL,
     COINCIDENCE_FILTER_ULPS,
-    SHORT_EDGE_REL_TOL,
+    NEAR_DEGENERATE_ULPS,
     VERTEX_MATCH_REL_TOL,
-    allowed_error,
     circumcentre_tolerance,
     data_scale,
 )
@@ -107,7 +111,8 @@ class Comparison:
     n_sites: int = 0
     sizes: dict[str, dict[str, int]] = field(default_factory=dict)
     scale: float = 1.0
-    rel_tol: float = SHORT_EDGE_REL_TOL
+    #: near-degenerate: within this many roundings of the data of a degenerate configuration
+    ulps: float = NEAR_DEGENERATE_ULPS
     coord_tol: float = VERTEX_MATCH_REL_TOL
     max_vertex_error: float = 0.0
     #: Largest vertex error as a multiple of its allowed error (<= 1: within tolerance).
@@ -149,8 +154,8 @@ class Comparison:
             lines.append("  zero-length edges contracted exactly (cocircular sites): "
                          + ", ".join(f"{k}: {v}" for k, v in zl.items()))
         if self.short_edge_counts and any(self.short_edge_counts.values()):
-            lines.append(f"  contracted under tolerance (shorter than {self.rel_tol:g} x scale {self.scale:.3g}, "
-                         f"or between nearly cocircular vertices): "
+            lines.append(f"  contracted under tolerance (near-degenerate: sites within {self.ulps:g} roundings of "
+                         f"the data of one circle): "
                          + ", ".join(f"{k}: {v}" for k, v in self.short_edge_counts.items()))
             for s in self.short_edges[:_MAX_SHORT_LISTED]:
                 lines.append(f"    {s['diagram']}: edge between sites {s['sites']}, length {s['length']:.3g}")
@@ -360,36 +365,61 @@ def _successor(nxt: NDArray[np.int64], kept: NDArray[np.bool_]) -> NDArray[np.in
 
 
 @njit(cache=True)
-def _nearly_cocircular_kernel(xy, sites, ptr, s, u, v, rel_tol, normal_min, out, weights, weighted):
-    """out[k]: vertex u[k] or v[k] is equidistant, within ``rel_tol`` of the radius (plus
-    roundoff), from every site of both: the two vertices are one vertex of nearly cocircular
-    sites, as a floating-point library may merge them. In a power diagram "distance" is the
-    square root of the power (lifted by the largest weight, so that it stays real)."""
-    lift = 0.0
-    if weighted:
-        for x in range(weights.size):
-            lift = max(lift, weights[x])
-    for k in range(u.size):
-        for w in (u[k], v[k]):
-            px, py = xy[w, 0], xy[w, 1]
-            lo, hi = np.inf, 0.0
-            mag = max(abs(px), abs(py), normal_min)
-            for z in (u[k], v[k]):
-                for j in range(ptr[z], ptr[z + 1]):
-                    x = s[j]
-                    d = np.hypot(px - sites[x, 0], py - sites[x, 1])
-                    if weighted:
-                        d = np.sqrt(d * d - weights[x] + lift)
-                    lo, hi = min(lo, d), max(hi, d)
-                    mag = max(mag, abs(sites[x, 0]), abs(sites[x, 1]))
-            if hi - lo <= allowed_error(rel_tol, hi, mag):
-                out[k] = True
+def _flat_vertex_kernel(sites, ptr, s, ulps, extent, out):
+    """out[v]: every site of vertex v is within ``ulps`` roundings of the data of one line."""
+    for v in range(ptr.size - 1):
+        if ptr[v + 1] - ptr[v] < 3:
+            continue
+        a, b = s[ptr[v]], s[ptr[v] + 1]
+        flat = True
+        for j in range(ptr[v] + 2, ptr[v + 1]):
+            c = s[j]
+            if orient2d_ulps(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[c, 0], sites[c, 1],
+                             extent) > ulps:
+                flat = False
+                break
+        out[v] = flat
 
 
-def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optional[float], scale: float,
+@njit(cache=True)
+def _near_degenerate_kernel(sites, ptr, s, a, b, u, v, ulps, extent, lifted, out, weights, weighted):
+    """out[k]: edge (a, b) from u to v joins vertices of nearly cocircular sites, as a
+    floating-point library may merge them: with c a third site of u, every other site x of u
+    and v is within ``ulps`` roundings of the data of the circle (lifted plane) of a, b, c."""
+    for k in range(a.size):
+        aa, bb = a[k], b[k]
+        c = -1
+        for j in range(ptr[u[k]], ptr[u[k] + 1]):
+            if s[j] != aa and s[j] != bb:
+                c = s[j]
+                break
+        if c < 0:
+            continue
+        ax, ay, bx, by, cx, cy = sites[aa, 0], sites[aa, 1], sites[bb, 0], sites[bb, 1], sites[c, 0], sites[c, 1]
+        near = True
+        for z in (u[k], v[k]):
+            for j in range(ptr[z], ptr[z + 1]):
+                x = s[j]
+                if x == aa or x == bb or x == c:
+                    continue
+                px, py = sites[x, 0], sites[x, 1]
+                if weighted:
+                    m = power_test_ulps(ax, ay, weights[aa], bx, by, weights[bb], cx, cy, weights[c], px, py,
+                                        weights[x], extent, lifted)
+                else:
+                    m = incircle_ulps(ax, ay, bx, by, cx, cy, px, py, extent, lifted)
+                if m > ulps:
+                    near = False
+                    break
+            if not near:
+                break
+        out[k] = near
+
+
+def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, ulps: Optional[float], scale: float,
                consistent: bool, normal_min: float = 0.0, weights: Optional[NDArray[np.float64]] = None) -> _Form:
-    """Canonical form of ``d``: contract exactly-zero edges (and, with ``rel_tol``, edges
-    shorter than ``rel_tol * scale`` or between vertices of nearly cocircular sites), merge
+    """Canonical form of ``d``: contract exactly-zero edges (and, with ``ulps``, edges of
+    near-degenerate configurations, :func:`_near_degenerate_kernel`), merge
     their vertices, list the kept half-edges with their merged ends. ``consistent``: the
     local DCEL invariants hold, so origins alone give every vertex-cell incidence."""
     sites = np.asarray(d.sites, np.float64)
@@ -404,6 +434,20 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optiona
     V, H = d.n_vertices, d.n_half_edges
     dest = origin[twin] if H else origin
     ptr, s = vertex_site_lists(site, origin, None if consistent else dest, V, max(n, 1))
+    at_infinity = np.zeros(H, dtype=bool)
+    extent = scale / 2.0
+    if ulps is not None and V and H:
+        # A vertex of nearly collinear sites (a sliver's circumcentre, far out) is nearly at
+        # infinity: a floating-point library may put it there. Its edges become rays, and an
+        # edge between two such vertices lies at infinity and is dropped.
+        flat = np.zeros(V, dtype=bool)
+        _flat_vertex_kernel(common_sites, ptr, s, float(ulps), extent, flat)
+        if flat.any():
+            was_infinite = (origin < 0) & (dest < 0)
+            origin = np.where((origin >= 0) & flat[np.maximum(origin, 0)], -1, origin)
+            dest = origin[twin]
+            at_infinity = (origin < 0) & (dest < 0) & ~was_infinite
+            ptr, s = vertex_site_lists(site, origin, None if consistent else dest, V, max(n, 1))
     # Candidate edges for contraction: one half-edge per pair, both ends finite.
     e = np.flatnonzero((np.arange(H) < twin) & (origin >= 0) & (dest >= 0))
     u, v = origin[e], dest[e]
@@ -416,11 +460,13 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optiona
     contract = exact.copy()
     short: list[tuple[int, int, float]] = []
     n_short = 0
-    if rel_tol is not None and e.size:
+    if ulps is not None and e.size:
         length = np.hypot(*(xy[u] - xy[v]).T)
-        is_short = length < rel_tol * scale
-        _nearly_cocircular_kernel(xy, common_sites, ptr, s, u, v, rel_tol, normal_min, is_short,
-                                  np.zeros(0) if weights is None else weights, weights is not None)
+        is_short = np.zeros(e.size, dtype=bool)
+        weighted = weights is not None
+        w = np.asarray(weights, np.float64) if weighted else np.zeros(0)
+        lifted = lift_extent(extent, float(np.abs(w).max()) if weighted and w.size else 0.0)
+        _near_degenerate_kernel(common_sites, ptr, s, a, b, u, v, float(ulps), extent, lifted, is_short, w, weighted)
         is_short &= ~exact
         n_short = int(is_short.sum())
         for k in np.flatnonzero(is_short)[:_MAX_SHORT_LISTED]:
@@ -445,10 +491,10 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, rel_tol: Optiona
             np.maximum.at(m_extent, labels[used], np.hypot(*(xy[used] - m_xy[labels[used]]).T))
     # Kept half-edges with merged ends and the neighbour that follows along the cell.
     nb_all = site[twin] if H else site
-    if not contract.any():                    # every half-edge kept, every vertex its own class
+    if not contract.any() and not at_infinity.any():   # every half-edge kept, every vertex its own class
         return _Form(m_ptr, m_sites, m_xy, m_extent, np.arange(H, dtype=np.int64), twin, site, nb_all, origin, dest,
                      nb_all[nxt] if H else nb_all, 0, short, n_short)
-    removed = np.zeros(H, dtype=bool)
+    removed = at_infinity.copy()
     removed[e[contract]] = True
     removed[twin[e[contract]]] = True
     kept = ~removed
@@ -765,12 +811,12 @@ def _scaled(d: Diagram, shift: int) -> Diagram:
                        weights=None if d.weights is None else np.ldexp(np.asarray(d.weights, np.float64), 2 * shift))
 
 
-def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coord_tol: Optional[float] = None,
+def compare(a: Diagram, b: Diagram, *, ulps: float = NEAR_DEGENERATE_ULPS, coord_tol: Optional[float] = None,
             labels: tuple[str, str] = ("a", "b")) -> Comparison:
     """Compare two diagrams of the same sites combinatorially and by vertex coordinates.
 
-    ``rel_tol``: edges shorter than ``rel_tol`` times the sites' bounding-box size are
-    contracted for the ``within_tolerance`` verdict. ``coord_tol``: matched vertices may
+    ``ulps``: edges of configurations within this many roundings of the data of degenerate
+    are contracted for the ``within_tolerance`` verdict (0: exact comparison only). ``coord_tol``: matched vertices may
     differ by this fraction of their local scale (default ``VERTEX_MATCH_REL_TOL``).
     ``labels`` name the two diagrams in the report. Never raises on a broken diagram:
     that is reported as a difference.
@@ -785,7 +831,7 @@ def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coor
     sizes = {la: a.counts(), lb: b.counts()}
     n = a.n_sites
     scale = data_scale(np.asarray(a.sites, np.float64).reshape(-1, 2))
-    base = dict(labels=(la, lb), n_sites=n, sizes=sizes, scale=scale, rel_tol=rel_tol, coord_tol=coord_tol)
+    base = dict(labels=(la, lb), n_sites=n, sizes=sizes, scale=scale, ulps=ulps, coord_tol=coord_tol)
     counts = {k: 0 for k in DIFFERENCE_KINDS}
     site_map, site_diffs, site_count = _site_matching(a, b)
     if site_map is None:
@@ -813,14 +859,14 @@ def compare(a: Diagram, b: Diagram, *, rel_tol: float = SHORT_EDGE_REL_TOL, coor
     sites = np.asarray(a.sites, np.float64)
     unit_scale = data_scale(sites)
     result = None
-    for stage, tol in ((Verdict.EXACT, None), (Verdict.WITHIN_TOLERANCE, rel_tol)):
+    for stage, tol in ((Verdict.EXACT, None), (Verdict.WITHIN_TOLERANCE, ulps)):
         forms = [_canonical(a, identity, n, tol, unit_scale, err_a is None, normal_min, weights),
                  _canonical(b, site_map, n, tol, unit_scale, err_b is None, normal_min, weights)]
         _joint_vertex_ids(forms, n)
         diff = _differences(forms[0], forms[1], sites, n, unit_scale, coord_tol, (la, lb), shift, normal_min)
         _hidden_differences(a, b, site_map, diff, (la, lb), shift)
         result = (stage, forms, diff)
-        if diff.combinatorial == 0 or rel_tol <= 0:
+        if diff.combinatorial == 0 or ulps <= 0:
             break
     stage, forms, diff = result
     diff.counts["invalid_structure"] = counts["invalid_structure"]

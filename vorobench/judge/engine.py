@@ -111,6 +111,11 @@ class BuildResult:
     def certified_exactly(self) -> Optional[bool]:
         return None if self.certificate is None else self.certificate.ok
 
+    @property
+    def level(self) -> str:
+        """The certificate's level (``CertificateLevel``), or "" if there is no diagram."""
+        return "" if self.certificate is None else self.certificate.level.value
+
 
 def declined_reason(impl: impls.Implementation, sites: np.ndarray) -> Optional[str]:
     """Why ``impl`` declines ``sites``: its ``supports`` (on the sites, and on the scaled sites it
@@ -296,11 +301,20 @@ class CaseVerdict:
     reference_result: Optional[BuildResult] = field(default=None, repr=False)
     comparison: Optional[Comparison] = field(default=None, repr=False)
 
+    @property
+    def certificate_level(self) -> str:
+        """This diagram's certificate level (``CertificateLevel``), "" without a diagram."""
+        return self.result.level if self.result is not None else ""
+
+    @property
+    def reference_certificate_level(self) -> str:
+        return self.reference_result.level if self.reference_result is not None else ""
+
     def to_dict(self, *, details: bool = True) -> dict[str, Any]:
         """JSON-serialisable summary; with ``details``, the certificates and comparison too."""
         out: dict[str, Any] = {k: getattr(self, k) for k in (
-            "impl", "reference", "verdict", "passed", "certified", "reference_certified", "message", "blame",
-            "n_sites", "seconds")}
+            "impl", "reference", "verdict", "passed", "certified", "reference_certified", "certificate_level",
+            "reference_certificate_level", "message", "blame", "n_sites", "seconds")}
         if details:
             for key, res in (("certificate", self.result), ("reference_certificate", self.reference_result)):
                 if res is not None and res.certificate is not None:
@@ -378,11 +392,13 @@ def decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) -
     if not res.certified:
         return make(Verdict.NOT_CERTIFIED, False, f"{impl_name} is not certified: {_failed_checks(res)}", "impl")
     cert_note = "certified" if res.certificate.ok else "certified within tolerance (floating point)"
+    # Judged on its certificate alone: the certificate's level is the verdict.
+    alone = Verdict.CERTIFIED if res.certificate.ok else Verdict.WITHIN_TOLERANCE
     if res is ref or impl_name == reference:
-        return make(Verdict.CERTIFIED, True, f"{impl_name} (the reference) is {cert_note}")
+        return make(alone, True, f"{impl_name} (the reference) is {cert_note}")
     if ref.diagram is None:
         why = ref.error or ref.unsupported or "no diagram"
-        return make(Verdict.CERTIFIED, True, f"{impl_name} is {cert_note}; no comparison: reference {reference} "
+        return make(alone, True, f"{impl_name} is {cert_note}; no comparison: reference {reference} "
                                        f"has no diagram ({why})", "reference" if ref.crashed else "")
     try:
         comp = compare(ref.diagram, res.diagram, labels=(reference, impl_name))

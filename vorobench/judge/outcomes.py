@@ -26,6 +26,7 @@ __all__ = [
     "Status",
     "Verdict",
     "OutcomeKind",
+    "CertificateLevel",
     "VERDICT_RANK",
     "STATUS_RANK",
     "COUNTER_PREFIX",
@@ -74,6 +75,23 @@ class Verdict(str, Enum):
     OOM = "oom"
     TIMEOUT = "timeout"
     CRASHED = "crashed"
+
+    def __str__(self) -> str:
+        return self.value
+
+
+class CertificateLevel(str, Enum):
+    """What the certifier says of one diagram, on its own (``vorobench.judge.certificate``).
+
+    ``certified``: its topology is exactly the diagram of its sites (every decision checked with
+    exact predicates) and its coordinates within tolerance; required of exact implementations.
+    ``certified_within_tolerance``: it differs from that only at near-degenerate configurations
+    (``NEAR_DEGENERATE_ULPS``); the standard for floating-point libraries.
+    """
+
+    CERTIFIED = "certified"
+    WITHIN_TOLERANCE = "certified_within_tolerance"
+    NOT_CERTIFIED = "not_certified"
 
     def __str__(self) -> str:
         return self.value

@@ -18,10 +18,12 @@ exact predicates, on the sites themselves; only the vertices' coordinates are fl
   plane, the exact power test): a wrongly hidden site is caught.
 
 A floating-point library may break these only at near-degenerate configurations: the
-violation is then "within tolerance" when, measured at the library's own vertex, the
-offending site lies within the near-degenerate length tolerance of the circle (the same
-tolerance the float checks use). This is the same for exact and floating-point
-implementations; only what passes differs (``Check.ok`` for exact code).
+violation is then "within tolerance" when changing the configuration's sites and their lifts by
+at most ``NEAR_DEGENERATE_ULPS`` roundings of the data's extents makes it degenerate: its four sites
+cocircular (lifts coplanar) or a triangle of it collinear
+(:mod:`vorobench.core.predicates.degeneracy`). That is decided per configuration, from the same
+determinants, the same at any size and scale. It is the same computation for exact and
+floating-point implementations; only what passes differs (``Check.ok`` for exact code).
 """
 
 from __future__ import annotations
@@ -31,7 +33,8 @@ from numba import njit
 from numpy.typing import NDArray
 
 from vorobench.core.predicates import incircle, orient2d, power_test
-from vorobench.core.tolerances import NEAR_DEGENERATE_REL_TOL, length_tolerance
+from vorobench.core.predicates.degeneracy import incircle_ulps, orient2d_ulps, power_test_ulps
+from vorobench.core.tolerances import NEAR_DEGENERATE_ULPS
 
 __all__ = ["topology_violations", "judge_topology", "wrongly_hidden"]
 
@@ -52,17 +55,28 @@ def _in_circle(sites, weights, weighted, a, b, c, d):
 
 
 @njit(cache=True)
-def _gap(px, py, sites, weights, a, d):
-    """How far d is from the (power) circle of the vertex (px, py) through a, as a length
-    (float): the power difference over twice the local radius sqrt(|x - p|^2 + |w|), the
-    distance itself in an ordinary diagram; positive: d is outside. Also that radius."""
-    dax, day = px - sites[a, 0], py - sites[a, 1]
-    ddx, ddy = px - sites[d, 0], py - sites[d, 1]
-    pa = dax * dax + day * day - weights[a]
-    pd = ddx * ddx + ddy * ddy - weights[d]
-    r = max(np.sqrt(dax * dax + day * day + abs(weights[a])), np.sqrt(ddx * ddx + ddy * ddy + abs(weights[d])),
-            1e-300)
-    return (pd - pa) / (2.0 * r), r
+def _lifted_ulps(sites, weights, weighted, extent, lift_extent, a, b, c, d):
+    """How far a, b, c, d are from cocircular (coplanar lifts), in roundings of the data."""
+    if weighted:
+        return power_test_ulps(sites[a, 0], sites[a, 1], weights[a], sites[b, 0], sites[b, 1], weights[b],
+                               sites[c, 0], sites[c, 1], weights[c], sites[d, 0], sites[d, 1], weights[d],
+                               extent, lift_extent)
+    return incircle_ulps(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[c, 0], sites[c, 1],
+                         sites[d, 0], sites[d, 1], extent, lift_extent)
+
+
+@njit(cache=True)
+def _line_ulps(sites, extent, a, b, c):
+    """How far a, b, c are from collinear, in roundings of the data."""
+    return orient2d_ulps(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[c, 0], sites[c, 1], extent)
+
+
+@njit(cache=True)
+def _quad_ulps(sites, weights, weighted, extent, lift_extent, a, b, c, d):
+    """How far the decision "is d inside the circle of a, b, c" is from changing: the nearest of
+    a, b, c, d cocircular, a, b, c collinear and a, b, d collinear, in roundings of the data."""
+    return min(_lifted_ulps(sites, weights, weighted, extent, lift_extent, a, b, c, d),
+               _line_ulps(sites, extent, a, b, c), _line_ulps(sites, extent, a, b, d))
 
 
 @njit(cache=True)
@@ -85,7 +99,7 @@ def _other_site(ptr, s, v, a, b):
 
 
 @njit(cache=True)
-def _kernel(sites, weights, weighted, xy, ptr, s, ea, eb, eu, ew, v_bad, v_gap, v_rad, e_bad, e_gap, e_rad):
+def _kernel(sites, weights, weighted, extent, lift_extent, ptr, s, ea, eb, eu, ew, v_bad, v_ulps, e_bad, e_ulps):
     for v in range(ptr.size - 1):
         if ptr[v + 1] - ptr[v] < 3:
             continue                    # fewer than three cells: the vertices check says so
@@ -100,9 +114,8 @@ def _kernel(sites, weights, weighted, xy, ptr, s, ea, eb, eu, ew, v_bad, v_gap, 
                 continue
             if _in_circle(sites, weights, weighted, a, b, c, x) != 0:
                 v_bad[v] = NOT_COCIRCULAR
-                g, r = _gap(xy[v, 0], xy[v, 1], sites, weights, a, x)
-                if not abs(g) <= v_gap[v]:
-                    v_gap[v], v_rad[v] = abs(g), r
+                v_ulps[v] = max(v_ulps[v], min(_lifted_ulps(sites, weights, weighted, extent, lift_extent,
+                                                            a, b, c, x), _line_ulps(sites, extent, a, b, c)))
     for k in range(ea.size):
         u, w, a, b = eu[k], ew[k], ea[k], eb[k]
         if u < 0 or w < 0 or u == w:
@@ -115,46 +128,39 @@ def _kernel(sites, weights, weighted, xy, ptr, s, ea, eb, eu, ew, v_bad, v_gap, 
             continue                    # a vertex of collinear sites: already its failure
         if _in_circle(sites, weights, weighted, a, b, c, d) * o > 0:
             e_bad[k] = True
-            g, r = _gap(xy[u, 0], xy[u, 1], sites, weights, a, d)
-            e_gap[k], e_rad[k] = max(0.0, -g) if g == g else np.inf, r
+            e_ulps[k] = _quad_ulps(sites, weights, weighted, extent, lift_extent, a, b, c, d)
 
 
 def topology_violations(sites: NDArray[np.float64], weights: NDArray[np.float64], weighted: bool,
-                        xy: NDArray[np.float64], ptr: NDArray[np.int64], s: NDArray[np.int64],
-                        a: NDArray[np.int64], b: NDArray[np.int64], u: NDArray[np.int64], w: NDArray[np.int64]):
-    """Per vertex (0, NOT_COCIRCULAR or COLLINEAR, with the largest gap of an offending site from
-    its circle and the local radius) and per edge (a's half-edge from u to w: not locally
-    Delaunay: a site strictly inside the circle across it, with how far inside it lies and the
-    local radius)."""
+                        ptr: NDArray[np.int64], s: NDArray[np.int64], a: NDArray[np.int64], b: NDArray[np.int64],
+                        u: NDArray[np.int64], w: NDArray[np.int64], extent: float, lift_extent: float):
+    """Per vertex (0, NOT_COCIRCULAR or COLLINEAR, and how near its worst offending site is to
+    its circle, in roundings of the data) and per edge (a's half-edge from u to w: not locally
+    Delaunay, a site strictly inside the circle across it, and how near that decision is to
+    degenerate, in roundings of the data). ``extent``: half the longer side of the sites'
+    bounding box; ``lift_extent``: the lifted coordinates' (``degeneracy.lift_extent``)."""
     V, E = ptr.size - 1, a.size
     v_bad = np.zeros(V, dtype=np.int64)
-    v_gap, v_rad = np.zeros(V), np.zeros(V)
+    v_ulps = np.zeros(V)
     e_bad = np.zeros(E, dtype=np.bool_)
-    e_gap, e_rad = np.zeros(E), np.zeros(E)
+    e_ulps = np.zeros(E)
     wt = weights if weighted else np.zeros(sites.shape[0])
-    _kernel(sites, wt, weighted, xy, ptr, s, a, b, u, w, v_bad, v_gap, v_rad, e_bad, e_gap, e_rad)
-    return v_bad, v_gap, v_rad, e_bad, e_gap, e_rad
+    _kernel(sites, wt, weighted, float(extent), float(lift_extent), ptr, s, a, b, u, w, v_bad, v_ulps, e_bad, e_ulps)
+    return v_bad, v_ulps, e_bad, e_ulps
 
 
-def judge_topology(sites, weights, weighted, xy, ptr, s, a, b, u, w, scale: float, magnitude) -> dict:
-    """The exact topology verdict: counts and ids of the failing vertices and edges, and whether
-    every failure is near-degenerate (within the near tolerance of the data scale)."""
-    v_bad, v_gap, v_rad, e_bad, e_gap, e_rad = topology_violations(sites, weights, weighted, xy, ptr, s, a, b, u, w)
+def judge_topology(sites, weights, weighted, ptr, s, a, b, u, w, extent: float, lift_extent: float) -> dict:
+    """The exact topology verdict: counts and ids of the failing vertices and edges, whether
+    every failure is near-degenerate (within ``NEAR_DEGENERATE_ULPS`` roundings of a degenerate
+    configuration), and the largest such distance (``worst_ulps``)."""
+    v_bad, v_ulps, e_bad, e_ulps = topology_violations(sites, weights, weighted, ptr, s, a, b, u, w, extent,
+                                                       lift_extent)
     bad_v = np.flatnonzero(v_bad)
     bad_e = np.flatnonzero(e_bad)
-    near_v = (v_gap[bad_v] <= length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(scale, v_rad[bad_v]),
-                                               _largest(xy[bad_v], magnitude))) & (v_bad[bad_v] != COLLINEAR)
-    near_e = e_gap[bad_e] <= length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(scale, e_rad[bad_e]),
-                                              _largest(xy[u[bad_e]], magnitude))
+    ulps = np.concatenate([np.where(v_bad[bad_v] == COLLINEAR, np.inf, v_ulps[bad_v]), e_ulps[bad_e]])
+    worst = float(ulps.max()) if ulps.size else 0.0
     return dict(not_cocircular=bad_v[v_bad[bad_v] == NOT_COCIRCULAR], collinear=bad_v[v_bad[bad_v] == COLLINEAR],
-                not_delaunay=bad_e, within=bool(near_v.all() and near_e.all()))
-
-
-def _largest(points: NDArray[np.float64], magnitude) -> NDArray[np.float64]:
-    """The largest coordinate magnitude of each point (for the roundoff part of a tolerance)."""
-    if points.shape[0] == 0:
-        return np.zeros(0)
-    return magnitude(np.abs(points).max(axis=1))
+                not_delaunay=bad_e, within=bool(worst <= NEAR_DEGENERATE_ULPS), worst_ulps=worst)
 
 
 @njit(cache=True)
@@ -170,7 +176,8 @@ def _in_triangle(sites, a, b, c, x):
 
 
 @njit(cache=True)
-def _hidden_kernel(sites, weights, xy, ptr, s, hidden, candidates, cell_ptr, cell_half_edges, origin, bad, gap, rad):
+def _hidden_kernel(sites, weights, extent, lift_extent, ptr, s, hidden, candidates, cell_ptr, cell_half_edges,
+                   origin, bad, ulps):
     """For each hidden site h: the triangle of the regular triangulation that holds it (a
     vertex's sites around a candidate cell, exact point location), then the exact power test:
     h in conflict with that triangle (its lift strictly below their plane) should have a cell."""
@@ -197,23 +204,26 @@ def _hidden_kernel(sites, weights, xy, ptr, s, hidden, candidates, cell_ptr, cel
                                          sites[c, 0], sites[c, 1])
                             if _in_circle(sites, weights, True, a, b, c, h) * o > 0:
                                 bad[i] = True
-                                g, radius = _gap(xy[u, 0], xy[u, 1], sites, weights, a, h)
-                                gap[i], rad[i] = max(0.0, -g) if g == g else np.inf, radius
+                                # near: the four lifts nearly coplanar, the triangle nearly
+                                # flat, or h nearly on one of its sides (another triangle's)
+                                ulps[i] = min(_lifted_ulps(sites, weights, True, extent, lift_extent,
+                                                           a, b, c, h), _line_ulps(sites, extent, a, b, c),
+                                              _line_ulps(sites, extent, a, b, h), _line_ulps(sites, extent, b, c, h),
+                                              _line_ulps(sites, extent, c, a, h))
 
 
-def wrongly_hidden(sites, weights, xy, ptr, s, hidden, candidates, site_of_half_edge, origin, scale: float,
-                   magnitude) -> tuple[NDArray[np.int64], bool]:
-    """(the hidden sites that the exact power test says have a cell, whether every one is
-    near-degenerate): each hidden site is located exactly in a triangle of the diagram's dual
-    around its ``candidates`` (sites of smallest power at it, nearest first); one that no
-    candidate's triangles hold is left to the float checks."""
+def wrongly_hidden(sites, weights, ptr, s, hidden, candidates, site_of_half_edge, origin, extent: float,
+                   lift_extent: float) -> tuple[NDArray[np.int64], float]:
+    """(the hidden sites that the exact power test says have a cell, the largest distance of
+    those decisions from degenerate in roundings of the data): each hidden site is located
+    exactly in a triangle of the diagram's dual around its ``candidates`` (sites of smallest
+    power at it, nearest first); one that no candidate's triangles hold is left to the float
+    checks."""
     order = np.argsort(site_of_half_edge, kind="stable")
     cell_ptr = np.zeros(sites.shape[0] + 1, dtype=np.int64)
     np.cumsum(np.bincount(site_of_half_edge, minlength=sites.shape[0]), out=cell_ptr[1:])
     bad = np.zeros(hidden.size, dtype=np.bool_)
-    gap, rad = np.zeros(hidden.size), np.zeros(hidden.size)
-    _hidden_kernel(sites, weights, xy, ptr, s, hidden, candidates, cell_ptr, order.astype(np.int64), origin,
-                   bad, gap, rad)
-    near = gap[bad] <= length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(scale, rad[bad]),
-                                        magnitude(np.full(int(bad.sum()), 1.0)))
-    return hidden[bad], bool(near.all())
+    ulps = np.zeros(hidden.size)
+    _hidden_kernel(sites, weights, float(extent), float(lift_extent), ptr, s, hidden, candidates, cell_ptr,
+                   order.astype(np.int64), origin, bad, ulps)
+    return hidden[bad], float(ulps[bad].max()) if bad.any() else 0.0
