@@ -45,3 +45,26 @@ def test_markdown_shows_hostile_text_as_text(tmp_path):
     text = write_markdown({"passed": False, "results": [row], "cases": 1, "judged": 1}, tmp_path / "m.md").read_text()
     assert "<script>" not in text and "\n| injected" not in text
     assert sum(line.startswith("| ") for line in text.splitlines()) == 2     # header and one row
+
+
+def test_every_output_names_the_certificate_levels(tmp_path, capsys):
+    """On near_grid Qhull rounds nearly cocircular sites (certified within tolerance) and fortune
+    is exact (certified): summary rows, JUnit properties, the Markdown digest and the table say
+    which, and Qhull's own row is a pass within tolerance, not "certified"."""
+    junit, md = tmp_path / "j.xml", tmp_path / "m.md"
+    code = main(["validate", "--impls", "fortune", "--datasets", "near_grid", "--sizes", "100", "--no-shrink",
+                 "--out", str(tmp_path / "v"), "--junit", str(junit), "--markdown", str(md)])
+    assert code == 0
+    rows = {r["impl"]: r for r in json.loads((tmp_path / "v" / "summary.json").read_text())["results"]
+            if not r.get("exact_peer")}
+    assert rows["qhull"]["certificate_level"] == "certified_within_tolerance"
+    assert rows["qhull"]["verdict"] == "within_tolerance" and rows["qhull"]["passed"]
+    assert rows["fortune"]["certificate_level"] == "certified"
+    assert rows["fortune"]["reference_certificate_level"] == "certified_within_tolerance"
+    properties = {(c.get("classname"), p.get("name")): p.get("value")
+                  for c in ET.parse(junit).getroot().iter("testcase") for p in c.iter("property")}
+    assert properties[("vorobench.qhull", "certificate")] == "certified_within_tolerance"
+    assert properties[("vorobench.fortune", "certificate")] == "certified"
+    assert "1 certified, 1 certified within tolerance" in md.read_text()
+    out = capsys.readouterr().out
+    assert "fortune 1 certified" in out and "qhull 1 certified within tolerance" in out

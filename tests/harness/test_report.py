@@ -127,3 +127,15 @@ def test_busy_machine_is_mentioned(results_csv, tmp_path):
     assert note is not None and "5.5 on 2 cores" in note
     results.update_run_metadata(results_csv, "r1", load_average=[0.5, 0.5, 0.5], load_average_end=[1.0, 1.0, 1.0])
     assert busy_machine_note(results.read_metadata(results_csv)) is None
+
+
+def test_the_report_counts_certificate_levels_and_reads_older_results():
+    import pandas as pd
+
+    from vorobench.harness.report import certificate_tally
+
+    cases = pd.DataFrame({"verdict": ["certified", "within_tolerance", "exact", "not_certified"],
+                          "certificate": ["certified", "certified_within_tolerance", "certified", "not_certified"]})
+    assert certificate_tally(cases) == "2 certified, 1 certified within tolerance, 1 not certified"
+    older = cases.drop(columns="certificate")        # results written before the column existed
+    assert certificate_tally(older) == "1 certified"

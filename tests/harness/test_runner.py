@@ -96,6 +96,8 @@ def test_check_gives_a_verdict_against_the_reference(tmp_path):
     # so it must certify and agree with the reference exactly; wrong's diagram belongs to other sites.
     assert list(df["impl"]) == ["steady", "wrong", "qhull"]          # the reference runs last
     assert list(df["verdict"]) == ["exact", "not_certified", "certified"], df["verdict_detail"].tolist()
+    # steady hands back Qhull's diagram: certified (uniform: no near-degenerate rounding); wrong's not
+    assert list(df["certificate"]) == ["certified", "not_certified", "certified"]
     assert df["check_passed"].tolist() == [True, False, True]
     assert df["blame"].fillna("").tolist() == ["", "impl", ""]
     assert (df["check_s"] > 0).all()
