@@ -220,3 +220,38 @@ def test_a_merge_within_rounding_is_forgiven_a_merge_beyond_it_is_not(scale, off
     assert not far_topology.ok and not far_topology.within_tolerance, far_topology.detail
     assert "not all near-degenerate" in far_topology.detail
     assert certify(exact, probes=200).ok
+
+
+def _spread_2_190() -> np.ndarray:
+    """Six sites within 2**-95 of the origin and five at 2**95: near the ends of the documented
+    range (nonzero magnitudes within 2**199 of each other)."""
+    rng = np.random.default_rng(0)
+    small = rng.uniform(-1, 1, (6, 2)) * 2.0 ** -95
+    big = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0], [1.0, 1.0]]) * 2.0 ** 95
+    return np.vstack([small, big])
+
+
+@pytest.mark.parametrize("name", ["fortune", "incremental", "halfplane"])
+def test_correct_diagrams_of_the_2_190_spread_set_are_certified_and_a_swap_is_not(name):
+    d = impls.build(name, _spread_2_190())
+    assert certify(d).ok, str(certify(d))
+    site = np.array(d.site)
+    swapped = site.copy()
+    swapped[site == 0], swapped[site == 1] = 1, 0
+    cert = certify(Diagram(d.sites, d.vertices, d.origin, d.twin, d.next, swapped))
+    assert not cert.ok and not cert.ok_within_tolerance, str(cert)
+
+
+def test_a_mirrored_diagram_is_caught_by_the_exact_orientation_check():
+    """Every cell's cycle reversed (each half-edge from its old end to its old start, next and
+    previous swapped): a valid-looking DCEL with the same vertices and edges, clockwise. The
+    exact check says so on the sites, whatever the float checks say; a floating-point library
+    gets no tolerance for it (nothing near-degenerate about it)."""
+    d = impls.build("incremental", datasets_gen.generate("uniform", 80, seed=6))
+    nxt = np.array(d.next)
+    prev = np.empty_like(nxt)
+    prev[nxt] = np.arange(nxt.size)
+    mirrored = Diagram(d.sites, d.vertices, np.array(d.origin)[np.array(d.twin)], d.twin, prev, d.site)
+    topology = _topology(certify(mirrored, probes=200))
+    assert not topology.ok and not topology.within_tolerance, topology.detail
+    assert "run clockwise" in topology.detail

@@ -508,6 +508,9 @@ def _check_topology(ctx: _Context) -> Check:
                         f"(nearly cocircular sites merged into one vertex)")
     if found["collinear"].size:
         problems.append(f"{found['collinear'].size} vertices join sites that all lie on one line")
+    if found["wrong_way"].size:
+        problems.append(f"{found['wrong_way'].size} edges run clockwise around their cell (exact: the third "
+                        f"sites of their end vertices lie on the wrong sides of the two cells' sites)")
     if found["not_delaunay"].size:
         problems.append(f"{found['not_delaunay'].size} edges are not locally Delaunay (a site strictly inside "
                         f"the {circle} of the vertex across the edge: an empty {circle} violated)")
@@ -516,12 +519,14 @@ def _check_topology(ctx: _Context) -> Check:
                         f"data from a degenerate configuration; {NEAR_DEGENERATE_ULPS:.0f} are forgiven a "
                         f"floating-point library)")
         ids = np.concatenate([found["not_cocircular"], found["collinear"]])
-        kind = "vertex" if ids.size else "half-edge" if found["not_delaunay"].size else "site"
+        kind = "vertex" if ids.size else "half-edge" if found["not_delaunay"].size or found["wrong_way"].size \
+            else "site"
         if not ids.size:
-            ids = e[found["not_delaunay"]] if found["not_delaunay"].size else wrongly
+            edges = np.union1d(found["not_delaunay"], found["wrong_way"])
+            ids = e[edges] if edges.size else wrongly
         return Check("topology", False, "; ".join(problems), _ids(ids), kind, within_tolerance=within)
     return Check("topology", True, f"exact: {int((np.diff(ptr) > 0).sum())} vertices on exact {circle}s, "
-                 f"{e.size} edges locally Delaunay")
+                 f"{e.size} edges locally Delaunay and counter-clockwise round their cells")
 
 
 def _check_euler(ctx: _Context) -> Check:
