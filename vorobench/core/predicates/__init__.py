@@ -113,6 +113,7 @@ from vorobench.core.predicates.expansion import (
     two_product,
     two_sum,
 )
+from vorobench.core.predicates.degeneracy import incircle_ulps, lift_extent, orient2d_ulps, power_test_ulps
 from vorobench.core.predicates.orient_incircle import (
     CCW_ERRBOUND_A,
     ICC_ERRBOUND_A,
@@ -172,6 +173,10 @@ from vorobench.core.predicates.sweep import (
 
 __all__ = [
     "EPSILON",
+    "incircle_ulps",
+    "lift_extent",
+    "orient2d_ulps",
+    "power_test_ulps",
     "SPLITTER",
     "CCW_ERRBOUND_A",
     "ICC_ERRBOUND_A",
