@@ -285,3 +285,22 @@ def test_sites_beyond_the_exact_range_are_not_certified():
     d = assemble(np.array([[1.0, 0.0], [0.0, 1e-300]]), np.zeros((0, 2)), [[0, 1]], [[-1, -1]])
     cert = certify(d)
     assert not cert.ok and "exact range" in cert.check("structure").detail
+
+
+def test_probe_ties_within_roundings_of_the_lifts_are_near_degenerate():
+    """near_grid with 0/1 weights ties exactly (a weight-0 site's power 0 at itself, its
+    weight-1 neighbours' 1 - 1 = 0) up to the 1e-12 nudges: Qhull hides such sites, so their
+    own positions are in a neighbour's cell. Ties within roundings of the lifted coordinates:
+    near-degenerate. Cells swapped between far sites are no tie: not within tolerance."""
+    points = datasets_gen.generate("near_grid", 1000, seed=0)
+    weights = datasets_gen.weights("integer", points, seed=0)
+    probes = certify(impls.build("qhull", points, weights=weights), probes=1000).check("probes")
+    assert not probes.ok and probes.within_tolerance, probes.detail
+    exact = impls.build("incremental", points, weights=weights)
+    site = np.array(exact.site)
+    swapped = site.copy()
+    a, b = int(site[0]), int(site[-1])
+    swapped[site == a], swapped[site == b] = b, a
+    wrong = Diagram(exact.sites, exact.vertices, exact.origin, exact.twin, exact.next, swapped, weights=exact.weights)
+    probes = certify(wrong, probes=1000).check("probes")
+    assert not probes.ok and not probes.within_tolerance, probes.detail

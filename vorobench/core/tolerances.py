@@ -17,7 +17,6 @@ from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
-    "SHORT_EDGE_REL_TOL",
     "VERTEX_MATCH_REL_TOL",
     "EQUIDISTANCE_REL_TOL",
     "PROBE_REL_TOL",
@@ -32,11 +31,6 @@ __all__ = [
     "allowed_error",
     "circumcentre_tolerance",
 ]
-
-#: certify()'s edges check (coordinates only): an edge that runs the wrong way is a rounding of
-#: its vertices when it is shorter than this fraction of the data scale. (Topology is decided
-#: by NEAR_DEGENERATE_ULPS, never by an edge's length.)
-SHORT_EDGE_REL_TOL = 1e-10
 
 #: compare(): matched vertices may differ by this fraction of their local scale.
 VERTEX_MATCH_REL_TOL = 1e-7

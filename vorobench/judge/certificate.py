@@ -74,7 +74,6 @@ from vorobench.core.tolerances import (
     NEAR_DEGENERATE_REL_TOL,
     NEAR_DEGENERATE_ULPS,
     PROBE_REL_TOL,
-    SHORT_EDGE_REL_TOL,
     allowed_error,
     data_scale,
     length_tolerance,
@@ -276,6 +275,11 @@ def _usable(d: Diagram) -> Optional[str]:
 
 
 # ---------------------------------------------------------------------------------- checks
+#: A power (lifted coordinate) difference a floating-point library cannot resolve, per unit of
+#: the lifted coordinates' extent (``_Context.extents``).
+_LIFT_ROUNDINGS = NEAR_DEGENERATE_ULPS * np.finfo(np.float64).eps / 2
+
+
 def _ulps(x: float) -> str:
     """A distance from degenerate, in roundings of the data, for messages."""
     return "infinitely many roundings" if not np.isfinite(x) else f"{x:.3g} roundings"
@@ -395,6 +399,10 @@ def _check_vertices(ctx: _Context) -> Check:
         problems.append(f"{int(closer.sum())} vertices have a site strictly closer than their own "
                         f"(empty circle violated)")
     if problems:
+        # A floating-point library holds powers (lifted coordinates) to roundings of their
+        # extent: a power difference within NEAR_DEGENERATE_ULPS of them, as a length at the
+        # vertex's radius, is near-degenerate too.
+        tol_near = tol_near + _LIFT_ROUNDINGS * ctx.extents[1] / (2 * np.maximum(r_max, 1e-300))
         within = few.size == 0 and bool(((r_max - r_min <= tol_near) & (nearest >= r_min - tol_near)).all())
         if within:
             problems.append("all within the near-degenerate tolerance of the data scale")
@@ -405,17 +413,17 @@ def _check_vertices(ctx: _Context) -> Check:
 
 
 @njit(cache=True)
-def _edge_kernel(sites, xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, magnitude, weights, weighted):
+def _edge_kernel(sites, xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, magnitude, weights, weighted, extent):
     """Per edge k (a's half-edge from vertex u to v, -1 = infinity):
-    wrong_way[k]: not oriented along perp(b - a): some other site of u is not strictly right of
-    a->b, or some other site of v not strictly left (exact); worst[k]: the largest distance of
-    such a site from the line ab (small = near-degenerate);
+    wrong_way[k]: not oriented along perp(b - a), so a's cell does not run counter-clockwise:
+    some other site of u is not strictly right of a->b, or some other site of v not strictly
+    left (exact); worst[k]: how far the farthest such site is from the line ab, in roundings
+    of the data (``orient2d_ulps``; small = near-degenerate);
     gap[k]: largest |d(w, a) - d(w, b)| over the finite ends w (0 on the bisector), with the
     distance (radius) and coordinate magnitude to judge it by."""
     for k in range(a.size):
         aa, bb = a[k], b[k]
         ax, ay, bx, by = sites[aa, 0], sites[aa, 1], sites[bb, 0], sites[bb, 1]
-        length = np.hypot(bx - ax, by - ay)
         for w, want in ((u[k], -1), (v[k], 1)):
             if w < 0:
                 continue
@@ -423,8 +431,7 @@ def _edge_kernel(sites, xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, m
                 x = s[j]
                 if x != aa and x != bb and orient2d(ax, ay, bx, by, sites[x, 0], sites[x, 1]) != want:
                     wrong_way[k] = True
-                    dist = abs((bx - ax) * (sites[x, 1] - ay) - (by - ay) * (sites[x, 0] - ax)) / length
-                    worst[k] = max(worst[k], dist)
+                    worst[k] = max(worst[k], orient2d_ulps(ax, ay, bx, by, sites[x, 0], sites[x, 1], extent))
             px, py = xy[w, 0], xy[w, 1]
             if weighted:        # the power difference as a length, by the local radius
                 r = max(_local_radius(px, py, sites, weights, aa), _local_radius(px, py, sites, weights, bb))
@@ -448,20 +455,18 @@ def _check_edges(ctx: _Context) -> Check:
     wrong_way = np.zeros(e.size, dtype=bool)
     worst, gap, radius, mag = (np.zeros(e.size) for _ in range(4))
     wt = ctx.weights if ctx.weighted else np.zeros(ctx.n)
-    _edge_kernel(ctx.sites, ctx.xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, mag, wt, ctx.weighted)
+    _edge_kernel(ctx.sites, ctx.xy, ptr, s, a, b, u, v, wrong_way, worst, gap, radius, mag, wt, ctx.weighted,
+                 ctx.extents[0])
     mag = ctx.magnitude(mag)
     off = ~(gap <= length_tolerance(EQUIDISTANCE_REL_TOL, radius, mag))     # NaN is off
     off_far = ~(gap <= length_tolerance(NEAR_DEGENERATE_REL_TOL, np.maximum(ctx.scale, radius), mag))
     problems = []
     within = True
     if wrong_way.any():
-        # Near-degenerate: the offending sites are almost on the line ab, or the edge is almost a point.
+        # Near-degenerate: every offending site within NEAR_DEGENERATE_ULPS roundings of the
+        # data of the line ab (decided on the sites, never from the edge's length).
         bad = np.flatnonzero(wrong_way)
-        tolerated = worst[bad] <= NEAR_DEGENERATE_REL_TOL * ctx.scale
-        fin = (u[bad] >= 0) & (v[bad] >= 0)
-        if fin.any():
-            length = np.hypot(*(ctx.xy[u[bad[fin]]] - ctx.xy[v[bad[fin]]]).T)
-            tolerated[fin] |= length < SHORT_EDGE_REL_TOL * ctx.scale
+        tolerated = worst[bad] <= NEAR_DEGENERATE_ULPS
         near = int(tolerated.sum())
         problems.append(f"{bad.size} edges run the wrong way (or join vertices that do not "
                         f"surround them)" + (f", {near} of them near-degenerate" if near else ""))
@@ -508,9 +513,6 @@ def _check_topology(ctx: _Context) -> Check:
                         f"(nearly cocircular sites merged into one vertex)")
     if found["collinear"].size:
         problems.append(f"{found['collinear'].size} vertices join sites that all lie on one line")
-    if found["wrong_way"].size:
-        problems.append(f"{found['wrong_way'].size} edges run clockwise around their cell (exact: the third "
-                        f"sites of their end vertices lie on the wrong sides of the two cells' sites)")
     if found["not_delaunay"].size:
         problems.append(f"{found['not_delaunay'].size} edges are not locally Delaunay (a site strictly inside "
                         f"the {circle} of the vertex across the edge: an empty {circle} violated)")
@@ -519,14 +521,12 @@ def _check_topology(ctx: _Context) -> Check:
                         f"data from a degenerate configuration; {NEAR_DEGENERATE_ULPS:.0f} are forgiven a "
                         f"floating-point library)")
         ids = np.concatenate([found["not_cocircular"], found["collinear"]])
-        kind = "vertex" if ids.size else "half-edge" if found["not_delaunay"].size or found["wrong_way"].size \
-            else "site"
+        kind = "vertex" if ids.size else "half-edge" if found["not_delaunay"].size else "site"
         if not ids.size:
-            edges = np.union1d(found["not_delaunay"], found["wrong_way"])
-            ids = e[edges] if edges.size else wrongly
+            ids = e[found["not_delaunay"]] if found["not_delaunay"].size else wrongly
         return Check("topology", False, "; ".join(problems), _ids(ids), kind, within_tolerance=within)
     return Check("topology", True, f"exact: {int((np.diff(ptr) > 0).sum())} vertices on exact {circle}s, "
-                 f"{e.size} edges locally Delaunay and counter-clockwise round their cells")
+                 f"{e.size} edges locally Delaunay")
 
 
 def _check_euler(ctx: _Context) -> Check:
@@ -740,6 +740,34 @@ def _nearest_cells(ctx: _Context, pts: NDArray[np.float64], k: int) -> tuple[NDA
     return dist.reshape(pts.shape[0], k), near.reshape(pts.shape[0], k).astype(np.int64)
 
 
+def _probes_near_degenerate(ctx: _Context, pts: NDArray[np.float64], near: NDArray[np.int64],
+                            tie: NDArray[np.bool_], out_q: NDArray[np.bool_], in_q: NDArray[np.bool_],
+                            bad_own: NDArray[np.int64]) -> bool:
+    """Whether the probes' failures are near-degenerate: each probe's cell is one of a site whose
+    power (squared distance) there is within NEAR_DEGENERATE_ULPS roundings of the lifted
+    coordinates of the smallest, and so is every cell that claims it: ties, as far as a
+    floating-point library can tell. A probe whose cell is none of its first candidates' is
+    asked again with up to ``_MAX_TIES`` of them, as the strict check does."""
+    limit = _LIFT_ROUNDINGS * ctx.extents[1]
+    near_tie = (_power_gaps(ctx, pts, near) <= limit) | tie
+    if (in_q & ~near_tie).any():
+        return False
+    lost = bad_own[~(near_tie[bad_own] & ~out_q[bad_own]).any(axis=1)]
+    if lost.size and near.shape[1] < ctx.n:
+        _, near2 = _nearest_cells(ctx, pts[lost], min(ctx.n, _MAX_TIES))
+        out2, _ = _probe_cells(ctx, pts[lost], near2)
+        lost = lost[~((_power_gaps(ctx, pts[lost], near2) <= limit) & ~out2).any(axis=1)]
+    return lost.size == 0
+
+
+def _power_gaps(ctx: _Context, pts: NDArray[np.float64], near: NDArray[np.int64]) -> NDArray[np.float64]:
+    """(m, k): each candidate's power at its point (squared distance in an ordinary diagram)
+    above the first candidate's."""
+    diff = pts[:, None, :] - ctx.sites[near]
+    powers = (diff ** 2).sum(axis=2) - (ctx.weights[near] if ctx.weighted else 0.0)
+    return powers - powers[:, :1]
+
+
 def _probe_cells(ctx: _Context, pts: NDArray[np.float64], near: NDArray[np.int64]
                  ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
     """(outside, strictly inside), each (m, k): where each point lies relative to the cells of
@@ -805,6 +833,7 @@ def _check_probes(ctx: _Context) -> Check:
         _site_probe_kernel(ctx.sites, xy, ctx.site, ctx.twin, ctx.origin, ctx.scale, ctx.normal_min, PROBE_REL_TOL,
                            site_outside)
     bad_sites = np.flatnonzero(site_outside)
+    within = bad_sites.size == 0 and _probes_near_degenerate(ctx, random, near, tie, out_q, in_q, bad_own)
     if bad_own.size or bad_other.size or bad_sites.size:
         parts, ids = [], []
         if bad_sites.size:
@@ -823,7 +852,10 @@ def _check_probes(ctx: _Context) -> Check:
                          f"{int(near[q, j])}, nearest site "
                          f"{int(near[q, 0])})")
             ids += _ids(near.reshape(-1)[bad_other])
-        return Check("probes", False, "; ".join(parts), [int(i) for i in dict.fromkeys(ids)][:_MAX_IDS], "site")
+        if within:
+            parts.append("all near-degenerate (ties within roundings of the lifted coordinates)")
+        return Check("probes", False, "; ".join(parts), [int(i) for i in dict.fromkeys(ids)][:_MAX_IDS], "site",
+                     within_tolerance=within)
     if ctx.weighted:
         return Check("probes", True, f"{random.shape[0]} probes ({ctx.probes} random, the rest at hidden sites) lie "
                                      f"in the cell of their smallest power and no other of the {k} smallest")

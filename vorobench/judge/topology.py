@@ -12,9 +12,6 @@ exact predicates, on the sites themselves; only the vertices' coordinates are fl
   a vertex of four or more cocircular sites given as degree-3 vertices, which the DCEL
   conventions allow (docs/dcel.md). Local Delaunay on every edge of a valid subdivision (the
   structure, orientation and hull checks) implies the global empty-circle property.
-* Every cell is counter-clockwise, decided on the sites: a's half-edge across from b leaves
-  the vertex whose third site lies right of a -> b for the one whose third site lies left
-  of it (``orient2d``), so a mirrored or reversed cell is caught whatever its coordinates.
 
 * In a power diagram, a hidden site (no cell) is located exactly in a triangle of the dual
   (the sites of a vertex) and must not be in conflict with it (its lift on or above their
@@ -102,8 +99,7 @@ def _other_site(ptr, s, v, a, b):
 
 
 @njit(cache=True)
-def _kernel(sites, weights, weighted, extent, lift_extent, ptr, s, ea, eb, eu, ew, v_bad, v_ulps, e_bad, e_flip,
-            e_ulps):
+def _kernel(sites, weights, weighted, extent, lift_extent, ptr, s, ea, eb, eu, ew, v_bad, v_ulps, e_bad, e_ulps):
     for v in range(ptr.size - 1):
         if ptr[v + 1] - ptr[v] < 3:
             continue                    # fewer than three cells: the vertices check says so
@@ -128,19 +124,11 @@ def _kernel(sites, weights, weighted, extent, lift_extent, ptr, s, ea, eb, eu, e
         if c < 0 or d < 0:
             continue
         o = orient2d(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[c, 0], sites[c, 1])
-        od = orient2d(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[d, 0], sites[d, 1])
-        # Orientation: a's half-edge runs counter-clockwise around a, so it leaves the vertex of
-        # the triangle right of a -> b (its third site c has orient(a, b, c) < 0) for the one
-        # left of it (orient(a, b, d) > 0).
-        if o > 0 or od < 0:
-            e_flip[k] = True
-            e_ulps[k] = min(_line_ulps(sites, extent, a, b, c) if o > 0 else np.inf,
-                            _line_ulps(sites, extent, a, b, d) if od < 0 else np.inf)
         if o == 0:
             continue                    # a vertex of collinear sites: already its failure
         if _in_circle(sites, weights, weighted, a, b, c, d) * o > 0:
             e_bad[k] = True
-            e_ulps[k] = max(e_ulps[k], _quad_ulps(sites, weights, weighted, extent, lift_extent, a, b, c, d))
+            e_ulps[k] = _quad_ulps(sites, weights, weighted, extent, lift_extent, a, b, c, d)
 
 
 def topology_violations(sites: NDArray[np.float64], weights: NDArray[np.float64], weighted: bool,
@@ -148,36 +136,31 @@ def topology_violations(sites: NDArray[np.float64], weights: NDArray[np.float64]
                         u: NDArray[np.int64], w: NDArray[np.int64], extent: float, lift_extent: float):
     """Per vertex (0, NOT_COCIRCULAR or COLLINEAR, and how near its worst offending site is to
     its circle, in roundings of the data) and per edge (a's half-edge from u to w: not locally
-    Delaunay, a site strictly inside the circle across it; running clockwise around a, its
-    end vertices' third sites on the wrong sides of a -> b; and how near those decisions are to
+    Delaunay, a site strictly inside the circle across it, and how near that decision is to
     degenerate, in roundings of the data). ``extent``: half the longer side of the sites'
     bounding box; ``lift_extent``: the lifted coordinates' (``degeneracy.lift_extent``)."""
     V, E = ptr.size - 1, a.size
     v_bad = np.zeros(V, dtype=np.int64)
     v_ulps = np.zeros(V)
     e_bad = np.zeros(E, dtype=np.bool_)
-    e_flip = np.zeros(E, dtype=np.bool_)
     e_ulps = np.zeros(E)
     wt = weights if weighted else np.zeros(sites.shape[0])
-    _kernel(sites, wt, weighted, float(extent), float(lift_extent), ptr, s, a, b, u, w, v_bad, v_ulps, e_bad, e_flip,
-            e_ulps)
-    return v_bad, v_ulps, e_bad, e_flip, e_ulps
+    _kernel(sites, wt, weighted, float(extent), float(lift_extent), ptr, s, a, b, u, w, v_bad, v_ulps, e_bad, e_ulps)
+    return v_bad, v_ulps, e_bad, e_ulps
 
 
 def judge_topology(sites, weights, weighted, ptr, s, a, b, u, w, extent: float, lift_extent: float) -> dict:
-    """The exact topology verdict: ids of the failing vertices, of the edges not locally Delaunay
-    and of those running the wrong way round their cell, whether
+    """The exact topology verdict: counts and ids of the failing vertices and edges, whether
     every failure is near-degenerate (within ``NEAR_DEGENERATE_ULPS`` roundings of a degenerate
     configuration), and the largest such distance (``worst_ulps``)."""
-    v_bad, v_ulps, e_bad, e_flip, e_ulps = topology_violations(sites, weights, weighted, ptr, s, a, b, u, w, extent,
-                                                               lift_extent)
+    v_bad, v_ulps, e_bad, e_ulps = topology_violations(sites, weights, weighted, ptr, s, a, b, u, w, extent,
+                                                       lift_extent)
     bad_v = np.flatnonzero(v_bad)
     bad_e = np.flatnonzero(e_bad)
-    flipped = np.flatnonzero(e_flip)
-    ulps = np.concatenate([np.where(v_bad[bad_v] == COLLINEAR, np.inf, v_ulps[bad_v]), e_ulps[e_bad | e_flip]])
+    ulps = np.concatenate([np.where(v_bad[bad_v] == COLLINEAR, np.inf, v_ulps[bad_v]), e_ulps[bad_e]])
     worst = float(ulps.max()) if ulps.size else 0.0
     return dict(not_cocircular=bad_v[v_bad[bad_v] == NOT_COCIRCULAR], collinear=bad_v[v_bad[bad_v] == COLLINEAR],
-                not_delaunay=bad_e, wrong_way=flipped, within=bool(worst <= NEAR_DEGENERATE_ULPS), worst_ulps=worst)
+                not_delaunay=bad_e, within=bool(worst <= NEAR_DEGENERATE_ULPS), worst_ulps=worst)
 
 
 @njit(cache=True)
