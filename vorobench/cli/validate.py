@@ -202,6 +202,9 @@ def run(args: argparse.Namespace) -> int:
                       f"command in {escape(w['command'])})")
     if summary["never_judged"]:
         console.print(f"[red]NOT JUDGED[/] {escape(', '.join(summary['never_judged']))}: unsupported on every case")
+    if summary["nothing_judged"]:
+        console.print(f"[red]NOTHING JUDGED[/] {escape(', '.join(summary['nothing_judged']))}: unsupported on every "
+                      f"case, so the gate does not pass")
     validation.write_json(path, summary)
     from vorobench.harness.ci_outputs import write_junit, write_markdown
 
@@ -210,7 +213,9 @@ def run(args: argparse.Namespace) -> int:
     if args.markdown:
         console.print(f"Markdown digest: {write_markdown(summary, args.markdown)}")
     ok = summary["passed"]
-    console.print(f"{'[green]all passed[/]' if ok else f'[red]{len(campaign.failures)} failure(s)[/]'}: "
+    verdict = f"[red]{len(campaign.failures)} failure(s)[/]" if campaign.failures or not summary["nothing_judged"] \
+        else "[red]nothing judged[/]"
+    console.print(f"{'[green]all passed[/]' if ok else verdict}: "
                   f"{len(campaign.records)} results written to {escape(str(path))}")
     return 0 if ok else 1
 

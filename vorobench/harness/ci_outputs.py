@@ -83,6 +83,13 @@ def write_junit(summary: dict[str, Any], path: str | Path) -> Path:
         ET.SubElement(case, "failure", type="never_judged", message=f"{name} declared every case unsupported")
         suite.set("tests", str(int(suite.get("tests")) + 1))
         suite.set("failures", str(int(suite.get("failures")) + 1))
+    if summary.get("nothing_judged"):
+        names = ", ".join(summary["nothing_judged"])
+        case = ET.SubElement(suite, "testcase", classname="vorobench.gate", name="anything judged at all")
+        ET.SubElement(case, "failure", type="nothing_judged",
+                      message=f"nothing of {names} was judged: unsupported on every case")
+        suite.set("tests", str(int(suite.get("tests")) + 1))
+        suite.set("failures", str(int(suite.get("failures")) + 1))
     return _write_suite(suite, path)
 
 
@@ -130,6 +137,9 @@ def write_markdown(summary: dict[str, Any], path: str | Path) -> Path:
                   "only at near-degenerate configurations, the standard for floating-point libraries).", ""]
     if summary.get("never_judged"):
         lines += [f"Never judged (unsupported on every case): {_md(', '.join(summary['never_judged']))}", ""]
+    if summary.get("nothing_judged"):
+        lines += [f"Nothing judged: {_md(', '.join(summary['nothing_judged']))} unsupported on every case, so the "
+                  f"gate does not pass.", ""]
     if failed:
         lines += ["| implementation | case | verdict | certificate | message |", "|---|---|---|---|---|"]
         lines += [f"| {_md_cell(r['impl'])} | {_md_cell(_case_name(r))} | {_md_cell(r['verdict'])} | "

@@ -205,12 +205,21 @@ def summarise(campaign: Campaign, cases: int, names: Sequence[str], reference: s
     if never_judged:
         notes.append(f"{', '.join(never_judged)} declared every case unsupported: nothing of "
                      f"{'it' if len(never_judged) == 1 else 'them'} was judged, so the gate does not pass.")
-    passed = not campaign.failures and not campaign.lost and campaign.judged == cases and not never_judged
+    # A gate with nothing judged fails: the implementations asked for (besides the reference)
+    # must have had at least one verdict that is not "unsupported".
+    asked = [n for n in names if n != reference] or list(names)
+    judged_impls = {r["impl"] for r in records if r["verdict"] != Verdict.UNSUPPORTED}
+    nothing_judged = bool(cases) and not (set(asked) & judged_impls)
+    if nothing_judged:
+        notes.append(f"nothing of {', '.join(asked)} was judged (unsupported on every case"
+                     + (f"; {family} weights" if family else "") + "): a gate with nothing judged does not pass.")
+    passed = (not campaign.failures and not campaign.lost and campaign.judged == cases and not never_judged
+              and not nothing_judged)
     return dict(reference=reference, impls=list(names), datasets=list(dict.fromkeys(r["dataset"] for r in records)),
                 weights=family or None, unweighted=unweighted, cases=cases, judged=campaign.judged,
                 complete=campaign.judged == cases, passed=passed, failures=len(campaign.failures),
                 lost=len(campaign.lost), failed_impls=sorted({f.blamed for f in campaign.failures}),
-                never_judged=never_judged, timeout=timeout, notes=notes, witnesses=campaign.witnesses,
+                never_judged=never_judged, nothing_judged=asked if nothing_judged else [], timeout=timeout, notes=notes, witnesses=campaign.witnesses,
                 declarations={n: d.to_dict() for n, d in declared.items()}, results=records)
 
 
