@@ -55,3 +55,10 @@ def test_a_box_without_a_picture_is_refused(capsys):
     assert main(["build", "--n", "10", "--box", "0,0,1,1"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--plot" in err
+
+
+def test_a_picture_format_that_cannot_be_written_is_refused_before_building(tmp_path, capsys):
+    assert main(["build", "--impl", "fortune", "--n", "10", "--plot", str(tmp_path / "out.xyz")]) == 2
+    captured = capsys.readouterr()
+    assert "cannot write .xyz" in captured.err and ".png" in captured.err
+    assert "V = " not in captured.out            # nothing was built

@@ -129,6 +129,10 @@ def cmd_build(args: argparse.Namespace) -> int:
 
     if args.box is not None and not args.plot:
         raise ValueError("--box frames the picture: give --plot FILE too")
+    if args.plot:
+        from vorobench.judge.plotting import check_picture_path
+
+        check_picture_path(args.plot)          # before the build, not after it
     from vorobench.judge.pinning import resolve_declarations
     from vorobench.judge.engine import diagram_schema
 

@@ -22,6 +22,22 @@ from vorobench.core.framing import Box, checked_box, point_box, site_box
 __all__ = ["edge_segments", "draw_diagram", "save_plot", "witness_box", "draw_overlay", "save_overlay"]
 
 
+def check_picture_path(path: str | Path, option: str = "--plot") -> None:
+    """Refuse, before any work is done, a picture whose format (from the suffix) matplotlib
+    cannot write (ValueError naming the formats it can)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    formats = FigureCanvasAgg(Figure()).get_supported_filetypes()
+    suffix = Path(path).suffix.lower().lstrip(".")
+    if suffix not in formats:
+        raise ValueError(f"{option} {path}: cannot write {'.' + suffix if suffix else 'a file without a suffix'}; "
+                         f"give one of {', '.join('.' + f for f in sorted(formats))}")
+
+
 def save_plot(d: Diagram, path: str | Path, title: str = "", box: Optional[Sequence[float]] = None) -> Path:
     """Draw ``d`` inside ``box`` (default: around the sites) and write the picture to ``path``
     (format from the suffix)."""
