@@ -84,12 +84,13 @@ def test_fuzz_refuses_a_reference_without_weights(tmp_path, capsys):
     assert code == 2 and "reference steady does not take weights" in capsys.readouterr().err
 
 
-def test_the_readmes_weighted_fuzz_passes(tmp_path):
+def test_the_readmes_weighted_fuzz_passes(tmp_path, capsys):
     """The README's `vorobench fuzz --weights integer`, shrunk to its first 300 cases (they hold
     the near_grid and tiny_spacing cases where Qhull only rounds: near-degenerate, a pass for a
     floating-point library, while the exact implementations agree exactly)."""
     from vorobench.cli import main
 
-    code = main(["fuzz", "--budget", "300", "--weights", "integer", "--out", str(tmp_path / "fz")])
+    code = main(["fuzz", "--budget", "300", "--weights", "integer", "--workers", "1", "--out", str(tmp_path / "fz")])
     summary = json.loads((tmp_path / "fz" / "summary.json").read_text())
     assert code == 0 and summary["passed"] and summary["checked"] == 300, summary
+    assert "with 1 local worker;" in capsys.readouterr().out          # says where it runs, plainly

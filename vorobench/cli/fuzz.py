@@ -110,8 +110,10 @@ def run(args: argparse.Namespace) -> int:
     unknown = [g for g in generators if g != INT_BOX and g not in datasets_gen.available()]
     if unknown:
         raise ValueError(f"unknown generator(s) {', '.join(unknown)}; see `vorobench datasets` (or {INT_BOX})")
-    console.print(f"fuzzing {', '.join(names)} against {args.reference} on {args.executor} "
-                  f"({args.workers} workers if local); budget {args.budget}; log {out / LOG_NAME}"
+    where = (f"{args.workers} local worker{'s' if args.workers != 1 else ''}" if args.executor == "local"
+             else f"the Dask cluster at {args.executor}")
+    console.print(f"fuzzing {', '.join(names)} against {args.reference} with {where}; budget {args.budget}; "
+                  f"log {out / LOG_NAME}"
                   + (f"; power diagrams, {args.weights} weights" if args.weights else ""))
     if unweighted:
         console.print(f"weights {args.weights}: {', '.join(unweighted)} {'does' if len(unweighted) == 1 else 'do'} "
