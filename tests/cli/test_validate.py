@@ -95,3 +95,16 @@ def test_points_file(tmp_path):
 def test_unknown_dataset_is_an_error(tmp_path, capsys):
     assert main(["validate", "--impls", "qhull", "--datasets", "nosuch", "--out", str(tmp_path)]) == 2
     assert "nosuch" in capsys.readouterr().err
+
+
+def test_a_dataset_can_be_left_out(tmp_path, capsys):
+    import datasets_gen
+
+    code = main(["validate", "--impls", "qhull", "--datasets", "all,-near_grid,-cocircular_many", "--sizes", "6",
+                 "--no-shrink", "--out", str(tmp_path)])
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert code == 0, summary["notes"]
+    expected = [d for d in datasets_gen.available() if d not in ("near_grid", "cocircular_many")]
+    assert summary["datasets"] == expected
+    assert main(["validate", "--impls", "qhull", "--datasets", "all,-no_such", "--out", str(tmp_path / "x")]) == 2
+    assert "unknown dataset(s) no_such" in capsys.readouterr().err

@@ -46,6 +46,22 @@ def names(text: str) -> list[str]:
     return list(dict.fromkeys(items))
 
 
+def selection(asked: list[str], available: list[str], what: str) -> list[str]:
+    """Names from a ``names`` list that may say ``all`` and exclude with a leading minus
+    (``all,-near_grid``; a list of exclusions alone starts from all). ValueError on a name
+    that is not available, excluded or not."""
+    keep = [a for a in asked if not a.startswith("-")]
+    drop = [a[1:] for a in asked if a.startswith("-")]
+    unknown = [a for a in [*keep, *drop] if a != "all" and a not in available]
+    if unknown:
+        raise ValueError(f"unknown {what}(s) {', '.join(unknown)}; see `vorobench {what}s`")
+    chosen = available if not keep or "all" in keep else keep
+    chosen = [c for c in chosen if c not in drop]
+    if not chosen:
+        raise ValueError(f"no {what} left after excluding {', '.join(drop)}")
+    return chosen
+
+
 def _number(text: str, kind: Callable, what: str):
     try:
         value = kind(text)

@@ -53,7 +53,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
     p.add_argument("--impls", type=cli_args.names, default=["all"],
                    help="comma-separated implementations (default: all available)")
-    p.add_argument("--datasets", type=cli_args.names, default=["all"], help="comma-separated datasets, or 'all' (default)")
+    p.add_argument("--datasets", type=cli_args.names, default=["all"],
+                   help="comma-separated datasets, or 'all' (default); '-name' leaves one out ('all,-near_grid')")
     p.add_argument("--sizes", type=cli_args.sizes, default=[10, 100, 1000], help="comma-separated sizes (default 10,100,1000)")
     p.add_argument("--seeds", type=cli_args.seeds, default=[0], help="comma-separated dataset seeds (default 0)")
     p.add_argument("--reference", default=DEFAULT_REFERENCE, help=f"reference implementation (default {DEFAULT_REFERENCE})")
@@ -117,12 +118,10 @@ def _cases(args: argparse.Namespace) -> list["ValidationCase"]:
         pts = datasets_gen.load(args.points)
         return [ValidationCase(Path(args.points).name, int(pts.shape[0]), None, family, pts,
                                _weights_of(args, pts, None))]
-    names = list(args.datasets)
-    if not names or names == ["all"]:
-        names = datasets_gen.available()
-    unknown = [d for d in names if d not in datasets_gen.available() and not d.startswith(datasets_gen.FILE_PREFIX)]
-    if unknown:
-        raise ValueError(f"unknown dataset(s) {', '.join(unknown)}; see `vorobench datasets`")
+    files = [d for d in args.datasets if d.startswith(datasets_gen.FILE_PREFIX)]
+    names = cli_args.selection([d for d in args.datasets if d not in files], datasets_gen.available(), "dataset") \
+        if len(files) < len(args.datasets) else []
+    names += files
     return [ValidationCase(d, n, s, family) for d in names for n in args.sizes for s in args.seeds]
 
 
