@@ -100,3 +100,14 @@ def test_nonsense_numbers_are_one_line_and_exit_2(option, value, base, capsys):
     assert stop.value.code == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and option in err[0] and value in err[0]
+
+
+def test_only_changes_leaves_unchanged_cases_out_of_the_markdown_too(base, tmp_path):
+    new = _write(tmp_path / "new.csv", impls=("a", "b", "c"))     # c's cases are new: notable
+    md_all, md_changes = tmp_path / "all.md", tmp_path / "changes.md"
+    assert main(["compare", base, new, "--markdown", str(md_all)]) == 0
+    assert main(["compare", base, new, "--markdown", str(md_changes), "--only-changes"]) == 0
+    every, changes = md_all.read_text(), md_changes.read_text()
+    assert every.count("| a uniform") == 3 and every.count("| c uniform") == 3
+    assert changes.count("| a uniform") == 0 and changes.count("| b uniform") == 0
+    assert changes.count("| c uniform") == 3 and "6 unchanged case(s) left out" in changes

@@ -184,9 +184,7 @@ def _print_table(console, comparison: RunComparison, title: str, only_changes: b
     table.add_column("flags", overflow="fold")
     shown = 0
     for c in comparison.changes:
-        notable = c.flagged or c.change in ("slower", "faster", "inconclusive") or c.base_status is None \
-            or c.new_status is None
-        if only_changes and not notable:
+        if only_changes and not c.notable:
             continue
         shown += 1
         colour = {"slower": "red", "faster": "green", "inconclusive": "yellow"}.get(c.change, "")
@@ -239,7 +237,8 @@ def run(args: argparse.Namespace) -> int:
         if args.junit:
             ci_outputs.write_compare_junit(comparison, args.junit, str(args.base), str(args.new))
         if args.markdown:
-            ci_outputs.write_compare_markdown(comparison, args.markdown, str(args.base), str(args.new))
+            ci_outputs.write_compare_markdown(comparison, args.markdown, str(args.base), str(args.new),
+                                              only_changes=args.only_changes)
     compared, flagged, missing = comparison.compared, comparison.flagged, comparison.missing
     console.print(_shown(_overall_text(comparison)))
     inconclusive = comparison.inconclusive

@@ -202,8 +202,9 @@ def _ratio(c) -> str:
     return f"{c.ratio:.3f}{ci}"
 
 
-def write_compare_markdown(comparison, path: str | Path, base: str, new: str) -> Path:
-    """A :class:`vorobench.harness.regress.RunComparison` as a short Markdown digest; returns its path."""
+def write_compare_markdown(comparison, path: str | Path, base: str, new: str, only_changes: bool = False) -> Path:
+    """A :class:`vorobench.harness.regress.RunComparison` as a short Markdown digest; returns its path.
+    ``only_changes``: the table lists only the notable cases (as the console's does)."""
     o = comparison.overall
     verdict = "no regression" if comparison.passed else "REGRESSION"
     if comparison.unchecked:
@@ -221,8 +222,11 @@ def write_compare_markdown(comparison, path: str | Path, base: str, new: str) ->
     if comparison.noise is not None:
         lines += [f"Run-to-run noise band: x{math.exp(comparison.noise):.2f} either way (a single case's change "
                   "inside it is inconclusive).", ""]
+    shown = [c for c in comparison.changes if c.notable or not only_changes]
+    if only_changes:
+        lines += [f"{len(comparison.changes) - len(shown)} unchanged case(s) left out (--only-changes).", ""]
     lines += ["| case | base | new | ratio (95% CI) | timing | verdict | flags |", "|---|---|---|---|---|---|---|"]
-    for c in comparison.changes:
+    for c in shown:
         verdict_cell = c.new_verdict if c.base_verdict == c.new_verdict else f"{c.base_verdict} -> {c.new_verdict}"
         lines.append(f"| {_md_cell(c.name)} | {_seconds(c.base_median_s)} | {_seconds(c.new_median_s)} | "
                      f"{_ratio(c)} | {_md_cell(c.change) if c.change else '-'} | "

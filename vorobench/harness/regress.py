@@ -56,6 +56,13 @@ class CaseChange:
         return bool(self.flags)
 
     @property
+    def notable(self) -> bool:
+        """Worth showing with ``--only-changes``: flagged, timed as a change or undecided, or in
+        one run only."""
+        return (self.flagged or self.change in ("slower", "faster", "inconclusive") or self.base_status is None
+                or self.new_status is None)
+
+    @property
     def name(self) -> str:
         return f"{self.impl} {self.dataset} n={self.n} seed={self.seed}"
 
