@@ -17,6 +17,7 @@ from typing import Any, Callable, Optional, Sequence
 import numpy as np
 
 import datasets_gen
+from datasets_gen.loaders import TEXT_SUFFIXES
 from vorobench.harness.atomic import write_json
 from vorobench.judge.declarations import Declaration
 from vorobench.judge.engine import VERDICTS, CaseVerdict, shared_judge
@@ -127,7 +128,12 @@ def run_campaign(cases: Sequence[ValidationCase], names: Sequence[str], referenc
 
 def witness_stem(impl: str, dataset: str, n: int, seed: Optional[int], family: str = "",
                  exact_peer: Optional[str] = None) -> str:
-    """A file name for a witness: who, on what, against whom; only safe characters."""
+    """A file name for a witness: who, on what, against whom; only safe characters. A points file
+    (a replayed witness) is named by its stem, without repeating the implementation's name."""
+    if Path(dataset).suffix.lower() in (".npy", *TEXT_SUFFIXES):
+        dataset = Path(dataset).stem
+        dataset = dataset[len(impl) + 1:] if dataset.startswith(f"{impl}-") and len(dataset) > len(impl) + 1 \
+            else dataset
     stem = f"{impl}-{dataset}-n{n}" + (f"-s{seed}" if seed is not None else "")
     stem += f"-w{family.rpartition('/')[2]}" if family else ""
     stem = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in stem)
