@@ -47,3 +47,23 @@ def test_bad_dataset_and_bad_points_are_clear_errors(tmp_path, capsys):
 
 def test_parse_sizes_accepts_suffixes():
     assert parse_sizes("10,1e3,2k,1M") == [10, 1000, 2000, 1_000_000]
+
+
+def _help(command: str, capsys) -> str:
+    import pytest as _pytest
+
+    with _pytest.raises(SystemExit):
+        main([command, "--help"])
+    return capsys.readouterr().out
+
+
+def test_help_texts_speak_to_users(capsys):
+    """No internal names, no words broken across lines, a description for every command, and
+    a usage line that says what trend needs."""
+    report = _help("report", capsys)
+    assert "_text" not in report and "_code" not in report and ":func:" not in report
+    demo = _help("demo", capsys)
+    assert "DEMO_REFERENCES" not in demo and "cocircul\n" not in demo and "cocircular" in demo
+    assert "List every implementation" in _help("impls", capsys)
+    assert "List the dataset families" in _help("datasets", capsys)
+    assert "{-o HTML | --json FILE | both}" in _help("trend", capsys)

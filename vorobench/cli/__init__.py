@@ -204,11 +204,18 @@ def _add_dataset_args(p: argparse.ArgumentParser, default: str = "uniform") -> N
 def build_parser() -> argparse.ArgumentParser:
     parser = OneLineParser(prog="vorobench", description=__doc__)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
-    p = sub.add_parser("impls", help="list implementations")
+    p = sub.add_parser("impls", help="list implementations",
+                       description="List every implementation this installation can run (its own, the outside "
+                                   "libraries that are installed, entry points and --plugin ones): whether its "
+                                   "decisions are exact, whether it takes weights, its declared complexity, where "
+                                   "it comes from.")
     p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
                    help="also list these implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
     p.set_defaults(func=cmd_impls)
-    sub.add_parser("datasets", help="list dataset families").set_defaults(func=cmd_datasets)
+    sub.add_parser("datasets", help="list dataset families",
+                   description="List the dataset families (random and degenerate) that --datasets and "
+                               "--generators name, with how many rows each gives for n, and the weight families "
+                               "of --weights.").set_defaults(func=cmd_datasets)
     p = sub.add_parser("build", help="build one diagram, print counts, plot/save it")
     p.add_argument("--impl", default=impls.DEFAULT_REFERENCE,
                    help=f"implementation name (default {impls.DEFAULT_REFERENCE})")

@@ -3,8 +3,9 @@
     python3 dev.py demo                   # = vorobench demo
     vorobench demo --out reports/NAME     # results.csv, figures, README.md, report.html there
 
-Runs each own implementation, and the outside references of ``DEMO_REFERENCES`` that are
-installed (so every report shows where ours stand against C and C++ code), on a representative set of datasets
+Runs each own implementation, and the outside references that are installed (Triangle, CGAL,
+Boost.Polygon, GEOS: so every report shows where ours stand against C and C++ code), on a
+representative set of datasets
 (random, clustered, exactly degenerate, numerically hostile) at sizes spanning more than a
 decade, with certification and comparison against Qhull for every case, in a worker process
 per case. Sized to finish in a few minutes on a 2-core machine: a build whose time,
@@ -37,7 +38,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--impls", type=cli_args.names, default=None,
                    help="implementations (default: all own ones + installed references)")
     p.add_argument("--datasets", type=cli_args.names, default=None,
-                   help=f"datasets (default {','.join(DEMO_DATASETS)})")
+                   help=f"datasets (default {', '.join(DEMO_DATASETS)})")
     p.add_argument("--sizes", type=cli_args.sizes, default=None,
                    help="sizes (default 1k,3k,10k,30k; up to 300k when only qhull is available)")
     p.add_argument("--repeat", type=cli_args.positive_int, default=5, help="timed builds per case, at least (default 5)")

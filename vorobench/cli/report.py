@@ -8,9 +8,8 @@ repeats), the PNG figures (only those with data) and a copy of the results with 
 Both pages open with the fits whose growth exceeds the declared complexity by more than 0.3 in
 the exponent (the rule: vorobench.harness.analysis).
 
-Everything taken from the results or their metadata (names, errors, host, argv) is data, not
-markup: it goes into the Markdown through :func:`_text` or :func:`_code`, and into the HTML
-escaped (vorobench.harness.report_html), so a ``<script>`` in an error message stays text.
+Everything taken from the results or their metadata (names, errors, host, command line) is
+shown as text, never as markup, in both pages: a ``<script>`` in an error message stays text.
 """
 
 from __future__ import annotations

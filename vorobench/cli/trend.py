@@ -40,9 +40,14 @@ __all__ = ["add_arguments", "run"]
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    # At least one of -o and --json is needed; argparse's usage would show both as optional.
+    p.usage = ("vorobench trend STORE {-o HTML | --json FILE | both} [--machine PREFIX] [--impls IMPLS] "
+               "[--datasets DATASETS] [--threshold THRESHOLD] [--alpha ALPHA]")
     p.add_argument("store", help="run store folder (filled by `vorobench bench --store DIR`)")
-    p.add_argument("-o", "--out", default=None, metavar="HTML", help="write the page here (self-contained HTML)")
-    p.add_argument("--json", default=None, metavar="FILE", help="write the change points here as JSON (for CI)")
+    p.add_argument("-o", "--out", default=None, metavar="HTML",
+                   help="write the page here (self-contained HTML); this, --json or both is needed")
+    p.add_argument("--json", default=None, metavar="FILE",
+                   help="write the change points here as JSON (for CI); this, -o or both is needed")
     p.add_argument("--machine", default=None, metavar="PREFIX",
                    help="only the runs of the machine fingerprint starting with PREFIX")
     p.add_argument("--impls", type=names, default=None, help="only these implementations (comma-separated)")
