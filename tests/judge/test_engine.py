@@ -108,3 +108,30 @@ def test_exact_implementations_must_agree_exactly():
     v = agree_exactly(b, a)
     assert not v.passed and v.verdict == "differs" and "must agree exactly" in v.message
     assert agree_exactly(b, b).passed
+
+
+def test_a_plugin_crash_points_at_the_plugins_own_line(tmp_path):
+    """A plugin that hands vorobench's builder a broken edge list fails inside vorobench's code;
+    the message names the plugin's line first, and where it was raised after it."""
+    from vorobench.cli import main as cli_main
+
+    plugin = tmp_path / "bad_assembly.py"
+    plugin.write_text(
+        "import numpy as np\n"
+        "from impls.base import Implementation\n"
+        "from vorobench.core.builder import assemble\n"
+        "\n"
+        "def build(points, stats):\n"
+        "    return assemble(points, np.zeros((1, 2)), np.array([[0, 10**6]]), np.array([[0, -1]]))  # line 6\n"
+        "\n"
+        "IMPLEMENTATIONS = [Implementation('bad_assembly', 'a broken edge list', 'O(n)', build, exact=True)]\n")
+    import contextlib
+    import io
+
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = cli_main(["build", "--impl", "bad_assembly", "--plugin", str(plugin), "--n", "10"])
+    assert code == 1
+    text = err.getvalue()
+    assert f"at {plugin}:6 (raised in " in text, text
+    assert "vorobench" in text.split("(raised in ", 1)[1]

@@ -24,9 +24,11 @@ import multiprocessing as mp
 import os
 import pickle
 import signal
+import sys
 import time
 import traceback
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, Callable, Mapping, Optional, Sequence
 
 import impls
@@ -66,11 +68,36 @@ def safe_message(exc: BaseException) -> str:
     except BaseException:  # noqa: BLE001 - a message that cannot be printed is still a failure
         text = "<unprintable message>"
     try:
-        frames = traceback.extract_tb(exc.__traceback__)
+        origin = exc
+        while origin.__cause__ is not None and origin.__cause__ is not origin:   # where it really began
+            origin = origin.__cause__
+        if origin is not exc:
+            text = f"{text}: {type(origin).__name__}: {origin}"
+        frames = traceback.extract_tb(origin.__traceback__)
         where = f" at {frames[-1].filename}:{frames[-1].lineno}" if frames else ""
+        caller = next((f for f in reversed(frames) if not _library_file(f.filename)), None)
+        if caller is not None and caller is not frames[-1]:
+            # A plugin's mistake surfaces in the code it called: name its own line first.
+            where = f" at {caller.filename}:{caller.lineno} (raised in {frames[-1].filename}:{frames[-1].lineno})"
     except BaseException:  # noqa: BLE001
         where = ""
     return f"{type(exc).__name__}: {text}{where}"[:600]
+
+
+#: Where vorobench's own code and the installed libraries live: frames there are not a plugin's.
+_LIBRARY_DIRS = tuple(str(Path(p).resolve()) + os.sep for p in (
+    Path(__file__).resolve().parents[1], Path(__file__).resolve().parents[2] / "impls",
+    Path(__file__).resolve().parents[2] / "datasets_gen", sys.prefix, sys.base_prefix, sys.exec_prefix))
+
+
+def _library_file(filename: str) -> bool:
+    """Whether ``filename`` is vorobench's, its built-in implementations' or an installed
+    library's (anything under the interpreter's prefixes), not a plugin's."""
+    try:
+        path = str(Path(filename).resolve())
+    except (OSError, ValueError):
+        return True
+    return path.startswith(_LIBRARY_DIRS) or filename.startswith("<")
 
 
 def _serve(conn, parent: Optional[int], impl_blobs: dict, name: Optional[str], plugins: Sequence[str],
