@@ -224,3 +224,20 @@ def test_memory_limit_turns_a_large_allocation_into_oom(tmp_path):
     assert _bench(out, "hungry", "--sizes", "50", "--repeat", "1", "--no-check", "--memory-limit", "100") == 0
     row = pd.read_csv(out).iloc[0]
     assert row["status"] == "oom" and "MemoryError" in row["error"]
+
+
+def test_one_size_is_extrapolated_with_the_declared_complexity():
+    """From one size nothing is measured about growth: an O(n^2) method is extrapolated as n^2
+    (0.1 s at n=1000 -> 10 s at 10,000), not as n (1 s); an unreadable declaration says it assumed n."""
+    from vorobench.judge.declarations import Declaration
+
+    def declared(complexity):
+        return (("quad", Declaration("quad", True, False, complexity, "python", "", "")),)
+
+    history = {("quad", "uniform", 0): [(1000, "ok", 0.1)]}
+    reason = runner._skip_reason(Case("quad", "uniform", 10_000), history,
+                                 RunConfig(budget=5.0, declarations=declared("O(n^2)")))
+    assert reason is not None and "declared O(n^2) exponent 2.00" in reason and "10 s" in reason
+    reason = runner._skip_reason(Case("quad", "uniform", 10_000), history,
+                                 RunConfig(budget=0.5, declarations=declared("fast")))
+    assert reason is not None and "assumed exponent 1.00" in reason

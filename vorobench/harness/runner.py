@@ -31,7 +31,7 @@ from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeEl
 
 import datasets_gen
 import impls
-from vorobench.harness.analysis import loglog_fit
+from vorobench.harness.analysis import declared_exponent, loglog_fit
 from vorobench.harness.executors import LOCAL, parse_spec, run_tasks
 from vorobench.harness.results import case_key, weighted_label
 from vorobench.harness.repeat_check import RepeatJudging, reference_result, repeat_shifts
@@ -443,10 +443,16 @@ def _skip_reason(case: Case, history: dict, config: RunConfig) -> Optional[str]:
                   for n, st, _ in entries if n == case.n]
         if Status.OK in others:
             return None
-    exponent = _growth_exponent([(n, t) for n, st, t in smaller if st == Status.OK and t])
+    timed = [(n, t) for n, st, t in smaller if st == Status.OK and t]
+    exponent, basis = _growth_exponent(timed), "measured"
+    if len({n for n, _ in timed[-3:]}) < 2:
+        # One size tells no growth: the implementation's declared complexity does.
+        declared = dict(config.declarations).get(case.impl)
+        slope = declared_exponent(declared.complexity, n_last, case.n) if declared else float("nan")
+        exponent, basis = (slope, f"declared {declared.complexity}") if slope == slope else (1.0, "assumed")
     predicted = t_last * (case.n / n_last) ** exponent
     if predicted > config.budget:
-        return (f"extrapolated build time {predicted:.3g} s (from n={n_last}, exponent "
+        return (f"extrapolated build time {predicted:.3g} s (from n={n_last}, {basis} exponent "
                 f"{exponent:.2f}) exceeds the budget of {config.budget:g} s")
     return None
 
