@@ -44,3 +44,23 @@ def test_demo_adds_installed_outside_references():
     assert names[: len(own_implementations())] == own_implementations()
     expected = [n for n in DEMO_REFERENCES if n in impls.available()]
     assert names[len(own_implementations()):] == expected
+
+
+def test_demo_shows_the_sizes_it_runs_and_every_case_it_does_not(tmp_path, capsys):
+    """cocircular stops at 6,144 points: n=7000 runs 6144 and n=8000 is the same set; a case
+    the budget skips is listed with its reason."""
+    code = main(["demo", "--impls", "halfplane,qhull", "--datasets", "cocircular,uniform", "--sizes", "60,7000,8000",
+                 "--repeat", "1", "--min-time", "0", "--budget", "0.0001", "--out", str(tmp_path / "d"),
+                 "--quiet"])
+    assert code == 0
+    err = " ".join(capsys.readouterr().err.split())          # the console wraps long lines
+    assert "cocircular: n=7000 runs 6144 points; not run: n=8000 (the same 6144 points as n=7000)" in err
+    assert "halfplane on uniform n=7000: skipped: extrapolated build time" in err
+    assert "case(s) not run" in err
+
+
+def test_the_default_demo_is_the_quick_matrix_and_full_the_big_one():
+    from vorobench.harness.demo import DEMO_DATASETS, FULL_DATASETS
+
+    assert set(DEMO_DATASETS) < set(FULL_DATASETS)
+    assert max(demo_sizes(4)) < max(demo_sizes(4, full=True))
