@@ -55,6 +55,15 @@ def test_fit_recovers_a_power_law():
     assert (fit["n_min"], fit["n_max"], fit["points"]) == (1000, 64000, 4)
 
 
+def test_two_sizes_give_no_r2_and_the_report_says_so():
+    """Any line fits two points: R² would read 1.000 and say nothing, so it is not measured."""
+    sizes = pd.DataFrame({"impl": "x", "dataset": "d", "n": [1000, 4000], "n_sites": [1000, 4000],
+                          "time_s": [1e-3, 5e-3]})
+    fit = analysis.fit_exponents(sizes).iloc[0]
+    assert fit["points"] == 2 and fit["r2"] != fit["r2"]
+    assert analysis.r2_text(fit["r2"]) == "R² n/a: two sizes" and analysis.r2_text(0.98765) == "R² 0.988"
+
+
 def test_fit_leaves_out_small_sizes_dominated_by_overhead():
     ns = [10, 100] + SIZES
     sizes = pd.DataFrame({"impl": "x", "dataset": "d", "n": ns, "n_sites": ns,

@@ -38,6 +38,7 @@ __all__ = [
     "case_table",
     "size_table",
     "fit_exponents",
+    "r2_text",
     "speed_ratios",
     "correctness_matrix",
     "failures",
@@ -172,7 +173,8 @@ def loglog_fit(sizes, seconds) -> tuple[float, float]:
 
 
 def fit_exponents(sizes: pd.DataFrame, min_sites: int = FIT_MIN_SITES) -> pd.DataFrame:
-    """Slope of log(time) against log(n) per (impl, dataset), with R^2 and the n range used.
+    """Slope of log(time) against log(n) per (impl, dataset), with R^2 (NaN from fewer than three
+    sizes, which any line fits) and the n range used.
 
     Sizes below ``min_sites`` are left out when at least three larger ones remain, since
     there start-up overheads, not growth, dominate.
@@ -188,11 +190,19 @@ def fit_exponents(sizes: pd.DataFrame, min_sites: int = FIT_MIN_SITES) -> pd.Dat
         slope, intercept = loglog_fit(g["n_sites"], g["time_s"])
         resid = y - (slope * x + intercept)
         total = float(np.sum((y - y.mean()) ** 2))
-        r2 = 1.0 - float(np.sum(resid ** 2)) / total if total > 0 else float("nan")
+        # Two sizes always fit a line exactly: their R^2 (1) would say nothing, so it is NaN.
+        r2 = 1.0 - float(np.sum(resid ** 2)) / total if total > 0 and g["n_sites"].nunique() >= 3 else float("nan")
         rows.append({"impl": impl, "dataset": dataset, "exponent": float(slope), "r2": r2,
                      "n_min": int(g["n_sites"].min()), "n_max": int(g["n_sites"].max()),
                      "points": int(len(g))})
     return pd.DataFrame(rows, columns=["impl", "dataset", "exponent", "r2", "n_min", "n_max", "points"])
+
+
+def r2_text(r2: float, bare: bool = False) -> str:
+    """R² of a fit, or what it is when it cannot be measured (two sizes fit any line)."""
+    if r2 == r2:
+        return f"{r2:.3f}" if bare else f"R² {r2:.3f}"
+    return "n/a (2 sizes)" if bare else "R² n/a: two sizes"
 
 
 def speed_ratios(sizes: pd.DataFrame, reference: str) -> pd.DataFrame:

@@ -24,6 +24,7 @@ from vorobench.harness.analysis import (
     complexity_mismatches,
     failures,
     mixed_hosts_note,
+    r2_text,
 )
 from vorobench.harness.markdown_text import one_line, text
 from vorobench.harness.power_figure import plot_power_case
@@ -168,7 +169,9 @@ def reading(cases, sizes, exponents, ratios, reference: str, check=None, repeats
     for impl, g in check.groupby("impl", sort=True):
         lo, hi, med = g["exponent"].min(), g["exponent"].max(), g["exponent"].median()
         spread = f"median of {len(g)} datasets, range {lo:.2f}-{hi:.2f}, " if len(g) > 1 else ""
-        text = f"{_code(impl)} grows like n^{med:.2f} (fitted exponent, {spread}worst R² {g['r2'].min():.3f})"
+        r2 = g["r2"].dropna()
+        fit = f"worst R² {r2.min():.3f}" if not r2.empty else "R² not measurable: two sizes fit any line"
+        text = f"{_code(impl)} grows like n^{med:.2f} (fitted exponent, {spread}{fit})"
         declared = g["declared"].dropna()
         if declared.empty:
             points.append(text + "; no declared complexity to compare with.")
@@ -396,7 +399,7 @@ def _mismatch_md(d: _Data) -> list[str]:
     if bad.empty:
         return []
     rows = [[_code(r.impl), _text(r.dataset), f"**n^{r.exponent:.2f}**", f"{_text(r.declared)} = n^{r.declared_exponent:.2f}",
-             f"**{r.excess:+.2f}**", f"{size_text(r.n_min)}-{size_text(r.n_max)} ({int(r.points)} sizes, R² {r.r2:.3f})"]
+             f"**{r.excess:+.2f}**", f"{size_text(r.n_min)}-{size_text(r.n_max)} ({int(r.points)} sizes, {r2_text(r.r2)})"]
             for r in bad.itertuples()]
     return ["## Growth above the declared complexity", "",
             f"The fitted exponent exceeds the declared complexity's own exponent over the same sizes by more "
@@ -456,7 +459,7 @@ def _markdown(title, d: _Data, figs: dict, meta: dict, results_path) -> str:
     if check.empty:
         parts += ["(too few sizes to fit)", ""]
     else:
-        rows = [[_code(r.impl), _text(r.dataset), f"{r.exponent:.2f}", f"{r.r2:.3f}",
+        rows = [[_code(r.impl), _text(r.dataset), f"{r.exponent:.2f}", r2_text(r.r2, bare=True),
                  f"{size_text(r.n_min)}-{size_text(r.n_max)} ({r.points})", _text(r.declared or "?"),
                  f"{r.declared_exponent:.2f}" if math.isfinite(r.declared_exponent) else "-",
                  f"**{r.finding}**" if r.mismatch else r.finding]

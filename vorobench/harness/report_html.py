@@ -29,7 +29,7 @@ from markdown_it import MarkdownIt
 from matplotlib.colors import to_hex
 from plotly.offline import get_plotlyjs
 
-from vorobench.harness.analysis import complexity_mismatches, worst_verdict
+from vorobench.harness.analysis import complexity_mismatches, r2_text, worst_verdict
 from vorobench.harness.figures import VERDICT_COLOURS, has_data, text_colour, verdict_colour, verdict_label
 from vorobench.harness.html_page import escape, page
 from vorobench.harness.markdown_text import one_line
@@ -401,7 +401,7 @@ def _growth_view(inp: PageInput) -> View:
                                f"the fitted sizes<br>mismatch above n^{float(declared.median()) + inp.tolerance:.2f}"
                                "<extra></extra>")))
             keys.append({"impl": impl})
-        custom = [[_esc(impl), _esc(r.dataset), f"{r.exponent:.2f}", f"{r.r2:.3f}",
+        custom = [[_esc(impl), _esc(r.dataset), f"{r.exponent:.2f}", r2_text(r.r2, bare=True),
                    f"{_fmt_n(r.n_min)}-{_fmt_n(r.n_max)} ({int(r.points)} sizes)", _esc(r.declared or "?"),
                    f"n^{r.declared_exponent:.2f}" if _finite(r.declared_exponent) else "-",
                    f"{r.excess:+.2f}" if _finite(r.excess) else "-", _esc(r.finding)] for r in g.itertuples()]
@@ -444,7 +444,7 @@ def _growth_table(inp: PageInput) -> str:
         excess = f"{r.excess:+.2f}" if _finite(r.excess) else "-"
         cls = ' class="mismatch"' if r.mismatch else ""
         rows.append(f'<tr data-impl="{_esc(r.impl)}" data-dataset="{_esc(r.dataset)}"{cls}>'
-                    f"<td>{_esc(r.impl)}</td><td>{_esc(r.dataset)}</td><td>{r.exponent:.2f}</td><td>{r.r2:.3f}</td>"
+                    f"<td>{_esc(r.impl)}</td><td>{_esc(r.dataset)}</td><td>{r.exponent:.2f}</td><td>{r2_text(r.r2, bare=True)}</td>"
                     f"<td>{_fmt_n(r.n_min)}-{_fmt_n(r.n_max)} ({int(r.points)})</td><td>{_esc(r.declared or '?')}</td>"
                     f"<td>{declared}</td><td>{excess}</td><td>{_esc(r.finding)}</td></tr>")
     return (f"<details><summary>All fitted exponents ({len(check)})</summary>"
@@ -463,7 +463,7 @@ def _attention(inp: PageInput) -> str:
             f"<tr><td><b>{_esc(r.impl)}</b></td>"
             f"<td>{_esc(r.dataset)}</td><td><b>n^{r.exponent:.2f}</b></td><td>{_esc(r.declared)} = "
             f"n^{r.declared_exponent:.2f} here</td><td><b>{r.excess:+.2f}</b></td>"
-            f"<td>{_fmt_n(r.n_min)}-{_fmt_n(r.n_max)}, {int(r.points)} sizes, R\u00b2 {r.r2:.3f}</td></tr>"
+            f"<td>{_fmt_n(r.n_min)}-{_fmt_n(r.n_max)}, {int(r.points)} sizes, {r2_text(r.r2)}</td></tr>"
             for r in bad.itertuples())
         parts.append(
             f'<div class="alert"><h2 id="mismatches">Growth above the declared complexity: {len(bad)} '
