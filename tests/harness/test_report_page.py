@@ -379,3 +379,22 @@ def test_legacy_duration_counters_show_as_timings(tmp_path):
             f.write(",".join(str(r.get(k, "")) for k in header) + "\n")
     out, page, md = _report(tmp_path, path, "--reference", "ref")
     assert "time_library_s" in page and "stat_library_s" not in page
+
+
+def test_memory_below_its_resolution_is_not_drawn_and_titles_wrap(tmp_path):
+    """0.02 MiB is allocator noise, not a build's need: not drawn (no figure when nothing else
+    is left); a long title of a one-panel figure is wrapped, not clipped."""
+    import pandas as pd
+
+    styles = figures.impl_styles(["a"])
+    noise = pd.DataFrame({"impl": "a", "dataset": "uniform", "n": [1000, 3000], "n_sites": [1000, 3000],
+                          "mem_mb": [0.02, 0.5]})
+    assert figures.plot_memory(noise, tmp_path / "m.png", styles) is None
+    real = noise.assign(mem_mb=[0.02, 12.0])
+    assert figures.plot_memory(real, tmp_path / "m.png", styles) is not None
+    fig, _ = figures._grid(1, "Peak memory of the build (rise above the worker's resident size; below 1 MiB "
+                              "not measurable, not drawn)")
+    try:
+        assert "\n" in fig._suptitle.get_text()
+    finally:
+        figures.plt.close(fig)

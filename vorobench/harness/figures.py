@@ -9,6 +9,7 @@ and the verdict colours (:data:`VERDICT_COLOURS`) are shared with the interactiv
 from __future__ import annotations
 
 import math
+import textwrap
 from pathlib import Path
 from typing import Optional, Sequence
 
@@ -27,7 +28,7 @@ from vorobench.judge.outcomes import Verdict  # noqa: E402
 
 __all__ = ["impl_styles", "plot_metric_panels", "plot_time", "plot_time_per_nlogn", "plot_ratio",
            "plot_memory", "plot_correctness", "VERDICT_COLOURS", "verdict_colour", "verdict_label",
-           "text_colour", "has_data"]
+           "text_colour", "has_data", "MEMORY_RESOLUTION_MB"]
 
 _MARKERS = "osD^vP*Xh<>"
 
@@ -121,7 +122,9 @@ def _grid(n_panels: int, title: str):
     nrows = math.ceil(n_panels / ncols)
     fig, axes = plt.subplots(nrows, ncols, figsize=(4.6 * ncols, 3.6 * nrows + 0.8),
                              squeeze=False, layout="constrained")
-    fig.suptitle(title, fontsize=13)
+    # Wrapped to the figure's width (about 11 characters per inch at this size): a one-panel
+    # figure is narrow, and a long title would be clipped at both sides.
+    fig.suptitle(textwrap.fill(title, width=max(30, int(4.6 * ncols * 11))), fontsize=13)
     for ax in axes.flat[n_panels:]:
         ax.set_visible(False)
     return fig, axes.flat
@@ -218,11 +221,18 @@ def plot_ratio(ratios: pd.DataFrame, reference: str, path: Path, styles: dict,
                               f"time / time({reference})", styles, hline=1.0, order=order)
 
 
+#: A build's memory rise below this is allocator and page noise, not its own need: such
+#: points are not drawn (the report says how many were left out).
+MEMORY_RESOLUTION_MB = 1.0
+
+
 def plot_memory(sizes: pd.DataFrame, path: Path, styles: dict,
                 order: Optional[Sequence[str]] = None) -> Optional[Path]:
     """Peak memory of the build itself (rise of the worker's resident peak during the build)."""
-    return plot_metric_panels(sizes, "mem_mb", path,
-                              "Peak memory of the build (rise above the worker's resident size)",
+    measurable = sizes[sizes["mem_mb"] >= MEMORY_RESOLUTION_MB] if not sizes.empty else sizes
+    return plot_metric_panels(measurable, "mem_mb", path,
+                              f"Peak memory of the build (rise above the worker's resident size; below "
+                              f"{MEMORY_RESOLUTION_MB:g} MiB not measurable, not drawn)",
                               "peak memory (MiB)", styles, positive_only=True, order=order)
 
 

@@ -30,7 +30,8 @@ from matplotlib.colors import to_hex
 from plotly.offline import get_plotlyjs
 
 from vorobench.harness.analysis import complexity_mismatches, r2_text, worst_verdict
-from vorobench.harness.figures import VERDICT_COLOURS, has_data, text_colour, verdict_colour, verdict_label
+from vorobench.harness.figures import (MEMORY_RESOLUTION_MB, VERDICT_COLOURS, has_data, text_colour,
+                                       verdict_colour, verdict_label)
 from vorobench.harness.html_page import escape, page
 from vorobench.harness.markdown_text import one_line
 from vorobench.harness.units import seconds_text, size_text
@@ -691,9 +692,18 @@ def views(inp: PageInput) -> list[View]:
                         ratio_intro, lambda v: f"{float(v):.3g}x", hline=1.0)
     view.title = f"Speed relative to {inp.reference}"
     out.append(view)
-    out.append(_metric_view("memory", sizes, "mem_mb", "peak memory (MiB)", facts, inp,
+    memory = sizes
+    hidden = 0
+    if has_data(sizes, "mem_mb"):
+        mem = pd.to_numeric(sizes["mem_mb"], errors="coerce")
+        hidden = int(((mem > 0) & (mem < MEMORY_RESOLUTION_MB)).sum())
+        memory = sizes[~(mem < MEMORY_RESOLUTION_MB)]
+    out.append(_metric_view("memory", memory, "mem_mb", "peak memory (MiB)", facts, inp,
                             "Rise of the worker&rsquo;s resident peak during one build (the input and the imported "
-                            "libraries excluded); values below a page are not shown.", lambda v: f"{float(v):.3g} MiB"))
+                            f"libraries excluded). A rise below {MEMORY_RESOLUTION_MB:g} MiB is allocator noise, not "
+                            f"the build&rsquo;s own need: it cannot be measured and is not drawn"
+                            + (f" ({hidden} point(s) left out)." if hidden else "."),
+                            lambda v: f"{float(v):.3g} MiB"))
     return out
 
 
