@@ -109,7 +109,14 @@ def test_a_step_between_runs_of_the_same_code_says_so(tmp_path):
     [step] = json.loads(js.read_text())["change_points"]
     assert step["run_id"] == "run03-aaaa" and step["commit"] == step["commit_before"] == commit(0)
     assert step["same_code"] is True
-    assert "same code" in (tmp_path / "t.html").read_text(encoding="utf-8")
+    page = (tmp_path / "t.html").read_text(encoding="utf-8")
+    assert "same code" in page
+    # Four runs of commit 0 and two of commit 1: each has a label of its own on the x axis.
+    from vorobench.harness.trend import load
+
+    [machine] = load(s)
+    labels = [r.label for r in machine.runs]
+    assert len(set(labels)) == 6 and labels[1] == commit(0)[:7] + " #2" and labels[4] == commit(1)[:7]
 
 
 def test_a_plugin_replacing_an_implementation_at_the_same_commit_is_other_code(tmp_path):

@@ -43,13 +43,17 @@ class Run:
     #: implementation -> (commit, dirty, module) of its code: a plugin that replaces an
     #: implementation under the same commit is other code
     impl_code: dict[str, tuple[Optional[str], bool, Optional[str]]] = field(default_factory=dict)
+    #: the run's place among the machine's runs of the same commit (1, 2, ...), 0 when it is the only one
+    repeat_of_commit: int = 0
 
     @property
     def label(self) -> str:
-        """Short commit, ``+`` when the tree was dirty; the run id when no commit is known."""
+        """Short commit, ``+`` when the tree was dirty, and ``#2``, ``#3``... for a later run of
+        the same commit (so that no two runs share a label); the run id when no commit is known."""
         if not self.commit:
             return self.run_id
-        return self.commit[:7] + ("+" if self.dirty else "")
+        return self.commit[:7] + ("+" if self.dirty else "") + (f" #{self.repeat_of_commit}"
+                                                                if self.repeat_of_commit > 1 else "")
 
     @property
     def when(self) -> str:
@@ -164,6 +168,7 @@ def load(store, machine: Optional[str] = None, impls: Optional[list[str]] = None
                     for name, info in (meta.get("implementations") or {}).items() if isinstance(info, dict)}
             machine_runs.append(Run(str(r.run_id), _text(r.date) or "", _text(r.commit),
                                     bool(r.dirty) if r.dirty == r.dirty and r.dirty is not None else False, code))
+        _number_repeats(machine_runs)
         index = {r.run_id: i for i, r in enumerate(machine_runs)}
         mine = rows[rows["run_id"].astype(str).isin(index)]
         series = _series_of(mine.assign(_run=mine["run_id"].astype(str).map(index)), len(machine_runs), counters)
@@ -173,6 +178,16 @@ def load(store, machine: Optional[str] = None, impls: Optional[list[str]] = None
         machines.append(Machine(str(key), _text(first["hostname"]) or "-", _text(first["cpu"]) or "-",
                                 machine_runs, series))
     return machines
+
+
+def _number_repeats(runs: list[Run]) -> None:
+    """Number the runs (oldest first) that share a commit label: 1, 2, ... (0 for a single one)."""
+    plain = [r.commit[:7] + ("+" if r.dirty else "") if r.commit else None for r in runs]
+    seen: dict[str, int] = {}
+    for run, key in zip(runs, plain):
+        if key is not None and plain.count(key) > 1:
+            seen[key] = seen.get(key, 0) + 1
+            run.repeat_of_commit = seen[key]
 
 
 def _text(value) -> Optional[str]:
