@@ -94,7 +94,7 @@ def test_a_revision_that_cannot_be_benchmarked_exits_2(plugin_repo, capsys):
     code = main(["continuous", fast, fast, "--repo", str(repo), "--plugin", "no_such_module", "--impls", "plug",
                  "--sizes", "20", "--quiet"])
     assert code == 2
-    assert "failed (exit status 2); nothing compared" in capsys.readouterr().err
+    assert "failed in round 1 (exit status 2); nothing compared" in capsys.readouterr().err
 
 
 def test_bench_options_are_passed_on_with_the_callers_paths_made_absolute(tmp_path, monkeypatch):
@@ -104,12 +104,49 @@ def test_bench_options_are_passed_on_with_the_callers_paths_made_absolute(tmp_pa
                                       "--repeat", "9", "--no-check", "--plugin", "mine.py", "--plugin", "pkg.mod",
                                       "--store", "runs", "--threshold", "0.2"])
     words = continuous.bench_arguments(args)
-    assert words == ["--impls", "fortune,qhull", "--sizes", "1000,10000", "--repeat", "9", "--no-check",
-                     "--plugin", str(tmp_path / "mine.py"), "--plugin", "pkg.mod", "--store", str(tmp_path / "runs")]
+    # --repeat is shared out over the rounds and --store filed with the merged rounds: continuous's own
+    assert words == ["--impls", "fortune,qhull", "--sizes", "1000,10000", "--no-check",
+                     "--plugin", str(tmp_path / "mine.py"), "--plugin", "pkg.mod"]
     # every option bench knows parses back to what the caller asked for
     bench = argparse.ArgumentParser()
     from vorobench.cli import bench as bench_cmd
 
     bench_cmd.add_arguments(bench)
     again = bench.parse_args(words)
-    assert again.impls == ["fortune", "qhull"] and again.sizes == [1000, 10000] and again.repeat == 9
+    assert again.impls == ["fortune", "qhull"] and again.sizes == [1000, 10000] and again.no_check
+
+
+def test_the_revisions_run_in_interleaved_rounds_and_each_is_merged(plugin_repo, tmp_path, capsys):
+    """A, B, A, B: each round a process of its own with its share of the repeats; each
+    revision's rounds merged into one results file, repeats numbered on, one run id, the
+    machine's load around each round in the metadata."""
+    import pandas as pd
+
+    from vorobench.harness.results import read_metadata
+
+    repo, fast, slow = plugin_repo
+    keep = tmp_path / "kept"
+    code = main(["continuous", fast, slow, "--repo", str(repo), *BENCH, "--rounds", "2", "--results-dir", str(keep)])
+    err = capsys.readouterr().err
+    order = [line.split(", ")[1].split(":")[0] for line in err.splitlines() if line.startswith("round ")]
+    assert order == [fast, slow, fast, slow], err
+    assert code == 1
+    merged = sorted(keep.glob("a-*.csv"))
+    assert [p.name for p in merged] == [f"a-{fast[:10]}.csv"]           # the rounds' parts are merged away
+    df = pd.read_csv(merged[0])
+    assert df["run_id"].nunique() == 1
+    for _, case in df.groupby(["impl", "dataset", "n", "seed"]):
+        assert sorted(case["repeat"]) == list(range(6))                # 3 + 3, numbered on
+    [run] = read_metadata(merged[0])["runs"]
+    assert run["interleaved"] and [r["round"] for r in run["rounds"]] == [1, 2]
+    assert all("load1" in r["before"] and "load1" in r["after"] for r in run["rounds"])
+
+
+def test_round_order_alternates():
+    assert continuous_order(3) == [(1, "a"), (1, "b"), (2, "a"), (2, "b"), (3, "a"), (3, "b")]
+
+
+def continuous_order(rounds):
+    from vorobench.harness.continuous import round_order
+
+    return round_order(rounds)

@@ -70,8 +70,7 @@ def test_too_few_repeats_cannot_make_a_change_point():
 
 
 def test_every_reported_step_satisfies_the_rule_with_its_reported_numbers():
-    rng = np.random.default_rng(7)
-    levels = np.repeat(rng.choice([1.0, 1.15, 1.3, 0.8], size=8), rng.integers(1, 4, size=8))
+    levels = [1.0] * 3 + [1.3] * 3 + [0.8] * 3 + [1.15] * 2 + [1.3] * 2
     threshold, alpha = 0.10, 0.05
     steps = time_steps(_series(list(levels), noise=0.08, seed=7), threshold=threshold, alpha=alpha)
     assert steps

@@ -11,7 +11,7 @@ import pandas as pd
 import pytest
 
 from vorobench.cli import main
-from vorobench.harness import regress
+from vorobench.harness import regress, timing_rule
 from vorobench.harness.results import ResultsFile
 
 DOUBLES = str(Path(__file__).resolve().parents[1] / "support" / "doubles.py")
@@ -117,8 +117,8 @@ def test_correctness_and_status_regressions_are_flagged():
 def test_bootstrap_interval_is_seeded_and_brackets_the_ratio():
     rng = np.random.default_rng(3)
     base, new = 1.0 + 0.05 * rng.random(20), 2.0 + 0.1 * rng.random(20)
-    a = regress.bootstrap_ratio_ci(base, new, np.random.default_rng(0))
-    b = regress.bootstrap_ratio_ci(base, new, np.random.default_rng(0))
+    a = timing_rule.bootstrap_ratio_ci(base, new, np.random.default_rng(0))
+    b = timing_rule.bootstrap_ratio_ci(base, new, np.random.default_rng(0))
     assert a == b
     assert a[0] < np.median(new) / np.median(base) < a[1]
     assert 1.8 < a[0] and a[1] < 2.2

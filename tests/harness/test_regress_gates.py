@@ -111,3 +111,25 @@ def test_only_changes_leaves_unchanged_cases_out_of_the_markdown_too(base, tmp_p
     assert every.count("| a uniform") == 3 and every.count("| c uniform") == 3
     assert changes.count("| a uniform") == 0 and changes.count("| b uniform") == 0
     assert changes.count("| c uniform") == 3 and "6 unchanged case(s) left out" in changes
+
+
+def test_relative_to_a_reference_cancels_a_machine_that_got_slower(tmp_path, capsys):
+    """NEW ran on a machine 1.5x slower for everything: in seconds a is 1.5x slower; relative to
+    b (timed in both runs) nothing changed, and a 1.4x change of a alone still shows."""
+    def run(path, scale_a, scale_b):
+        rows = [{"run_id": path.stem, "impl": impl, "dataset": "uniform", "n": n, "seed": 0, "repeat": rep,
+                 "status": "ok", "verdict": "exact", "time_s": scale * base * (1 + 0.002 * rep)}
+                for impl, scale, base in (("a", scale_a, 1.0), ("b", scale_b, 0.5)) for n in (100, 200)
+                for rep in range(5)]
+        ResultsFile(path).append(rows)
+        return str(path)
+
+    base = run(tmp_path / "base.csv", 1.0, 1.0)
+    busy = run(tmp_path / "busy.csv", 1.5, 1.5)
+    worse = run(tmp_path / "worse.csv", 1.5 * 1.4, 1.5)
+    assert main(["compare", base, busy]) == 1                               # seconds: 1.5x slower
+    assert main(["compare", base, busy, "--relative-to", "b"]) == 0         # relative: the same
+    assert "times are relative to b" in capsys.readouterr().out
+    assert main(["compare", base, worse, "--relative-to", "b"]) == 1        # a's own change shows
+    assert main(["compare", base, busy, "--relative-to", "nobody"]) == 2
+    assert "has no timed case of nobody" in capsys.readouterr().err

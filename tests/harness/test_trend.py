@@ -228,3 +228,40 @@ def test_names_are_escaped(tmp_path):
     page = (tmp_path / "t.html").read_text(encoding="utf-8")
     assert evil_impl not in page and evil_dataset not in page
     assert "&lt;img src=x onerror=alert(1)&gt;" in page
+
+
+def test_compare_and_trend_give_one_answer_for_every_case_of_a_shared_store(tmp_path, capsys):
+    """One rule decides (vorobench.harness.timing_rule): for two runs in a store, trend marks a
+    step exactly where compare calls the case slower or faster, in the same direction. Ten
+    steady cases move by up to +-35 % between the runs (a busy machine: wide run-to-run noise,
+    tight repeats), so a 1.5x step with tight repeats is inconclusive in both (trend used to
+    draw it as a step while compare said inconclusive); 3x and 0.3x steps are beyond the noise."""
+    rng = np.random.default_rng(7)
+    s = Store(tmp_path / "runs")
+    steps = {("fortune", "uniform", 1000 * (i + 1), 0): 1.0 + rng.uniform(-0.35, 0.35) for i in range(10)}
+    steps[("qhull", "grid", 1000, 0)] = 3.0
+    steps[("qhull", "grid", 2000, 0)] = 0.3
+    steps[("qhull", "grid", 4000, 0)] = 1.5
+    for k in range(2):
+        rows = []
+        for (impl, dataset, n, seed), step in steps.items():
+            level = 0.01 * n / 1000 * (step if k else 1.0)
+            for r in range(5):
+                rows.append({"run_id": f"r{k}", "impl": impl, "dataset": dataset, "n": n, "seed": seed,
+                             "repeat": r, "status": "ok", "verdict": "exact",
+                             "time_s": level * (1 + rng.uniform(-0.01, 0.01))})
+        meta = {"run_id": f"r{k}", "date": f"2026-03-0{k + 1}T00:00:00+00:00", "commit": commit(k),
+                "dirty": False, "machine_id": FAST, "hostname": "h", "cpu": "c"}
+        assert s.add_run(pd.DataFrame(rows), meta)
+    js = tmp_path / "c.json"
+    assert main(["compare", f"{s.path}@latest~1", f"{s.path}@latest", "--json", str(tmp_path / "cmp.json")]) == 1
+    compared = {(c["impl"], c["dataset"], c["n"]): c["change"]
+                for c in json.loads((tmp_path / "cmp.json").read_text())["cases"]}
+    assert main(["trend", str(s.path), "--json", str(js)]) == 0
+    stepped = {(p["impl"], p["dataset"], p["n"]): ("slower" if p["ratio"] > 1 else "faster")
+               for p in json.loads(js.read_text())["change_points"] if p["kind"] == "time"}
+    capsys.readouterr()
+    assert compared[("qhull", "grid", 1000)] == "slower" and compared[("qhull", "grid", 2000)] == "faster"
+    assert compared[("qhull", "grid", 4000)] == "inconclusive"
+    for case, change in compared.items():
+        assert stepped.get(case) == (change if change in ("slower", "faster") else None), (case, change, stepped)

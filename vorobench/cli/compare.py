@@ -13,7 +13,11 @@ Timings gate statistically, per case (implementation, dataset, n, seed) and over
   rank test gives p < alpha; *faster* likewise; *same* when its interval lies within
   1 ± threshold, which rules out a change of the threshold. Anything else is *inconclusive*:
   its repeats can tell neither (too few of them for the rank test to reach alpha, or too much
-  noise), and the output says so instead of passing it silently.
+  noise), and the output says so, and what would decide it, instead of passing it silently.
+  A change inside the measured run-to-run noise (the spread of all cases' ratios, from six
+  cases on, or the case's own spread over earlier runs of a store) is inconclusive too.
+  ``trend`` marks a step by the same rule (``vorobench.harness.timing_rule``), so the two
+  give one answer for a pair of runs.
 * **over all cases**: the geometric mean of the per-case ratios with a t interval of the mean
   log ratio (``scipy.stats.ttest_1samp``). A uniform slowdown too small for any one case's
   repeats is flagged here when the mean exceeds 1 + threshold and its interval lies above 1.
@@ -55,7 +59,7 @@ __all__ = ["add_arguments", "run", "check_outputs"]
 
 
 #: The options of ``compare`` besides its two inputs (``continuous`` passes them on).
-OPTION_NAMES = ("threshold", "alpha", "seed", "only_changes", "json", "junit", "markdown")
+OPTION_NAMES = ("threshold", "alpha", "seed", "relative_to", "only_changes", "json", "junit", "markdown")
 
 
 def add_arguments(p, positional: bool = True) -> None:
@@ -70,6 +74,9 @@ def add_arguments(p, positional: bool = True) -> None:
     p.add_argument("--alpha", type=fraction, default=0.05,
                    help="significance level, between 0 and 1 (default 0.05)")
     p.add_argument("--seed", type=non_negative_int, default=0, help="bootstrap seed (default 0)")
+    p.add_argument("--relative-to", default=None, metavar="IMPL",
+                   help="compare each build time divided by IMPL's median time on the same case of the same run "
+                        "(e.g. qhull): the machine's speed cancels; IMPL must be timed in both runs")
     p.add_argument("--only-changes", action="store_true",
                    help="show only flagged, changed or inconclusive cases")
     p.add_argument("--json", default=None, help="also write every comparison to this JSON file")
@@ -209,7 +216,14 @@ def run(args: argparse.Namespace) -> int:
     new_df, new_meta = load_side(args.new)
     refuse_duplicates(base_df, f"BASE {args.base}")
     refuse_duplicates(new_df, f"NEW {args.new}")
+    relative = getattr(args, "relative_to", None)
+    if relative:
+        from vorobench.harness.regress import relative_to
+
+        base_df, new_df = relative_to(base_df, relative, "BASE"), relative_to(new_df, relative, "NEW")
     history = store_history(args.base, base_meta, new_df)
+    if relative and history is not None:
+        history = relative_to(history, relative, "the store's earlier runs")
     comparison = compare_runs(base_df, new_df, threshold=args.threshold, alpha=args.alpha, seed=args.seed,
                               history=history)
     console = Console()
@@ -219,6 +233,9 @@ def run(args: argparse.Namespace) -> int:
     if warning:
         console.print(f"[yellow]warning[/yellow]: {_shown(warning)}")
     title = getattr(args, "title", None) or f"{args.new} vs {args.base}"
+    if relative:
+        console.print(f"times are relative to {_shown(relative)}: each build time over {_shown(relative)}'s median "
+                      f"on the same case of the same run (base and new columns are these ratios, not seconds)")
     _print_table(console, comparison, f"{title} (threshold {args.threshold:.0%})",
                  args.only_changes)
     if args.json:

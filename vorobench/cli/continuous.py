@@ -3,10 +3,15 @@
     vorobench continuous REV_A REV_B [--repo DIR] [--env shared|fresh] [bench options] [compare options]
 
 Each revision is checked out in its own git worktree (the repository's own checkout is never
-touched) and benchmarked by its own code with ``vorobench bench``, one revision after the
-other, into its own results file. Then ``vorobench compare`` judges REV_B against REV_A, with
-the same rules and exit status: 1 when REV_B regressed, 0 when not, 2 when a revision could not
-be benchmarked.
+touched) and benchmarked by its own code with ``vorobench bench``. The revisions' repeats run
+in interleaved rounds (``--rounds``, default 2): A, B, A, B, ..., each round a process of its
+own with its share of ``--repeat``, so that a machine that gets busier half-way slows both
+revisions alike instead of reading as a change (as asv's ``--interleave-rounds``). The load and
+CPU frequency around each round are printed and kept in the results' metadata. Each
+revision's rounds are merged into one results file, and ``vorobench compare`` judges REV_B
+against REV_A, with the same rules and exit status: 1 when REV_B regressed, 0 when not (a
+case whose noise cannot decide is inconclusive, and says so), 2 when a revision could not be
+benchmarked.
 
 Environments (``--env``):
 
@@ -25,6 +30,8 @@ also filed in ``--store DIR`` when given, so ``vorobench history``/``trend`` see
 from __future__ import annotations
 
 import argparse
+import contextlib
+import math
 import sys
 import tempfile
 from pathlib import Path
@@ -33,15 +40,17 @@ from rich.console import Console
 
 from vorobench.cli import bench as bench_cmd
 from vorobench.cli import compare as compare_cmd
-from vorobench.harness.continuous import Worktree, bench_revision, fresh_environment, repository_root, resolve_revision
+from vorobench.cli.args import positive_int
+from vorobench.harness.continuous import (Worktree, bench_revision, fresh_environment, machine_state, merge_rounds,
+                                          repository_root, resolve_revision, round_order)
 
 # The harness and the judge are imported inside the functions that run the command, not here:
 # the parser imports every command module (start-up time, measured in vorobench.cli).
 
 __all__ = ["add_arguments", "run", "bench_arguments"]
 
-#: bench options that continuous sets itself for each revision.
-_OWN_OPTIONS = {"out", "resume", "overwrite"}
+#: bench options that continuous sets itself for each revision (each round).
+_OWN_OPTIONS = {"out", "resume", "overwrite", "repeat", "store"}
 #: bench options whose values are paths of the caller's, made absolute before a revision runs
 #: in its worktree.
 _PATH_OPTIONS = {"store"}
@@ -94,6 +103,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="where --env fresh keeps its environments (default ~/.cache/vorobench/envs)")
     p.add_argument("--results-dir", default=None, metavar="DIR",
                    help="keep both results files here (default: a temporary folder, removed at the end)")
+    p.add_argument("--rounds", type=positive_int, default=2,
+                   help="interleaved rounds: the revisions run alternately, A, B, A, B, ..., each round in a "
+                        "process of its own with its share of --repeat (default 2; 1 runs one revision after "
+                        "the other)")
     bench = p.add_argument_group("bench options (passed to each revision's vorobench bench)")
     bench_cmd.add_arguments(bench)
     compare = p.add_argument_group("compare options")
@@ -105,26 +118,58 @@ def run(args: argparse.Namespace) -> int:
     repo = repository_root(args.repo)
     a, b = resolve_revision(repo, args.rev_a), resolve_revision(repo, args.rev_b)
     words = bench_arguments(args)
+    rounds = args.rounds
+    per_round = max(1, math.ceil(args.repeat / rounds))
     env_dir = Path(args.env_dir).expanduser() if args.env_dir else Path.home() / ".cache" / "vorobench" / "envs"
     keep = Path(args.results_dir).resolve() if args.results_dir else None
     if keep is not None:
         keep.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="vorobench-continuous-") as scratch:
+    store = None
+    if args.store:
+        from vorobench.harness.store import Store
+
+        store = Store(args.store)               # a file in its place is refused before any run
+    revisions = {"a": a, "b": b}
+    with tempfile.TemporaryDirectory(prefix="vorobench-continuous-") as scratch, contextlib.ExitStack() as stack:
         results_dir = keep or Path(scratch)
-        outs = []
-        for side, revision in (("a", a), ("b", b)):
-            out = results_dir / f"{side}-{revision.short}.csv"
+        trees, pythons = {}, {}
+        for side, revision in revisions.items():
+            trees[side] = stack.enter_context(Worktree(repo, revision, Path(scratch) / side))
+            pythons[side] = (str(fresh_environment(trees[side], revision, env_dir, console)) if args.env == "fresh"
+                             else sys.executable)
+        console.print(f"{rounds} interleaved round(s), {per_round} repeat(s) each: "
+                      + ", ".join(f"{revisions[side].name}" for _, side in round_order(rounds)))
+        parts: dict[str, list[Path]] = {"a": [], "b": []}
+        states: dict[str, list[dict]] = {"a": [], "b": []}
+        for r, side in round_order(rounds):
+            revision = revisions[side]
+            out = results_dir / f"{side}-{revision.short}-round{r}.csv"
             for stale in (out, out.with_suffix(".meta.json")):
                 stale.unlink(missing_ok=True)
-            with Worktree(repo, revision, Path(scratch)) as tree:
-                python = (str(fresh_environment(tree, revision, env_dir, console)) if args.env == "fresh"
-                          else sys.executable)
-                status = bench_revision(revision, tree, python, args.env, words, out, console)
+            before = machine_state()
+            status = bench_revision(revision, trees[side], pythons[side], args.env,
+                                    [*words, "--repeat", str(per_round)], out, console)
+            after = machine_state()
+            states[side].append({"round": r, "before": before, "after": after})
+            console.print(f"round {r}/{rounds}, {revision.name}: load {before['load1']} -> {after['load1']}"
+                          + (f", CPU {before['cpu_mhz']:.0f} -> {after['cpu_mhz']:.0f} MHz"
+                             if before.get("cpu_mhz") and after.get("cpu_mhz") else ""))
             if status != 0 or not out.exists():
                 console.print(f"[bold red]vorobench continuous[/bold red]: the benchmark of {revision.name} "
-                              f"({revision.short}) failed (exit status {status}); nothing compared")
+                              f"({revision.short}) failed in round {r} (exit status {status}); nothing compared")
                 return 2
-            outs.append(out)
+            parts[side].append(out)
+        outs = []
+        for side, revision in revisions.items():
+            merged = merge_rounds(parts[side], results_dir / f"{side}-{revision.short}.csv", states[side])
+            if keep is None or rounds > 1:
+                for part in parts[side]:
+                    if part != merged:
+                        part.unlink(missing_ok=True)
+                        part.with_suffix(".meta.json").unlink(missing_ok=True)
+            if store is not None:
+                store.add_results(merged)
+            outs.append(merged)
         compare_args = argparse.Namespace(**{k: getattr(args, k) for k in compare_cmd.OPTION_NAMES})
         compare_args.base, compare_args.new = str(outs[0]), str(outs[1])
         compare_args.title = f"{b.name} ({b.short}) vs {a.name} ({a.short})"

@@ -8,17 +8,18 @@ a ratio, whatever the size of the case):
 
 1. Within a segment of runs, the candidate split is the run that minimises the summed squared
    error of the log medians about the mean of each side.
-2. The split is accepted only if **both**
-   * the step ratio, median of the repeats after / median of the repeats before (all repeats
-     of the segment's runs on each side), exceeds ``1 + threshold`` or lies below
-     ``1 / (1 + threshold)``; and
-   * a two-sided Mann-Whitney U test (``scipy.stats.mannwhitneyu``) of the repeats before
-     against the repeats after gives ``p < alpha``.
+2. The split is accepted only if the one timing rule
+   (:func:`vorobench.harness.timing_rule.decide`, the rule of ``compare``) says "slower" or
+   "faster" for all repeats of the segment's runs after the split against all before it: the
+   ratio of their medians beyond ``1 + threshold`` (or below its inverse), its bootstrap
+   interval clear of 1, a one-sided Mann-Whitney U test with ``p < alpha``, and the ratio
+   outside the run-to-run noise measured between the two runs around the split (``noise``).
 3. An accepted split segments both of its sides the same way; a rejected one ends its segment.
 4. Finally each change point is checked again between its neighbours (the runs from the
    previous change point to the next one), and the weakest one that fails rule 2 there is
    dropped, until all pass. So every change point reported satisfies rule 2 with the medians,
-   ratio and p-value reported with it.
+   ratio and p-value reported with it, and a pair of runs gets the same answer here as from
+   ``compare``.
 
 The threshold keeps differences too small to matter out (the repeats of many runs pooled make
 a rank test call a 3 % drift significant); the rank test keeps out steps the repeats cannot
@@ -36,10 +37,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Optional, Sequence
+from typing import Any, Callable, Optional, Sequence
 
 import numpy as np
-from scipy.stats import mannwhitneyu
+
+from vorobench.harness.timing_rule import TimingDecision, decide
 
 __all__ = ["TimeStep", "CounterStep", "time_steps", "counter_steps"]
 
@@ -52,7 +54,7 @@ class TimeStep:
     before: float            # median of the repeats from the previous change point up to the step
     after: float             # median of the repeats from the step up to the next change point
     ratio: float             # after / before
-    p_value: float           # two-sided Mann-Whitney U, repeats before vs after
+    p_value: float           # one-sided Mann-Whitney U in the step's direction, repeats before vs after
     first: int               # first run of the segment before
     end: int                 # one past the last run of the segment after
 
@@ -67,19 +69,11 @@ class CounterStep:
     after: Any
 
 
-def _test(samples: Sequence[np.ndarray], lo: int, split: int, hi: int) -> tuple[float, float, float, float]:
-    """(median before, median after, ratio, p) for runs [lo, split) against [split, hi)."""
-    left = np.concatenate(samples[lo:split])
-    right = np.concatenate(samples[split:hi])
-    before, after = float(np.median(left)), float(np.median(right))
-    ratio = after / before if before > 0 else math.inf
-    p = float(mannwhitneyu(left, right, alternative="two-sided").pvalue)
-    return before, after, ratio, p
-
-
-def _passes(ratio: float, p: float, threshold: float, alpha: float) -> bool:
-    big = ratio > 1 + threshold or ratio < 1 / (1 + threshold)
-    return big and p < alpha
+def _test(samples: Sequence[np.ndarray], lo: int, split: int, hi: int, threshold: float, alpha: float,
+          noise: Callable[[int], Optional[float]]) -> TimingDecision:
+    """The one timing rule for runs [lo, split) against [split, hi)."""
+    return decide(np.concatenate(samples[lo:split]), np.concatenate(samples[split:hi]), threshold, alpha,
+                  noise=noise(split), noise_source="the spread of all cases' ratios between these runs")
 
 
 def _best_split(logs: np.ndarray, lo: int, hi: int) -> int:
@@ -94,11 +88,14 @@ def _best_split(logs: np.ndarray, lo: int, hi: int) -> int:
     return lo + 1 + int(np.argmin(left + right))
 
 
-def time_steps(samples: Sequence[Sequence[float]], threshold: float = 0.10, alpha: float = 0.05) -> list[TimeStep]:
+def time_steps(samples: Sequence[Sequence[float]], threshold: float = 0.10, alpha: float = 0.05,
+               noise: Optional[Callable[[int], Optional[float]]] = None) -> list[TimeStep]:
     """The steps in a series of runs' build times (see the module docstring for the rule).
 
-    ``samples[i]`` holds the repeats (seconds, > 0) of run ``i``, runs in date order. Returns
-    the steps in run order; ``[]`` for fewer than two runs. ValueError if a run has no repeat.
+    ``samples[i]`` holds the repeats (seconds, > 0) of run ``i``, runs in date order.
+    ``noise(i)``: the run-to-run noise (log-ratio half-width) between runs i - 1 and i, or None.
+    Returns the steps in run order; ``[]`` for fewer than two runs. ValueError if a run has no
+    repeat.
     """
     runs = [np.asarray(s, dtype=float).ravel() for s in samples]
     for i, r in enumerate(runs):
@@ -106,6 +103,7 @@ def time_steps(samples: Sequence[Sequence[float]], threshold: float = 0.10, alph
             raise ValueError(f"run {i} of the series has no repeats (or a time that is not a number)")
     if len(runs) < 2:
         return []
+    noise = noise or (lambda i: None)
     logs = np.log(np.maximum([np.median(r) for r in runs], 1e-300))
 
     found: list[int] = []
@@ -115,22 +113,24 @@ def time_steps(samples: Sequence[Sequence[float]], threshold: float = 0.10, alph
         if hi - lo < 2:
             continue
         split = _best_split(logs, lo, hi)
-        _, _, ratio, p = _test(runs, lo, split, hi)
-        if _passes(ratio, p, threshold, alpha):
+        if _test(runs, lo, split, hi, threshold, alpha, noise).is_change:
             found.append(split)
             pending += [(lo, split), (split, hi)]
     found.sort()
 
     while True:
         bounds = [0, *found, len(runs)]
-        checked = [(i, *_test(runs, bounds[i], bounds[i + 1], bounds[i + 2])) for i in range(len(found))]
-        failing = [c for c in checked if not _passes(c[3], c[4], threshold, alpha)]
+        checked = [(i, _test(runs, bounds[i], bounds[i + 1], bounds[i + 2], threshold, alpha, noise))
+                   for i in range(len(found))]
+        failing = [(i, d) for i, d in checked if not d.is_change]
         if not failing:
             break
-        weakest = max(failing, key=lambda c: (c[4], -abs(math.log(c[3])) if 0 < c[3] < math.inf else 0.0))
+        weakest = max(failing, key=lambda c: (c[1].p_value if c[1].p_value is not None else 1.0,
+                                              -abs(math.log(c[1].ratio)) if 0 < c[1].ratio < math.inf else 0.0))
         del found[weakest[0]]
-    return [TimeStep(index=found[i], before=b, after=a, ratio=r, p_value=p, first=bounds[i], end=bounds[i + 2])
-            for i, b, a, r, p in checked]
+    return [TimeStep(index=found[i], before=d.base_median, after=d.new_median, ratio=d.ratio,
+                     p_value=d.p_value if d.p_value is not None else 1.0, first=bounds[i], end=bounds[i + 2])
+            for i, d in checked]
 
 
 def counter_steps(values: Sequence[Optional[Any]]) -> list[CounterStep]:

@@ -7,12 +7,14 @@ from __future__ import annotations
 import os
 import shutil
 import subprocess
+import time
 import venv
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Optional, Sequence
 
-__all__ = ["Revision", "Worktree", "repository_root", "resolve_revision", "fresh_environment", "bench_revision"]
+__all__ = ["Revision", "Worktree", "repository_root", "resolve_revision", "fresh_environment", "bench_revision",
+           "round_order", "machine_state", "merge_rounds"]
 
 
 @dataclass(frozen=True)
@@ -63,6 +65,7 @@ class Worktree:
         self.path = parent / f"tree-{revision.short}"
 
     def __enter__(self) -> Path:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
         if self.path.exists():
             self._remove()
         added = _git(self.repo, "worktree", "add", "--detach", "--force", str(self.path), self.revision.commit)
@@ -126,3 +129,64 @@ def bench_revision(revision: Revision, tree: Path, python: str, env_mode: str, w
     command = [python, "-m", "vorobench", "bench", *words, "--out", str(out)]
     console.print(f"[bold]{revision.name}[/bold] ({revision.short}): vorobench bench {' '.join(words)}")
     return subprocess.call(command, cwd=tree, env=environ)
+
+
+def round_order(rounds: int) -> list[tuple[int, str]]:
+    """(round, side) in the order the revisions run: A, B in every round (A, B, A, B, ...), so
+    that a change of machine load during the run falls on both revisions alike."""
+    return [(r, side) for r in range(1, rounds + 1) for side in ("a", "b")]
+
+
+def machine_state() -> dict:
+    """The machine's load (1-minute average) and mean CPU frequency (MHz, Linux) now, recorded
+    around each round so that a busy or throttled machine shows in the results' metadata."""
+    state: dict = {"time": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
+    try:
+        state["load1"] = round(os.getloadavg()[0], 2)
+    except OSError:
+        state["load1"] = None
+    try:
+        mhz = [float(line.split(":")[1]) for line in Path("/proc/cpuinfo").read_text().splitlines()
+               if line.lower().startswith("cpu mhz")]
+        state["cpu_mhz"] = round(sum(mhz) / len(mhz), 1) if mhz else None
+    except (OSError, ValueError, IndexError):
+        state["cpu_mhz"] = None
+    return state
+
+
+def merge_rounds(paths: Sequence[Path], out: Path, rounds: list[dict]) -> Path:
+    """One results file of a revision's interleaved rounds: every round's rows, each case's
+    repeats numbered after those of the rounds before, under the first round's run id, with
+    the rounds (and the machine's state around each) in its metadata."""
+    import pandas as pd
+
+    from vorobench.harness import results
+
+    first = results.read_metadata(paths[0])
+    run = dict((first.get("runs") or [{}])[0])
+    frames = [results.load(p) for p in paths]
+    run_id = str(run.get("run_id") or frames[0]["run_id"].dropna().astype(str).iloc[0])
+    key = [c for c in results.CASE_KEY if c in frames[0].columns]
+    taken: dict[tuple, int] = {}
+    parts = []
+    for frame in frames:
+        frame = frame.assign(run_id=run_id)
+        if "repeat" in frame.columns:
+            repeat = pd.to_numeric(frame["repeat"], errors="coerce")
+            cases = [tuple(k) for k in frame[key].astype(str).itertuples(index=False)]
+            frame["repeat"] = [r + taken.get(c, 0) if r == r else r for r, c in zip(repeat, cases)]
+            used: dict[tuple, int] = {}          # repeats this round gave each case
+            for c, r in zip(cases, repeat):
+                if r == r:
+                    used[c] = max(used.get(c, 0), int(r) + 1)
+            for c, k in used.items():
+                taken[c] = taken.get(c, 0) + k
+        parts.append(frame)
+    merged = pd.concat(parts, ignore_index=True)
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    merged.to_csv(out, index=False)
+    results.metadata_path(out).unlink(missing_ok=True)
+    run.update(run_id=run_id, rounds=rounds, interleaved=len(paths) > 1)
+    results.append_run_metadata(out, run)
+    return out

@@ -11,14 +11,15 @@ from typing import Optional, Sequence
 
 import numpy as np
 import pandas as pd
-from scipy.stats import bootstrap, mannwhitneyu, median_abs_deviation, ttest_1samp
+from scipy.stats import ttest_1samp
 
 from vorobench.harness import results, store
+from vorobench.harness.timing_rule import NOISE_MIN_CASES, NOISE_Z, decide, noise_half_width
 from vorobench.judge.outcomes import Status, counter_columns, status_rank, verdict_rank
 
 __all__ = ["CaseChange", "Overall", "RunComparison", "compare_frames", "compare_runs",
-           "compare_files", "load_side", "bootstrap_ratio_ci", "slowdown_p_value", "overall_change",
-           "refuse_duplicates"]
+           "compare_files", "load_side", "overall_change",
+           "refuse_duplicates", "relative_to", "NOISE_MIN_CASES"]
 
 KEY = ["impl", "dataset", "n", "seed"]
 
@@ -134,57 +135,14 @@ class RunComparison:
                                             or self.overall.flags)
 
 
-def bootstrap_ratio_ci(base: Sequence[float], new: Sequence[float], rng: np.random.Generator,
-                       resamples: int = 2000, level: float = 0.95) -> tuple[float, float]:
-    """Percentile bootstrap interval of median(new) / median(base), resampling each side."""
-    def ratio(b, m, axis=-1):
-        return np.median(m, axis=axis) / np.median(b, axis=axis)
-
-    result = bootstrap((np.asarray(base, float), np.asarray(new, float)), ratio, vectorized=True,
-                       method="percentile", n_resamples=resamples, confidence_level=level, rng=rng)
-    return float(result.confidence_interval.low), float(result.confidence_interval.high)
-
-
-def slowdown_p_value(base: Sequence[float], new: Sequence[float]) -> Optional[float]:
-    """One-sided Mann-Whitney U p-value for "NEW is slower than BASE" (None below 2 samples each)."""
-    if len(base) < 2 or len(new) < 2:
-        return None
-    return float(mannwhitneyu(new, base, alternative="greater").pvalue)
-
-
-def _smallest_p(n1: int, n2: int) -> float:
-    """The smallest p-value a one-sided rank test can give with these sample sizes."""
-    return 1.0 / math.comb(n1 + n2, n1)
-
-
-def _timing(change: CaseChange, base: np.ndarray, new: np.ndarray, threshold: float, alpha: float,
-            rng: np.random.Generator) -> None:
-    change.base_median_s, change.new_median_s = float(np.median(base)), float(np.median(new))
+def _timing(change: CaseChange, base: np.ndarray, new: np.ndarray, threshold: float, alpha: float, seed: int,
+            noise: Optional[float] = None, noise_source: str = "") -> None:
+    """Fill ``change``'s timing fields from the one rule (:func:`vorobench.harness.timing_rule.decide`)."""
+    d = decide(base, new, threshold, alpha, np.random.default_rng(seed), noise, noise_source)
+    change.base_median_s, change.new_median_s = d.base_median, d.new_median
     change.base_repeats, change.new_repeats = int(base.size), int(new.size)
-    change.ratio = change.new_median_s / change.base_median_s
-    if base.size < 2 or new.size < 2:
-        change.change = "inconclusive"
-        change.why_inconclusive = "one repeat: noise cannot be told from change"
-        return
-    change.ci_low, change.ci_high = bootstrap_ratio_ci(base, new, rng)
-    slower = change.ratio >= 1
-    change.p_value = slowdown_p_value(base, new) if slower else slowdown_p_value(new, base)
-    testable = _smallest_p(base.size, new.size) < alpha
-    significant = testable and change.p_value < alpha
-    if slower and change.ratio > 1 + threshold and change.ci_low > 1 and significant:
-        change.change = "slower"
-    elif not slower and change.ratio < 1 / (1 + threshold) and change.ci_high < 1 and significant:
-        change.change = "faster"
-    elif 1 / (1 + threshold) < change.ci_low and change.ci_high < 1 + threshold:
-        change.change = "same"
-    else:
-        change.change = "inconclusive"
-        if not testable:
-            change.why_inconclusive = (f"{base.size} vs {new.size} repeats: the rank test cannot reach "
-                                       f"p < {alpha:g}")
-        else:
-            change.why_inconclusive = (f"95% CI {change.ci_low:.2f}-{change.ci_high:.2f} neither rules out nor "
-                                       f"shows a {threshold:.0%} change")
+    change.ratio, change.ci_low, change.ci_high, change.p_value = d.ratio, d.ci_low, d.ci_high, d.p_value
+    change.change, change.why_inconclusive = d.change.value, d.why
 
 
 def overall_change(changes: Sequence[CaseChange], threshold: float, level: float = 0.95) -> Overall:
@@ -289,7 +247,7 @@ def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05
     (several ``run_id``) of the same machine, from which each case's own run-to-run noise is
     measured (:func:`case_noise`). A weighted case (``weights`` column) is a dataset of its own
     (:func:`vorobench.harness.results.weighted_label`): never compared with the ordinary one."""
-    rng = np.random.default_rng(seed)
+    timed: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     refuse_duplicates(base_df, "BASE")
     refuse_duplicates(new_df, "NEW")
     base_df, new_df = results.with_weights_in_dataset(base_df), results.with_weights_in_dataset(new_df)
@@ -325,20 +283,22 @@ def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05
         if change.why_not_comparable:
             change.flags.append(f"not comparable: {change.why_not_comparable}")
         elif tb.size and tn.size:
-            _timing(change, tb, tn, threshold, alpha, rng)
+            timed[id(change)] = (tb, tn)
+            change.ratio = float(np.median(tn) / np.median(tb))
         _compare_counters(change, b, m, stat_cols)
         changes.append(change)
+    # The noise is measured before any case is decided: the spread of all cases' ratios, or a
+    # case's own spread over earlier runs when that is wider.
     band = noise_band(changes)
     own = case_noise(history) if history is not None else {}
     for change in changes:
+        if id(change) not in timed:
+            continue
         key = (change.impl, change.dataset, change.n, change.seed)
         width, source = band, "the spread of all cases' ratios"
         if key in own and (width is None or NOISE_Z * own[key][0] > width):
             width, source = NOISE_Z * own[key][0], f"this case's spread over {own[key][1]} earlier runs"
-        if change.change in ("slower", "faster") and width is not None and abs(math.log(change.ratio)) <= width:
-            change.change = "inconclusive"
-            change.why_inconclusive = (f"{change.ratio:.2f}x lies within the run-to-run noise band "
-                                       f"(x{math.exp(width):.2f} either way, from {source})")
+        _timing(change, *timed[id(change)], threshold, alpha, seed, width, source)
         if change.change == "slower":
             change.flags.insert(0, f"{change.ratio:.2f}x slower (95% CI {change.ci_low:.2f}-{change.ci_high:.2f}, "
                                    f"p={change.p_value:.2g})")
@@ -354,13 +314,6 @@ def _compare_counters(change: CaseChange, base_rows, new_rows, stat_cols: list[s
     if change.counters:
         change.flags.append("counters changed: " + ", ".join(
             f"{k} {_num(a)} -> {_num(c)}" for k, (a, c) in change.counters.items()))
-
-
-#: Fewest cases timed on both sides from which the run-to-run noise is estimated.
-NOISE_MIN_CASES = 6
-
-#: A single case's change must exceed this many robust standard deviations of the run-to-run noise.
-NOISE_Z = 3.0
 
 
 #: Fewest earlier runs of a case from which its own run-to-run noise is measured.
@@ -386,20 +339,9 @@ def case_noise(history) -> dict[tuple, tuple[float, int]]:
 
 
 def noise_band(changes: Sequence[CaseChange]) -> Optional[float]:
-    """Half-width, in log ratio, of the run-to-run noise band; None with too few timed cases.
-
-    Repeats within one run share that run's background (other processes, frequency, cache
-    state), so the rank test on one case's repeats sees only part of the noise: on a shared
-    machine, a case of one run can be 1.5x slower than the same case of another run while each
-    run's repeats agree closely. The spread of the per-case ratios over all cases measures the
-    rest: its robust standard deviation (scaled median absolute deviation of the log ratios
-    around their median, which a uniform change leaves alone) times :data:`NOISE_Z`. A case's
-    change inside this band is inconclusive, however clear its own repeats are.
-    """
-    logs = np.log([c.ratio for c in changes if c.ratio is not None and c.ratio > 0])
-    if logs.size < NOISE_MIN_CASES:
-        return None
-    return float(NOISE_Z * median_abs_deviation(logs, scale="normal"))
+    """The run-to-run noise band of two runs, from all their cases' ratios
+    (:func:`vorobench.harness.timing_rule.noise_half_width`); None with too few timed cases."""
+    return noise_half_width([c.ratio for c in changes if c.ratio is not None])
 
 
 def compare_runs(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05, seed: int = 0,
@@ -433,6 +375,27 @@ def load_side(text: str | Path):
     frame = results.load_checked(text)
     runs = results.read_metadata(text).get("runs", [])
     return frame, (runs[-1] if runs else None)
+
+
+def relative_to(df, reference: str, side: str = "results"):
+    """``df`` with each build time divided by the median time of ``reference`` on the same
+    dataset, weights, n and seed in the same run: a dimensionless ratio in which the machine's
+    speed (and a change of it between runs) cancels. The reference's own rows and the cases it
+    did not time are left out. ValueError when ``reference`` timed nothing in ``df``."""
+    df = df.copy()
+    if "weights" in df.columns:
+        df["weights"] = df["weights"].fillna("").astype(str)
+    # per run (a store's history holds several), per case with its weight family
+    key = [c for c in ("run_id", "dataset", "weights", "n", "seed") if c in df.columns]
+    times = pd.to_numeric(df["time_s"], errors="coerce")
+    ran = df[(df["impl"] == reference) & (df["status"] == Status.OK) & np.isfinite(times) & (times > 0)]
+    if ran.empty:
+        raise ValueError(f"--relative-to {reference}: {side} has no timed case of {reference}")
+    medians = ran.assign(time_s=pd.to_numeric(ran["time_s"])).groupby(key)["time_s"].median().rename("_reference_s")
+    out = df[df["impl"] != reference].join(medians, on=key)
+    out = out[out["_reference_s"].notna()].copy()
+    out["time_s"] = pd.to_numeric(out["time_s"], errors="coerce") / out["_reference_s"]
+    return out.drop(columns="_reference_s")
 
 
 def compare_files(base: str | Path, new: str | Path, threshold: float = 0.10, alpha: float = 0.05,

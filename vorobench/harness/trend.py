@@ -21,6 +21,7 @@ from plotly.subplots import make_subplots
 from vorobench.harness.changepoints import counter_steps, time_steps
 from vorobench.harness.html_page import escape, page
 from vorobench.harness.results import with_weights_in_dataset
+from vorobench.harness.timing_rule import noise_half_width
 from vorobench.judge.outcomes import Status, counter_columns
 
 __all__ = ["Run", "Series", "Machine", "ChangePoint", "load", "detect", "render",
@@ -252,8 +253,10 @@ def detect(machines: list[Machine], threshold: float = 0.10, alpha: float = 0.05
     them all, by machine, then case, then run."""
     found = []
     for m in machines:
+        band = _noise_between(m)
         for s in m.series:
-            s.steps = time_steps(s.times, threshold=threshold, alpha=alpha)
+            s.steps = time_steps(s.times, threshold=threshold, alpha=alpha,
+                                 noise=lambda k, s=s: band(s.timed[k - 1], s.timed[k]))
             for step in s.steps:
                 i, j = s.timed[step.index], s.timed[step.index - 1]
                 found.append(_point(m, s, "time", None, i, j, step.before, step.after, step.ratio, step.p_value))
@@ -267,6 +270,20 @@ def detect(machines: list[Machine], threshold: float = 0.10, alpha: float = 0.05
                     found.append(_point(m, s, "counter", name, c.index, c.previous_index, c.before, c.after,
                                         ratio, None))
     return found
+
+
+def _noise_between(m: Machine):
+    """band(j, i): the run-to-run noise between the machine's runs j and i, from the ratios of
+    every case timed in both (:func:`vorobench.harness.timing_rule.noise_half_width`, as
+    ``compare`` measures it), cached."""
+    medians = [{run: float(np.median(t)) for run, t in zip(s.timed, s.times)} for s in m.series]
+    cache: dict[tuple[int, int], Optional[float]] = {}
+
+    def band(j: int, i: int) -> Optional[float]:
+        if (j, i) not in cache:
+            cache[(j, i)] = noise_half_width([med[i] / med[j] for med in medians if i in med and j in med and med[j] > 0])
+        return cache[(j, i)]
+    return band
 
 
 def _point(m: Machine, s: Series, kind: str, counter: Optional[str], i: int, j: int, before, after,
