@@ -61,15 +61,16 @@ def _spin(stop) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--times", type=int, default=5)
-    parser.add_argument("--sizes", default="1k,10k")
+    parser.add_argument("--sizes", default="1k,3k")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory(prefix="continuous-load-") as tmp:
         repo = Path(tmp) / "plugin"
         repo.mkdir()
         _git(repo, "init", "-q")
-        base = _commit(repo, 400, "base")
-        same = _commit(repo, 400, "the same code, another comment")
-        slow = _commit(repo, 500, "25 % more work")
+        # the loop is most of the build (the harness's own share, ~10 %, dilutes the step a little)
+        base = _commit(repo, 2000, "base")
+        same = _commit(repo, 2000, "the same code, another comment")
+        slow = _commit(repo, 2600, "30 % more loop: the build 25 % slower")
         stop = mp.Event()
         hog = mp.Process(target=_spin, args=(stop,), daemon=True)
         hog.start()

@@ -133,3 +133,41 @@ def test_relative_to_a_reference_cancels_a_machine_that_got_slower(tmp_path, cap
     assert main(["compare", base, worse, "--relative-to", "b"]) == 1        # a's own change shows
     assert main(["compare", base, busy, "--relative-to", "nobody"]) == 2
     assert "has no timed case of nobody" in capsys.readouterr().err
+
+
+def test_cpu_time_is_compared_when_both_runs_recorded_it(tmp_path, capsys):
+    """A busy neighbour stretched NEW's wall times by 1.5x, not the builds' own CPU time: by
+    default (auto) compare judges the CPU time and passes; --measure wall sees the stretch."""
+    def run(path, wall_scale):
+        rows = [{"run_id": path.stem, "impl": "a", "dataset": "uniform", "n": n, "seed": 0, "repeat": rep,
+                 "status": "ok", "verdict": "exact", "time_s": wall_scale * (1 + 0.002 * rep),
+                 "cpu_s": 0.9 * (1 + 0.002 * rep)} for n in (100, 200) for rep in range(5)]
+        ResultsFile(path).append(rows)
+        return str(path)
+
+    base, busy = run(tmp_path / "base.csv", 1.0), run(tmp_path / "busy.csv", 1.5)
+    assert main(["compare", base, busy]) == 0
+    assert "CPU time of each build" in capsys.readouterr().out
+    assert main(["compare", base, busy, "--measure", "wall"]) == 1
+    assert "build times compared: wall time" in capsys.readouterr().out
+    older = _write(tmp_path / "older.csv")                     # no cpu_s: wall time, and --measure cpu refused
+    assert main(["compare", older, older, "--measure", "cpu"]) == 2
+    assert "no CPU time" in capsys.readouterr().err
+
+
+def test_interleaved_rounds_are_the_samples_not_the_repeats(tmp_path):
+    """Three of NEW's four rounds landed on a busy core (1.45x), each with five tight repeats:
+    counted repeat by repeat that is a clear slowdown; counted by round (continuous's merged files
+    carry ``round``), four rounds cannot rule out that it was luck: inconclusive, not a failure."""
+    import pandas as pd
+
+    def frame(levels, run_id):
+        return pd.DataFrame([{"run_id": run_id, "impl": "a", "dataset": "uniform", "n": 100, "seed": 0,
+                              "repeat": 5 * r + k, "round": r + 1, "status": "ok", "verdict": "exact",
+                              "time_s": level * (1 + 0.001 * k)} for r, level in enumerate(levels) for k in range(5)])
+
+    base, new = frame([1.0, 1.0, 1.0, 1.0], "b"), frame([1.45, 1.45, 1.45, 1.0], "n")
+    [by_round] = regress.compare_frames(base, new)
+    assert by_round.change == "inconclusive" and by_round.base_repeats == 4, by_round
+    [by_repeat] = regress.compare_frames(base.drop(columns="round"), new.drop(columns="round"))
+    assert by_repeat.change == "slower"

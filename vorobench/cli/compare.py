@@ -59,7 +59,7 @@ __all__ = ["add_arguments", "run", "check_outputs"]
 
 
 #: The options of ``compare`` besides its two inputs (``continuous`` passes them on).
-OPTION_NAMES = ("threshold", "alpha", "seed", "relative_to", "only_changes", "json", "junit", "markdown")
+OPTION_NAMES = ("threshold", "alpha", "seed", "measure", "relative_to", "only_changes", "json", "junit", "markdown")
 
 
 def add_arguments(p, positional: bool = True) -> None:
@@ -74,6 +74,9 @@ def add_arguments(p, positional: bool = True) -> None:
     p.add_argument("--alpha", type=fraction, default=0.05,
                    help="significance level, between 0 and 1 (default 0.05)")
     p.add_argument("--seed", type=non_negative_int, default=0, help="bootstrap seed (default 0)")
+    p.add_argument("--measure", choices=("auto", "cpu", "wall"), default="auto",
+                   help="what a build's time is: cpu (the build's own CPU time, which a busy machine does not add "
+                        "to), wall, or auto (default: cpu when both runs recorded it for every build, else wall)")
     p.add_argument("--relative-to", default=None, metavar="IMPL",
                    help="compare each build time divided by IMPL's median time on the same case of the same run "
                         "(e.g. qhull): the machine's speed cancels; IMPL must be timed in both runs")
@@ -216,12 +219,19 @@ def run(args: argparse.Namespace) -> int:
     new_df, new_meta = load_side(args.new)
     refuse_duplicates(base_df, f"BASE {args.base}")
     refuse_duplicates(new_df, f"NEW {args.new}")
+    from vorobench.harness.timing_rule import choose_measure, measured
+
+    column = choose_measure(getattr(args, "measure", "auto"), base_df, new_df)
+    base_df, new_df = measured(base_df, column), measured(new_df, column)
     relative = getattr(args, "relative_to", None)
     if relative:
         from vorobench.harness.regress import relative_to
 
         base_df, new_df = relative_to(base_df, relative, "BASE"), relative_to(new_df, relative, "NEW")
     history = store_history(args.base, base_meta, new_df)
+    if history is not None:
+        history = measured(history, column) if column == "time_s" or choose_measure("auto", history) == column \
+            else None                        # earlier runs without CPU times measure no CPU noise
     if relative and history is not None:
         history = relative_to(history, relative, "the store's earlier runs")
     comparison = compare_runs(base_df, new_df, threshold=args.threshold, alpha=args.alpha, seed=args.seed,
@@ -233,6 +243,8 @@ def run(args: argparse.Namespace) -> int:
     if warning:
         console.print(f"[yellow]warning[/yellow]: {_shown(warning)}")
     title = getattr(args, "title", None) or f"{args.new} vs {args.base}"
+    console.print("build times compared: " + ("CPU time of each build (both runs recorded it; a busy machine does "
+                                              "not add to it)" if column == "cpu_s" else "wall time"))
     if relative:
         console.print(f"times are relative to {_shown(relative)}: each build time over {_shown(relative)}'s median "
                       f"on the same case of the same run (base and new columns are these ratios, not seconds)")

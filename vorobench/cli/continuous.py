@@ -4,7 +4,7 @@
 
 Each revision is checked out in its own git worktree (the repository's own checkout is never
 touched) and benchmarked by its own code with ``vorobench bench``. The revisions' repeats run
-in interleaved rounds (``--rounds``, default 2): A, B, A, B, ..., each round a process of its
+in interleaved rounds (``--rounds``, default 4): A, B, A, B, ..., each round a process of its
 own with its share of ``--repeat``, so that a machine that gets busier half-way slows both
 revisions alike instead of reading as a change (as asv's ``--interleave-rounds``). The load and
 CPU frequency around each round are printed and kept in the results' metadata. Each
@@ -103,9 +103,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="where --env fresh keeps its environments (default ~/.cache/vorobench/envs)")
     p.add_argument("--results-dir", default=None, metavar="DIR",
                    help="keep both results files here (default: a temporary folder, removed at the end)")
-    p.add_argument("--rounds", type=positive_int, default=2,
+    p.add_argument("--rounds", type=positive_int, default=4,
                    help="interleaved rounds: the revisions run alternately, A, B, A, B, ..., each round in a "
-                        "process of its own with its share of --repeat (default 2; 1 runs one revision after "
+                        "process of its own with its share of --repeat (default 4; 1 runs one revision after "
                         "the other)")
     bench = p.add_argument_group("bench options (passed to each revision's vorobench bench)")
     bench_cmd.add_arguments(bench)

@@ -42,7 +42,7 @@ __all__ = ["add_arguments", "run"]
 def add_arguments(p: argparse.ArgumentParser) -> None:
     # At least one of -o and --json is needed; argparse's usage would show both as optional.
     p.usage = ("vorobench trend STORE {-o HTML | --json FILE | both} [--machine PREFIX] [--impls IMPLS] "
-               "[--datasets DATASETS] [--threshold THRESHOLD] [--alpha ALPHA]")
+               "[--datasets DATASETS] [--threshold THRESHOLD] [--alpha ALPHA] [--measure {auto,cpu,wall}]")
     p.add_argument("store", help="run store folder (filled by `vorobench bench --store DIR`)")
     p.add_argument("-o", "--out", default=None, metavar="HTML",
                    help="write the page here (self-contained HTML); this, --json or both is needed")
@@ -56,6 +56,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="smallest time step reported, as a fraction (default 0.10 = 10%%)")
     p.add_argument("--alpha", type=fraction, default=0.05,
                    help="significance level of the rank test of a time step (default 0.05)")
+    p.add_argument("--measure", choices=("auto", "cpu", "wall"), default="auto",
+                   help="what a build's time is: cpu, wall, or auto (default: cpu where every run of a machine "
+                        "recorded it, else wall), as compare chooses")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -66,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
     if not args.out and not args.json:
         raise ValueError("nothing to write: give -o HTML for the page and/or --json FILE for the change points")
     store = Store(args.store)
-    machines = load(store, machine=args.machine, impls=args.impls, datasets=args.datasets)
+    machines = load(store, machine=args.machine, impls=args.impls, datasets=args.datasets, measure=args.measure)
     points = detect(machines, threshold=args.threshold, alpha=args.alpha)
     runs = sum(len(m.runs) for m in machines)
     series = sum(len(m.series) for m in machines)

@@ -155,9 +155,9 @@ def machine_state() -> dict:
 
 
 def merge_rounds(paths: Sequence[Path], out: Path, rounds: list[dict]) -> Path:
-    """One results file of a revision's interleaved rounds: every round's rows, each case's
-    repeats numbered after those of the rounds before, under the first round's run id, with
-    the rounds (and the machine's state around each) in its metadata."""
+    """One results file of a revision's interleaved rounds: every round's rows (column ``round``),
+    each case's repeats numbered after those of the rounds before, under the first round's run
+    id, with the rounds (and the machine's state around each) in its metadata."""
     import pandas as pd
 
     from vorobench.harness import results
@@ -169,8 +169,8 @@ def merge_rounds(paths: Sequence[Path], out: Path, rounds: list[dict]) -> Path:
     key = [c for c in results.CASE_KEY if c in frames[0].columns]
     taken: dict[tuple, int] = {}
     parts = []
-    for frame in frames:
-        frame = frame.assign(run_id=run_id)
+    for number, frame in enumerate(frames, start=1):
+        frame = frame.assign(run_id=run_id, round=number)
         if "repeat" in frame.columns:
             repeat = pd.to_numeric(frame["repeat"], errors="coerce")
             cases = [tuple(k) for k in frame[key].astype(str).itertuples(index=False)]

@@ -147,13 +147,16 @@ def _timing(change: CaseChange, base: np.ndarray, new: np.ndarray, threshold: fl
 
 def overall_change(changes: Sequence[CaseChange], threshold: float, level: float = 0.95) -> Overall:
     """Geometric mean of the per-case ratios and a t interval of the mean log ratio; flagged
-    "slower" when the mean exceeds 1 + threshold and the interval lies above 1."""
+    "slower" when the mean exceeds 1 + threshold and the interval lies above 1; inconclusive
+    with fewer than NOISE_MIN_CASES cases."""
     logs = np.log([c.ratio for c in changes if c.ratio is not None and c.ratio > 0])
     out = Overall(cases=int(logs.size))
     if not logs.size:
         return out
     out.geomean = float(np.exp(logs.mean()))
-    if logs.size < 2:
+    if logs.size < NOISE_MIN_CASES:
+        # The cases of one run share its luck (its processes' cores and neighbours): with so few,
+        # a uniform change cannot be told from a run that was slower throughout.
         out.change = "inconclusive"
         return out
     if np.ptp(logs) == 0:
@@ -181,9 +184,17 @@ def _unchecked(status: Optional[str], verdict: Optional[str]) -> bool:
 
 def _usable_times(rows) -> np.ndarray:
     """The build times of ``rows`` that ran, as seconds a ratio can be taken of: a missing, zero,
-    negative or infinite time says nothing about speed (and a zero one divides by zero)."""
-    times = np.asarray(pd.to_numeric(rows.loc[rows["status"] == Status.OK, "time_s"], errors="coerce"), float)
-    return times[np.isfinite(times) & (times > 0)]
+    negative or infinite time says nothing about speed (and a zero one divides by zero).
+
+    Rows of interleaved rounds (column ``round``, from ``continuous``) give one time per round,
+    the median of its repeats: repeats of one process share its luck (the core it ran on, its
+    neighbours), so the rounds, not the repeats, are the independent samples of the noise."""
+    ok = rows[rows["status"] == Status.OK]
+    times = pd.to_numeric(ok["time_s"], errors="coerce")
+    usable = np.isfinite(times.to_numpy(float)) & (times.to_numpy(float) > 0)
+    if "round" in ok.columns and ok["round"].notna().all() and ok.loc[usable, "round"].nunique() > 1:
+        return times[usable].groupby(ok.loc[usable, "round"]).median().to_numpy(float)
+    return times.to_numpy(float)[usable]
 
 
 def _why_not_comparable(change: CaseChange, base_times: np.ndarray, new_times: np.ndarray) -> str:

@@ -59,7 +59,7 @@ STATUSES = tuple(s.value for s in Status)
 #: Leading columns, in order; ``stat_*`` columns follow.
 COLUMNS = (
     "run_id", "impl", "dataset", "weights", "n", "seed", "repeat", "status", "verdict", "certificate",
-    "check_passed", "blame", "time_s", "warmup_s", "setup_s", "check_s", "case_s",
+    "check_passed", "blame", "time_s", "cpu_s", "warmup_s", "setup_s", "check_s", "case_s",
     "n_points", "n_sites", "V", "E",
     "rss_base_mb", "peak_rss_mb", "mem_mb",
     "phase", "error", "verdict_detail", "finished_at", "host",

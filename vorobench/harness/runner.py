@@ -187,7 +187,7 @@ def _reference_of(case: Case, config: RunConfig, sites, weights):
 
 #: What a sandbox may report of a case's set-up and of each repeat: anything else is dropped.
 _SETUP_KEYS = ("rss_base_mb", "setup_s", "n_points", "warmup_s")
-_REPEAT_KEYS = ("time_s", "peak_rss_mb", "mem_mb", "input_scale_log2")
+_REPEAT_KEYS = ("time_s", "cpu_s", "peak_rss_mb", "mem_mb", "input_scale_log2")
 
 #: A sandbox's failure (``Outcome.kind``) as the case's status.
 _STATUS_OF = {OutcomeKind.CRASHED: Status.CRASHED, OutcomeKind.TIMEOUT: Status.TIMEOUT, OutcomeKind.OOM: Status.OOM,

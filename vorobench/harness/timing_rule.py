@@ -29,7 +29,11 @@ import numpy as np
 from scipy.stats import bootstrap, mannwhitneyu, median_abs_deviation
 
 __all__ = ["Timing", "TimingDecision", "decide", "bootstrap_ratio_ci", "one_sided_p", "noise_half_width",
-           "NOISE_MIN_CASES", "NOISE_Z"]
+           "NOISE_MIN_CASES", "NOISE_Z", "MEASURES", "choose_measure", "measured"]
+
+#: What a build's time is, as compare and trend judge it: ``cpu`` (the build process's own CPU
+#: time, ``cpu_s``), ``wall`` (``time_s``), or ``auto``: CPU time when every timed row has it.
+MEASURES = ("auto", "cpu", "wall")
 
 #: Fewest cases timed on both sides from which the run-to-run noise is estimated.
 NOISE_MIN_CASES = 6
@@ -146,3 +150,32 @@ def noise_half_width(ratios: Sequence[float]) -> Optional[float]:
     if logs.size < NOISE_MIN_CASES:
         return None
     return float(NOISE_Z * median_abs_deviation(logs, scale="normal"))
+
+
+def _has_cpu(df) -> bool:
+    import pandas as pd
+
+    if df is None or "cpu_s" not in df.columns:
+        return False
+    timed = pd.to_numeric(df["time_s"], errors="coerce") > 0
+    cpu = pd.to_numeric(df.loc[timed, "cpu_s"], errors="coerce")
+    return bool(timed.any()) and bool((cpu > 0).all())
+
+
+def choose_measure(measure: str, *frames) -> str:
+    """The column a comparison of ``frames`` judges: ``cpu_s`` when asked (ValueError if a
+    frame lacks it) or, with ``auto``, when every frame records it for every timed build (a
+    busy neighbour does not add to a build's own CPU time, while it does to its wall time);
+    else ``time_s``."""
+    if measure == "wall":
+        return "time_s"
+    has = all(_has_cpu(f) for f in frames)
+    if measure == "cpu" and not has:
+        raise ValueError("--measure cpu: a side has no CPU time for every build (results written before "
+                         "vorobench recorded cpu_s); use --measure wall")
+    return "cpu_s" if has else "time_s"
+
+
+def measured(df, column: str):
+    """``df`` with ``time_s`` replaced by ``column`` (a copy), so that every rule reads one column."""
+    return df if column == "time_s" or df is None else df.assign(time_s=df[column])

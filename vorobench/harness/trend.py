@@ -21,7 +21,7 @@ from plotly.subplots import make_subplots
 from vorobench.harness.changepoints import counter_steps, time_steps
 from vorobench.harness.html_page import escape, page
 from vorobench.harness.results import with_weights_in_dataset
-from vorobench.harness.timing_rule import noise_half_width
+from vorobench.harness.timing_rule import choose_measure, measured, noise_half_width
 from vorobench.judge.outcomes import Status, counter_columns
 
 __all__ = ["Run", "Series", "Machine", "ChangePoint", "load", "detect", "render",
@@ -90,6 +90,8 @@ class Machine:
     cpu: str
     runs: list[Run]
     series: list[Series]
+    #: what the times are: "cpu" (each build's own CPU time) or "wall"
+    measure: str = "wall"
 
 
 @dataclass
@@ -134,8 +136,10 @@ def _int_or_none(value) -> Optional[int]:
 
 
 def load(store, machine: Optional[str] = None, impls: Optional[list[str]] = None,
-         datasets: Optional[list[str]] = None) -> list[Machine]:
+         datasets: Optional[list[str]] = None, measure: str = "auto") -> list[Machine]:
     """The store's runs per machine fingerprint (prefix ``machine``), with a series per case.
+    ``measure``: what a build's time is, chosen per machine as compare chooses it
+    (:func:`vorobench.harness.timing_rule.choose_measure`).
 
     ValueError in one line when the store holds no run (of that machine) or the filters leave
     no result.
@@ -172,12 +176,14 @@ def load(store, machine: Optional[str] = None, impls: Optional[list[str]] = None
         _number_repeats(machine_runs)
         index = {r.run_id: i for i, r in enumerate(machine_runs)}
         mine = rows[rows["run_id"].astype(str).isin(index)]
+        column = choose_measure(measure, mine)
+        mine = measured(mine, column)
         series = _series_of(mine.assign(_run=mine["run_id"].astype(str).map(index)), len(machine_runs), counters)
         if not series:                  # the filters leave nothing of this machine
             continue
         first = group.iloc[0]
         machines.append(Machine(str(key), _text(first["hostname"]) or "-", _text(first["cpu"]) or "-",
-                                machine_runs, series))
+                                machine_runs, series, "cpu" if column == "cpu_s" else "wall"))
     return machines
 
 
