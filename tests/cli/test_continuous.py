@@ -61,17 +61,37 @@ def plugin_repo(tmp_path_factory) -> tuple[Path, str, str]:
 
 
 BENCH = ["--plugin", "plug", "--impls", "plug", "--sizes", "20,40", "--repeat", "5", "--min-time", "0",
-         "--no-check", "--quiet"]
+         "--no-check", "--quiet", "--rounds", "2"]
 
 
 def test_a_slower_revision_is_flagged_and_both_runs_are_filed(plugin_repo, tmp_path, capsys):
+    """...and the revisions ran in interleaved rounds, A, B, A, B, each round a process of its
+    own with its share of the repeats; each revision's rounds were merged into one results
+    file, repeats numbered on, one run id, the machine's load around each round in the metadata."""
+    import pandas as pd
+
+    from vorobench.harness.results import read_metadata
+
     repo, fast, slow = plugin_repo
     store = tmp_path / "store"
     junit = tmp_path / "junit.xml"
+    keep = tmp_path / "kept"
     code = main(["continuous", fast, "HEAD", "--repo", str(repo), *BENCH, "--store", str(store),
-                 "--junit", str(junit), "--json", str(tmp_path / "c.json")])
-    out = capsys.readouterr().out
+                 "--junit", str(junit), "--json", str(tmp_path / "c.json"), "--results-dir", str(keep)])
+    captured = capsys.readouterr()
+    out = captured.out
     assert code == 1, out
+    order = [line.split(", ")[1].split(":")[0] for line in captured.err.splitlines() if line.startswith("round ")]
+    assert order == [fast, "HEAD", fast, "HEAD"], captured.err
+    merged = sorted(keep.glob("a-*.csv"))
+    assert [p.name for p in merged] == [f"a-{fast[:10]}.csv"]           # the rounds' parts are merged away
+    df = pd.read_csv(merged[0])
+    assert df["run_id"].nunique() == 1 and sorted(set(df["round"])) == [1, 2]
+    for _, case in df.groupby(["impl", "dataset", "n", "seed"]):
+        assert sorted(case["repeat"]) == list(range(6))                # 3 + 3, numbered on
+    [run] = read_metadata(merged[0])["runs"]
+    assert run["interleaved"] and [r["round"] for r in run["rounds"]] == [1, 2]
+    assert all("load1" in r["before"] and "load1" in r["after"] for r in run["rounds"])
     cases = json.loads((tmp_path / "c.json").read_text())["cases"]
     assert [c["counters"] for c in cases] == [{"sleeps": [2, 4]}] * 2 and all(c["flagged"] for c in cases)
     assert junit.read_text().count("<failure") >= 2          # both cases failed the comparison
@@ -124,32 +144,6 @@ def test_bench_options_are_passed_on_with_the_callers_paths_made_absolute(tmp_pa
     bench_cmd.add_arguments(bench)
     again = bench.parse_args(words)
     assert again.impls == ["fortune", "qhull"] and again.sizes == [1000, 10000] and again.no_check
-
-
-def test_the_revisions_run_in_interleaved_rounds_and_each_is_merged(plugin_repo, tmp_path, capsys):
-    """A, B, A, B: each round a process of its own with its share of the repeats; each
-    revision's rounds merged into one results file, repeats numbered on, one run id, the
-    machine's load around each round in the metadata."""
-    import pandas as pd
-
-    from vorobench.harness.results import read_metadata
-
-    repo, fast, slow = plugin_repo
-    keep = tmp_path / "kept"
-    code = main(["continuous", fast, slow, "--repo", str(repo), *BENCH, "--rounds", "2", "--results-dir", str(keep)])
-    err = capsys.readouterr().err
-    order = [line.split(", ")[1].split(":")[0] for line in err.splitlines() if line.startswith("round ")]
-    assert order == [fast, slow, fast, slow], err
-    assert code == 1
-    merged = sorted(keep.glob("a-*.csv"))
-    assert [p.name for p in merged] == [f"a-{fast[:10]}.csv"]           # the rounds' parts are merged away
-    df = pd.read_csv(merged[0])
-    assert df["run_id"].nunique() == 1
-    for _, case in df.groupby(["impl", "dataset", "n", "seed"]):
-        assert sorted(case["repeat"]) == list(range(6))                # 3 + 3, numbered on
-    [run] = read_metadata(merged[0])["runs"]
-    assert run["interleaved"] and [r["round"] for r in run["rounds"]] == [1, 2]
-    assert all("load1" in r["before"] and "load1" in r["after"] for r in run["rounds"])
 
 
 def test_round_order_alternates():
