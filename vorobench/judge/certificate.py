@@ -69,6 +69,7 @@ from vorobench.core.predicates import orient2d
 from vorobench.core.scaling import comfortable_shift, scale_points, smallest_normal
 from vorobench.core.sorting import argsort_keys, sorted_unique
 from vorobench.core.predicates.degeneracy import lift_extent, orient2d_ulps
+from vorobench.core.predicates.expansion import EPSILON
 from vorobench.core.tolerances import (
     EQUIDISTANCE_REL_TOL,
     NEAR_DEGENERATE_REL_TOL,
@@ -275,9 +276,9 @@ def _usable(d: Diagram) -> Optional[str]:
 
 
 # ---------------------------------------------------------------------------------- checks
-#: A power (lifted coordinate) difference a floating-point library cannot resolve, per unit of
-#: the lifted coordinates' extent (``_Context.extents``).
-_LIFT_ROUNDINGS = NEAR_DEGENERATE_ULPS * np.finfo(np.float64).eps / 2
+#: The forgiven change of a number, per unit of its extent (``_Context.extents``): a
+#: coordinate per unit of the sites' extent, a power (lifted coordinate) per unit of the lifts'.
+_FORGIVEN = NEAR_DEGENERATE_ULPS * EPSILON
 
 
 def _ulps(x: float) -> str:
@@ -402,7 +403,7 @@ def _check_vertices(ctx: _Context) -> Check:
         # A floating-point library holds powers (lifted coordinates) to roundings of their
         # extent: a power difference within NEAR_DEGENERATE_ULPS of them, as a length at the
         # vertex's radius, is near-degenerate too.
-        tol_near = tol_near + _LIFT_ROUNDINGS * ctx.extents[1] / (2 * np.maximum(r_max, 1e-300))
+        tol_near = tol_near + _FORGIVEN * ctx.extents[1] / (2 * np.maximum(r_max, 1e-300))
         within = few.size == 0 and bool(((r_max - r_min <= tol_near) & (nearest >= r_min - tol_near)).all())
         if within:
             problems.append("all within the near-degenerate tolerance of the data scale")
@@ -627,7 +628,7 @@ def _check_hull(ctx: _Context) -> Check:
         return Check("hull", True, f"{int(hull.sum())} unbounded cells = {what}")
     # Near-degenerate: an interior site, or a hull site, that a move of NEAR_DEGENERATE_ULPS
     # roundings of the data puts on the hull boundary (the segment joining its hull neighbours).
-    limit = NEAR_DEGENERATE_ULPS * np.finfo(np.float64).eps / 2 * ctx.extents[0]
+    limit = _FORGIVEN * ctx.extents[0]
     within = True
     q0, q1 = ctx.sites[polygon], ctx.sites[np.roll(polygon, -1)]
     for chunk in np.array_split(extra, max(1, extra.size * polygon.size // 4_000_000)):
@@ -748,7 +749,7 @@ def _probes_near_degenerate(ctx: _Context, pts: NDArray[np.float64], near: NDArr
     coordinates of the smallest, and so is every cell that claims it: ties, as far as a
     floating-point library can tell. A probe whose cell is none of its first candidates' is
     asked again with up to ``_MAX_TIES`` of them, as the strict check does."""
-    limit = _LIFT_ROUNDINGS * ctx.extents[1]
+    limit = _FORGIVEN * ctx.extents[1]
     near_tie = (_power_gaps(ctx, pts, near) <= limit) | tie
     if (in_q & ~near_tie).any():
         return False
