@@ -1,4 +1,5 @@
-"""Registry of Voronoi implementations: own ones by name, outside ones by entry point.
+"""Registry of Voronoi implementations: own ones by name, outside ones by entry point,
+programs in any language by their TOML manifests (:mod:`impls.executable`).
 
 ``available()`` lists what can run here; ``build(name, points)`` prepares the points and
 returns the implementation's :class:`~vorobench.Diagram`. Third-party packages register an
@@ -71,9 +72,19 @@ def _resolve(target: str) -> object:
     return getattr(importlib.import_module(module), attribute)
 
 
+def _executables() -> dict[str, object]:
+    """Executable implementations found without a ``--plugin``: the shipped references whose
+    toolchain is here and the manifests of ``VOROBENCH_IMPLS_PATH`` (name -> manifest path)."""
+    from impls.executable import discovered
+
+    return discovered()
+
+
 def available() -> list[str]:
-    """Names of the implementations that can run here (built-in ones first, then plugins)."""
+    """Names of the implementations that can run here (built-in ones first, then the shipped
+    executable references, then plugins)."""
     names = [name for name, entry in _BUILTIN.items() if _runs_here(entry)]
+    names += [name for name in _executables() if name not in names]
     names += [name for name in _entry_point_impls() if name not in names]
     names += [name for name in _registered if name not in names]
     return names
@@ -118,6 +129,10 @@ def get(name: str) -> Implementation:
     impl: object = None
     if name in _BUILTIN and _runs_here(_BUILTIN[name]):
         impl = _resolve(_BUILTIN[name][0])
+    elif name in (executables := _executables()):
+        from impls.executable import implementation_of, read_manifest
+
+        impl = implementation_of(read_manifest(executables[name]))
     else:
         ep = _entry_point_impls().get(name)
         if ep is not None:

@@ -15,7 +15,7 @@ from vorobench.core.diagram import Diagram
 from vorobench.core.scaling import check_weight_range, exact_shift, scale_back_vertices, scale_points, scale_weights
 
 __all__ = ["Implementation", "KINDS", "BuildFunction", "WeightedBuildFunction", "UnsupportedInput", "InputMutated",
-           "BuildRaised", "CounterError", "record_timing"]
+           "BuildRaised", "CounterError", "record_timing", "record_process"]
 
 
 @runtime_checkable
@@ -56,7 +56,7 @@ class WeightedBuildFunction(Protocol):
 
 
 #: What an implementation may say it is (``Implementation.kind``).
-KINDS = ("own", "outside", "plugin")
+KINDS = ("own", "outside", "plugin", "executable")
 
 #: Where :func:`record_timing` adds seconds during a build (None: nobody asked for them).
 _PHASE_TIMES: ContextVar[Optional[dict]] = ContextVar("vorobench_phase_times", default=None)
@@ -70,13 +70,28 @@ def record_timing(phase: str, seconds: float) -> None:
         times[phase] = times.get(phase, 0.0) + float(seconds)
 
 
+#: Where :func:`record_process` puts the measures of a build's child process (None: not asked).
+_PROCESS: ContextVar[Optional[dict]] = ContextVar("vorobench_process", default=None)
+
+
+def record_process(wall_s: float, cpu_s: float, peak_rss_mb: float) -> None:
+    """The running build ran its construction in a child process (an executable): that
+    process's own wall time, CPU time and peak resident memory, which stand for the build's
+    (the harness's reading and assembling of its output is not the program's time)."""
+    measures = _PROCESS.get()
+    if measures is not None:
+        measures.update(wall_s=float(wall_s), cpu_s=float(cpu_s), peak_rss_mb=float(peak_rss_mb))
+
+
 @contextmanager
-def _collecting_times(times: Optional[dict]) -> Iterator[None]:
+def _collecting_times(times: Optional[dict], process: Optional[dict] = None) -> Iterator[None]:
     token = _PHASE_TIMES.set(times)
+    process_token = _PROCESS.set(process)
     try:
         yield
     finally:
         _PHASE_TIMES.reset(token)
+        _PROCESS.reset(process_token)
 
 
 class UnsupportedInput(ValueError):
@@ -98,7 +113,8 @@ class Implementation:
 
     ``exact``: every geometric decision is exact, so two exact implementations must agree
     exactly (not merely within tolerance). ``kind`` says where it comes from: ``"own"``
-    (written in this project), ``"outside"`` (an adapter to an outside library) or
+    (written in this project), ``"outside"`` (an adapter to an outside library),
+    ``"executable"`` (a program run through a TOML manifest: :mod:`impls.executable`) or
     ``"plugin"`` (anything registered from elsewhere, the default). ``warmup``: compiles JIT kernels so that timings
     exclude compile time. ``supports``: returns None if it can take the sites, else the
     reason it cannot (the runner then skips the case instead of failing it).
@@ -119,6 +135,8 @@ class Implementation:
     supports: Optional[Callable[[NDArray[np.float64]], Optional[str]]] = None
     kind: str = "plugin"
     build_weighted: Optional[WeightedBuildFunction] = None
+    #: How to read the version of the code behind it (None: its module's package version).
+    version: Optional[Callable[[], str]] = None
 
     @property
     def weighted(self) -> bool:
@@ -138,11 +156,13 @@ class Implementation:
 
     def run(self, sites: NDArray[np.float64], stats: Optional[dict] = None, *,
             timings: Optional[dict] = None, check_supports: bool = True,
-            weights: Optional[NDArray[np.float64]] = None, wrap_build_errors: bool = False) -> Diagram:
+            weights: Optional[NDArray[np.float64]] = None, wrap_build_errors: bool = False,
+            process: Optional[dict] = None) -> Diagram:
         """Build the diagram of prepared ``sites``.
 
         ``stats`` (a dict) receives the build's counters, ``timings`` the seconds of the parts
-        it timed (:func:`record_timing`). Raises :class:`UnsupportedInput` when ``supports``
+        it timed (:func:`record_timing`), ``process`` the measures of the child process an
+        executable ran (:func:`record_process`; left empty by a build in this process). Raises :class:`UnsupportedInput` when ``supports``
         refuses the sites, :class:`InputMutated` when the build changed its input, and
         :class:`CounterError` when it put anything but integers into ``stats``. The implementation gets a
         read-only copy, so ``sites`` itself is never touched; writing through that copy
@@ -189,7 +209,7 @@ class Implementation:
             reason = self.unsupported_reason(given)
             if reason:
                 raise UnsupportedInput(f"{self.name} does not support these sites: {reason}")
-        with _collecting_times(timings):
+        with _collecting_times(timings, process):
             try:
                 if weights is None:
                     diagram = self.build(given, stats)

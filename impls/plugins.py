@@ -1,6 +1,6 @@
 """Plugins given by the user on the command line (``--plugin``): a module name or a ``.py``
 file defining ``IMPLEMENTATIONS`` (a list of :class:`~impls.base.Implementation`) or
-``IMPLEMENTATION``, registered for the duration of a run (in the parent and in every worker).
+``IMPLEMENTATION``, or an executable's TOML manifest (:mod:`impls.executable`), registered for the duration of a run (in the parent and in every worker).
 Installed packages use the entry-point group ``vorobench.impls`` instead (see :mod:`impls`)."""
 
 from __future__ import annotations
@@ -25,8 +25,16 @@ def load_plugin(spec: str) -> list[str]:
 
     A plugin module defines ``IMPLEMENTATIONS`` (a list of :class:`impls.Implementation`) or
     ``IMPLEMENTATION``; nothing happens at its import time, the runner registers them here, in
-    the parent and in every worker. Returns the registered names.
+    the parent and in every worker. Returns the registered names. A ``.toml`` file is an
+    executable's manifest: read (no code runs) and registered as an implementation of kind
+    ``executable`` (:mod:`impls.executable`).
     """
+    if spec.endswith(".toml"):
+        from impls.executable import implementation_of, read_manifest
+
+        impl = implementation_of(read_manifest(spec))     # ManifestError (a ValueError) says what is wrong
+        register(impl)
+        return [impl.name]
     try:
         if spec.endswith(".py") or os.sep in spec:
             path = Path(spec).resolve()

@@ -210,6 +210,8 @@ def _failure(outcome, info: dict) -> str:
     info["error"] = wire.clean_text(outcome.message, 500)
     if outcome.kind == OutcomeKind.ERROR and outcome.message.startswith("InputMutated"):
         info["verdict"] = Verdict.MUTATED_INPUT
+    elif outcome.kind == OutcomeKind.ERROR and outcome.message.startswith("InvalidOutput"):
+        info["verdict"] = Verdict.INVALID_OUTPUT      # an executable's answer the protocol refuses
     return _STATUS_OF.get(outcome.kind, Status.CRASHED)
 
 

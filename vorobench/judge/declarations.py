@@ -42,8 +42,15 @@ class Declaration:
 
 
 def _module_version(impl: Any) -> str:
-    """The version of the package whose module defines ``impl``'s build ("" if it has none)."""
+    """The version ``impl`` reads of itself, else that of the package whose module defines its
+    build ("" if it has none)."""
     import sys
+
+    if getattr(impl, "version", None) is not None:
+        try:
+            return str(impl.version())[:200]
+        except Exception:  # noqa: BLE001 - a version that cannot be read is unknown, not a failure
+            return ""
 
     module = getattr(impl.build, "__module__", "") or ""
     top = module.split(".")[0]

@@ -37,6 +37,7 @@ from numpy.typing import ArrayLike
 import impls
 from impls import DEFAULT_REFERENCE
 from impls.base import BuildRaised, InputMutated
+from impls.executable.protocol import InvalidOutput
 from vorobench.core.diagram import Diagram
 from vorobench.core.prepare import prepare, prepare_weighted
 from vorobench.core.scaling import OutsideExactRange, exact_shift, scale_points
@@ -61,7 +62,7 @@ VERDICTS = tuple(v.value for v in Verdict
                  if v not in (Verdict.NO_REFERENCE, Verdict.SKIPPED, Verdict.CHECK_ERROR))
 
 #: Verdicts that say the implementation produced no diagram it may be judged on.
-FAILURES = (Verdict.NOT_CERTIFIED, Verdict.WRONG_SITES, Verdict.MUTATED_INPUT, Verdict.OOM, Verdict.TIMEOUT, Verdict.CRASHED)
+FAILURES = (Verdict.NOT_CERTIFIED, Verdict.WRONG_SITES, Verdict.INVALID_OUTPUT, Verdict.MUTATED_INPUT, Verdict.OOM, Verdict.TIMEOUT, Verdict.CRASHED)
 
 #: Verdicts that pass (``differs`` passes only when the reference is to blame: see ``passed``).
 PASSING = (Verdict.EXACT, Verdict.WITHIN_TOLERANCE, Verdict.CERTIFIED, Verdict.UNSUPPORTED)
@@ -160,7 +161,9 @@ def build_only(impl_name: str, sites: np.ndarray, weights: Optional[np.ndarray] 
             raise TypeError(f"build returned {type(result.diagram).__name__}, not a Diagram")
     except BuildRaised as exc:              # whatever the class, raised by the build: a crash
         cause = exc.__cause__ or exc
-        result.diagram, result.error, result.failure = None, safe_message(cause), Verdict.CRASHED
+        # An executable's answer that the protocol refuses (raised by vorobench's reader, not the program).
+        failure = Verdict.INVALID_OUTPUT if isinstance(cause, InvalidOutput) else Verdict.CRASHED
+        result.diagram, result.error, result.failure = None, safe_message(cause), failure
     except InputMutated as exc:
         result.diagram, result.error, result.failure = None, str(exc), Verdict.MUTATED_INPUT
     except OutsideExactRange as exc:        # the diagram's vertices have no float representation
@@ -254,7 +257,7 @@ def build_in_sandbox(impl_name: str, sites: np.ndarray, weights: Optional[np.nda
     return data, arrays
 
 
-_FAILURE_KINDS = (Verdict.CRASHED, Verdict.OOM, Verdict.MUTATED_INPUT)
+_FAILURE_KINDS = (Verdict.CRASHED, Verdict.OOM, Verdict.MUTATED_INPUT, Verdict.INVALID_OUTPUT)
 
 
 def _result_from_sandbox(impl_name: str, exact: bool, data: Any, arrays: dict) -> BuildResult:
@@ -386,6 +389,7 @@ def decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) -
         kind = res.failure or Verdict.CRASHED
         what = {Verdict.CRASHED: "crashed", Verdict.TIMEOUT: "timed out", Verdict.OOM: "ran out of memory",
                 Verdict.MUTATED_INPUT: "changed its input", Verdict.WRONG_SITES: "failed",
+                Verdict.INVALID_OUTPUT: "printed an answer the protocol refuses",
                 Verdict.NOT_CERTIFIED: "failed"}.get(kind, kind)
         return make(kind, False, f"{impl_name} {what}: {res.error}", "impl")
     standard = "exactly" if res.exact else "within tolerance (floating point)"

@@ -71,6 +71,7 @@ class Verdict(str, Enum):
     NOT_CERTIFIED = "not_certified"
     CHECK_ERROR = "check_error"
     WRONG_SITES = "wrong_sites"
+    INVALID_OUTPUT = "invalid_output"  # an executable printed what the protocol does not allow
     MUTATED_INPUT = "mutated_input"
     OOM = "oom"
     TIMEOUT = "timeout"
@@ -122,6 +123,7 @@ VERDICT_RANK: dict[str, Optional[int]] = {
     Verdict.NOT_CERTIFIED: 3,
     Verdict.CHECK_ERROR: 3,
     Verdict.WRONG_SITES: 3,
+    Verdict.INVALID_OUTPUT: 3,
     Verdict.MUTATED_INPUT: 4,
     Verdict.OOM: 4,
     Verdict.TIMEOUT: 4,

@@ -22,6 +22,7 @@ from typing import Callable, Iterator, Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from impls.executable import REFERENCES, manifest_named, program_input, rerun_command
 from vorobench.core.diagram import Diagram
 from vorobench.core.prepare import prepare
 from vorobench.judge.engine import CaseVerdict, Judge, agree_exactly, check_case, prepare_case
@@ -173,7 +174,7 @@ class Witness:
 def _plugin_word(spec: str) -> str:
     """A ``--plugin`` of the run as the witness's command names it: a file by its absolute path
     (the command may be run from anywhere), a module by its name."""
-    return str(Path(spec).resolve()) if spec.endswith(".py") or os.sep in spec else spec
+    return str(Path(spec).resolve()) if spec.endswith((".py", ".toml")) or os.sep in spec else spec
 
 
 def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[np.float64], *, reference: str,
@@ -193,14 +194,24 @@ def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[n
         verdict = _judge(impl, points, reference=reference, exact_peer=exact_peer, probes=probes, judge=judge,
                          weights=weights)
     names = impl if exact_peer is None else f"{exact_peer},{impl}"
-    plugins = "".join(f"--plugin {shlex.quote(_plugin_word(spec))} " for spec in (judge.plugins if judge else ()))
+    specs = list(judge.plugins if judge else ())
+    program = _program_of(impl, judge)
+    if program is not None and not program.path.is_relative_to(REFERENCES) and str(program.path) not in map(
+            _plugin_word, specs):
+        specs.append(str(program.path))     # found through VOROBENCH_IMPLS_PATH: the command names it
+    plugins = "".join(f"--plugin {shlex.quote(_plugin_word(spec))} " for spec in specs)
     command = (f"vorobench validate {plugins}--impls {shlex.quote(names)} --reference {shlex.quote(reference)} "
                f"--points {shlex.quote(str(npy))}")
     if weights is not None:             # the points alone would judge the ordinary diagram: name the weights too
         weights_path = directory / f"{name}.weights.npy"
         np.save(weights_path, np.asarray(weights, dtype=np.float64))
         command += f" --weights {shlex.quote(WEIGHTS_FILE_PREFIX + str(weights_path))}"
-    lines = [command, "", f"{points.shape[0]} points; verdict {verdict.verdict}: {verdict.message}"]
+    lines = [command]
+    if program is not None:             # the program alone, on exactly the bytes it was given
+        stdin = directory / f"{name}.stdin"
+        stdin.write_bytes(program_input(program, points, weights))
+        lines += ["", f"the program alone ({impl}, {program.input} input):", rerun_command(program, stdin)]
+    lines += ["", f"{points.shape[0]} points; verdict {verdict.verdict}: {verdict.message}"]
     shown: list = []
     for res in (verdict.result, verdict.reference_result):
         if res is not None and res.certificate is not None and all(res is not r for r in shown):
@@ -231,6 +242,14 @@ def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[n
     except Exception:  # nothing to draw (both crashed) or a drawing failure: the witness stands without it
         png = None
     return Witness(npy, txt, png, int(points.shape[0]), verdict)
+
+
+def _program_of(impl: str, judge: Optional[Judge]):
+    """The manifest of ``impl`` when the judge declared it an executable (else None)."""
+    declared = judge.declaration(impl) if judge is not None else None
+    if declared is None or declared.kind != "executable":
+        return None
+    return manifest_named(impl, declared.plugin)
 
 
 def _offending_half_edges(res) -> list[int]:

@@ -1,0 +1,237 @@
+"""Implementations in any language: a program behind a TOML manifest, run by the protocol.
+
+:func:`implementation_of` turns a :class:`~impls.executable.manifest.Manifest` into an
+:class:`~impls.base.Implementation` of kind ``executable``. Its build writes the prepared
+(scaled, distinct) sites to the program's stdin, reads its answer (bounded), and then, outside
+the program's measures, assembles the DCEL: triangles are dualised
+(:func:`vorobench.core.from_triangles.diagram_from_triangles`), Voronoi edges linked by the
+unoriented-ridge rule (:func:`vorobench.core.builder.assemble`). The program's own wall time,
+CPU time and peak memory stand for the build's (:func:`impls.base.record_process`); its
+``time`` line is the ``library`` phase, and the harness's encoding, reading and assembling the
+``protocol`` phase. The sandbox that runs all this holds no code of the program's: the program
+is its child process, and what crosses back to the judge is the assembled arrays, checked there.
+
+Manifests are found three ways: ``--plugin impl.toml`` (:mod:`impls.plugins`), the folders of
+``VOROBENCH_IMPLS_PATH``, and the references shipped under ``impls/references/`` (listed only
+where their toolchain is present).
+"""
+
+from __future__ import annotations
+
+import fcntl
+import os
+import subprocess
+import time
+from pathlib import Path
+from typing import Optional
+
+import numpy as np
+from numpy.typing import NDArray
+
+from impls.base import Implementation, record_process, record_timing
+from impls.executable.manifest import MANIFEST_NAME, Manifest, ManifestError, OutputKind, read_manifest
+from impls.executable.process import ProgramFailed, run_program
+from impls.executable.protocol import InvalidOutput, encode_sites, output_limit, parse_output
+from vorobench.core.diagram import Diagram
+
+__all__ = ["implementation_of", "ensure_setup", "discovered", "rerun_command", "manifest_named", "program_input", "Manifest", "ManifestError",
+           "InvalidOutput", "ProgramFailed", "read_manifest", "REFERENCES", "PATH_VARIABLE", "SetupFailed"]
+
+#: The shipped references: one folder each, holding ``impl.toml`` and the program's sources.
+REFERENCES = Path(__file__).resolve().parents[1] / "references"
+
+#: The environment variable naming folders of manifests (``os.pathsep``-separated).
+PATH_VARIABLE = "VOROBENCH_IMPLS_PATH"
+
+#: Seconds a ``version`` command may take.
+_VERSION_TIMEOUT = 20.0
+
+
+class SetupFailed(RuntimeError):
+    """The manifest's ``setup`` failed, or its ``requires`` are not met here."""
+
+
+def _manifests_in(folder: Path) -> list[Path]:
+    """``*.toml`` files in ``folder`` and ``*/impl.toml`` one level down, sorted."""
+    if not folder.is_dir():
+        return []
+    direct = sorted(p for p in folder.glob("*.toml") if p.is_file())
+    nested = sorted(p for p in folder.glob(f"*/{MANIFEST_NAME}") if p.is_file())
+    return direct + nested
+
+
+def discovered() -> dict[str, Path]:
+    """Executable implementations by name: the shipped references whose ``requires`` this
+    machine meets, then the manifests of ``VOROBENCH_IMPLS_PATH`` (listed even when they
+    cannot run here, so that using one says why). A manifest that does not read is left out
+    of the references and listed under its file's name otherwise."""
+    found: dict[str, Path] = {}
+    for path in _manifests_in(REFERENCES):
+        try:
+            manifest = read_manifest(path)
+        except ManifestError:
+            continue
+        if not manifest.missing():
+            found[manifest.name] = path
+    for folder in filter(None, os.environ.get(PATH_VARIABLE, "").split(os.pathsep)):
+        for path in _manifests_in(Path(folder)):
+            try:
+                found[read_manifest(path).name] = path
+            except ManifestError:
+                found.setdefault(path.parent.name if path.name == MANIFEST_NAME else path.stem, path)
+    return found
+
+
+def ensure_setup(manifest: Manifest) -> None:
+    """Run the manifest's ``setup`` once for this content of its folder (a stamp in its cache
+    folder; a lock keeps two sandboxes from running it at once); :class:`SetupFailed` with the
+    end of its output when it fails or when a ``requires`` entry is missing."""
+    missing = manifest.missing()
+    if missing:
+        raise SetupFailed(f"{manifest.name} needs {', '.join(missing)}, not found on this machine "
+                          f"(`python3 dev.py setup --references` installs the shipped references' toolchains)")
+    if not manifest.setup:
+        return
+    cache = manifest.cache()
+    stamp = cache / ".setup-done"
+    if stamp.exists():
+        return
+    cache.mkdir(parents=True, exist_ok=True)
+    with open(cache / ".lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if stamp.exists():           # another sandbox finished it while this one waited
+            return
+        started = time.monotonic()
+        done = subprocess.run(manifest.argv(manifest.setup, cache), cwd=manifest.folder, capture_output=True,
+                              env={**os.environ, "VOROBENCH_CACHE": str(cache)})
+        if done.returncode != 0:
+            tail = (done.stderr or done.stdout).decode("utf-8", "replace").strip().splitlines()[-5:]
+            raise SetupFailed(f"setup of {manifest.name} ({' '.join(manifest.setup)}) failed with status "
+                              f"{done.returncode}: {' | '.join(tail)[:600]}")
+        stamp.write_text(f"{time.monotonic() - started:.1f} s\n")
+
+
+def _version(manifest: Manifest) -> str:
+    """What the manifest's ``version`` command prints (first line), run without setup."""
+    if not manifest.version or manifest.missing():
+        return ""
+    try:
+        done = subprocess.run(manifest.argv(manifest.version), cwd=manifest.folder, capture_output=True,
+                              timeout=_VERSION_TIMEOUT)
+    except (OSError, subprocess.TimeoutExpired):
+        return ""
+    lines = done.stdout.decode("utf-8", "replace").strip().splitlines() if done.returncode == 0 else []
+    return lines[0].strip()[:200] if lines else ""
+
+
+def _assembled(manifest: Manifest, sites: NDArray[np.float64], weights: Optional[NDArray[np.float64]],
+               data: bytes) -> tuple[Diagram, Optional[float]]:
+    """The program's answer as a diagram of ``sites`` (and the seconds of its time line)."""
+    from vorobench.core.builder import assemble
+    from vorobench.core.errors import InvalidDiagramError
+    from vorobench.core.from_triangles import NotATriangulation, diagram_from_triangles
+
+    n = sites.shape[0]
+    answer = parse_output(data, manifest.output, n)
+    try:
+        if manifest.output == OutputKind.TRIANGLES:
+            diagram = diagram_from_triangles(sites, answer.triangles, weights)
+        elif n <= 1:
+            if answer.edge_sites.shape[0]:
+                raise InvalidOutput(f"edges for {n} site(s)")
+            diagram = Diagram.empty(sites, weights)
+        else:
+            diagram = assemble(sites, answer.vertices, answer.edge_sites, answer.edge_ends, oriented=False,
+                               weights=weights)
+    except (NotATriangulation, InvalidDiagramError, ValueError) as exc:
+        raise InvalidOutput(f"not a {'triangulation' if manifest.output == OutputKind.TRIANGLES else 'diagram'} "
+                            f"of the {n} sites: {exc}") from None
+    return diagram, answer.library_s
+
+
+class _Program:
+    """The build of one manifest (a class, not a closure: an implementation registered in a
+    test crosses to its sandbox by pickle)."""
+
+    def __init__(self, manifest: Manifest) -> None:
+        self.manifest = manifest
+
+    def __call__(self, sites: NDArray[np.float64], weights: Optional[NDArray[np.float64]],
+                 stats: Optional[dict]) -> Diagram:
+        manifest = self.manifest
+        ensure_setup(manifest)
+        t0 = time.perf_counter_ns()
+        stdin = encode_sites(sites, weights, manifest.input)
+        encoded = time.perf_counter_ns() - t0
+        run = run_program(manifest.argv(manifest.command), manifest.folder, stdin,
+                          output_limit(sites.shape[0], manifest.output))
+        del stdin
+        t1 = time.perf_counter_ns()
+        diagram, library_s = _assembled(manifest, sites, weights, run.stdout)
+        record_process(run.wall_s, run.cpu_s, run.peak_rss_mb)
+        record_timing("protocol", (encoded + time.perf_counter_ns() - t1) / 1e9)
+        if library_s is not None:
+            record_timing("library", library_s)
+        if stats is not None:
+            stats["output_bytes"] = len(run.stdout)
+        return diagram
+
+    def unweighted(self, sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
+        return self(sites, None, stats)
+
+    def weighted(self, sites: NDArray[np.float64], weights: NDArray[np.float64],
+                 stats: Optional[dict] = None) -> Diagram:
+        return self(sites, weights, stats)
+
+    def warmup(self) -> None:
+        ensure_setup(self.manifest)
+
+    def version(self) -> str:
+        return _version(self.manifest)
+
+
+def implementation_of(manifest: Manifest) -> Implementation:
+    """The :class:`Implementation` (kind ``executable``) that runs ``manifest``'s program."""
+    program = _Program(manifest)
+    return Implementation(
+        name=manifest.name,
+        description=manifest.description or f"the program {' '.join(manifest.command)} ({manifest.output})",
+        complexity=manifest.complexity, build=program.unweighted, exact=manifest.exact,
+        origin=manifest.origin or str(manifest.path), warmup=program.warmup, kind="executable",
+        build_weighted=program.weighted if manifest.weighted else None, version=program.version)
+
+
+def rerun_command(manifest: Manifest, input_file: Path) -> str:
+    """A shell command that runs the program on ``input_file`` (its stdin), from anywhere."""
+    import shlex
+
+    return f"cd {shlex.quote(str(manifest.folder))} && {shlex.join(manifest.argv(manifest.command))} < " \
+           f"{shlex.quote(str(input_file))}"
+
+
+def manifest_named(name: str, plugin: str = "") -> Optional[Manifest]:
+    """The manifest of executable ``name``: its ``--plugin`` file, else the one found among the
+    references and ``VOROBENCH_IMPLS_PATH`` (None if there is none, or it does not read)."""
+    path = Path(plugin) if plugin.endswith(".toml") else discovered().get(name)
+    try:
+        return read_manifest(path) if path is not None else None
+    except ManifestError:
+        return None
+
+
+def program_input(manifest: Manifest, points: NDArray[np.float64],
+                  weights: Optional[NDArray[np.float64]] = None) -> bytes:
+    """The stdin the program gets for ``points`` (and ``weights``): the prepared, distinct
+    sites, scaled into the exact range as every implementation gets them."""
+    from vorobench.core.prepare import prepare, prepare_weighted
+    from vorobench.core.scaling import exact_shift, scale_points, scale_weights
+
+    if weights is None:
+        sites, site_weights = prepare(points)[0], None
+    else:
+        sites, site_weights, _ = prepare_weighted(points, weights)
+    shift = exact_shift(sites)
+    if shift:
+        sites = scale_points(sites, shift)
+        site_weights = None if site_weights is None else scale_weights(site_weights, shift)
+    return encode_sites(sites, site_weights, manifest.input)

@@ -1,0 +1,203 @@
+"""An executable implementation's TOML manifest: read, checked field by field, nothing run.
+
+Reading a manifest runs no code (it is TOML), so the judge may read one; the program itself,
+its ``setup`` and its ``version`` command run only in a sandbox (:mod:`impls.executable`).
+vorobench adds three optional fields to the contract's: ``description``, ``origin`` and
+``requires`` (programs looked up on PATH, or absolute paths, that must exist for the
+implementation to be available here). ``{cache}`` (this manifest's cache folder) and
+``{python}`` (the interpreter running vorobench) may appear in ``command``, ``setup`` and
+``version``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import sys
+import tomllib
+from dataclasses import dataclass
+from enum import Enum
+from pathlib import Path
+from typing import Any, Optional
+
+__all__ = ["Manifest", "ManifestError", "OutputKind", "InputFormat", "read_manifest", "cache_root",
+           "MANIFEST_NAME"]
+
+#: The file name of a manifest inside an implementation's folder (shipped references, and the
+#: sub-folders of a ``VOROBENCH_IMPLS_PATH`` folder).
+MANIFEST_NAME = "impl.toml"
+
+
+class ManifestError(ValueError):
+    """A manifest that cannot be read or says something the protocol does not allow."""
+
+
+class OutputKind(str, Enum):
+    """What the program prints: triangles of a Delaunay or regular triangulation, or the
+    Voronoi (power) diagram's vertices and edges."""
+
+    TRIANGLES = "triangles"
+    VORONOI = "voronoi"
+
+    def __str__(self) -> str:
+        return self.value
+
+
+class InputFormat(str, Enum):
+    """How the sites reach the program's stdin."""
+
+    TEXT = "text"
+    BINARY = "binary"
+
+    def __str__(self) -> str:
+        return self.value
+
+
+_FIELDS = {"name", "command", "output", "exact", "complexity", "weights", "setup", "version", "input",
+           "description", "origin", "requires"}
+
+
+@dataclass(frozen=True)
+class Manifest:
+    """One executable implementation as its manifest declares it. ``folder``: where relative
+    paths resolve and ``setup`` runs."""
+
+    path: Path
+    name: str
+    command: tuple[str, ...]
+    output: OutputKind
+    exact: bool
+    complexity: str
+    weighted: bool = False
+    setup: tuple[str, ...] = ()
+    version: tuple[str, ...] = ()
+    input: InputFormat = InputFormat.TEXT
+    description: str = ""
+    origin: str = ""
+    requires: tuple[str, ...] = ()
+
+    @property
+    def folder(self) -> Path:
+        return self.path.parent
+
+    def missing(self) -> list[str]:
+        """The ``requires`` entries this machine lacks (empty: it can run here)."""
+        out = []
+        for item in self.requires:
+            if os.sep in item:
+                if not Path(item).exists():
+                    out.append(item)
+            elif shutil.which(item) is None:
+                out.append(item)
+        return out
+
+    def fingerprint(self) -> str:
+        """A hash of every file in the manifest's folder (names and contents): a changed source
+        is another build, so its ``setup`` runs again."""
+        digest = hashlib.sha256()
+        for file in sorted(p for p in self.folder.rglob("*") if p.is_file() and not _generated(p, self.folder)):
+            digest.update(str(file.relative_to(self.folder)).encode() + b"\0")
+            digest.update(hashlib.sha256(file.read_bytes()).digest())
+        return digest.hexdigest()[:16]
+
+    def cache(self) -> Path:
+        """This build's cache folder (not created here)."""
+        return cache_root() / "executables" / f"{_safe(self.name)}-{self.fingerprint()}"
+
+    def argv(self, words: tuple[str, ...], cache: Optional[Path] = None) -> list[str]:
+        """``words`` with the placeholders filled in and a relative program path (``./x``,
+        ``bin/x``) resolved against the manifest's folder."""
+        cache = cache or self.cache()
+        out = [w.replace("{cache}", str(cache)).replace("{python}", sys.executable) for w in words]
+        if out and not os.path.isabs(out[0]) and os.sep in out[0]:
+            out[0] = str((self.folder / out[0]).resolve())
+        return out
+
+
+def _generated(path: Path, folder: Path) -> bool:
+    """Files that building or running leaves beside the sources (not part of the fingerprint)."""
+    parts = path.relative_to(folder).parts
+    return any(p in {"__pycache__", "node_modules", ".git"} for p in parts) or path.suffix in {".pyc", ".o"}
+
+
+def _safe(name: str) -> str:
+    return "".join(c if c.isalnum() or c in "-_." else "_" for c in name)[:60] or "impl"
+
+
+def cache_root() -> Path:
+    """``VOROBENCH_CACHE_DIR``, else ``$XDG_CACHE_HOME/vorobench``, else ``~/.cache/vorobench``."""
+    explicit = os.environ.get("VOROBENCH_CACHE_DIR")
+    if explicit:
+        return Path(explicit)
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "vorobench"
+
+
+def _argv(data: dict, key: str, where: str, required: bool = False) -> tuple[str, ...]:
+    value = data.get(key)
+    if value is None:
+        if required:
+            raise ManifestError(f"{where}: [implementation] needs {key!r} (an argv list, e.g. [\"./my_program\"])")
+        return ()
+    if isinstance(value, str):
+        raise ManifestError(f"{where}: {key!r} must be a list of words (argv), not the string {value!r}")
+    if not isinstance(value, list) or not value or not all(isinstance(w, str) and w for w in value):
+        raise ManifestError(f"{where}: {key!r} must be a non-empty list of non-empty strings")
+    return tuple(value)
+
+
+def _text(data: dict, key: str, where: str, default: Optional[str] = None) -> str:
+    value = data.get(key, default)
+    if not isinstance(value, str) or (default is None and not value.strip()):
+        raise ManifestError(f"{where}: [implementation] needs {key!r} as a string" if key not in data
+                            else f"{where}: {key!r} must be a string, not {value!r}")
+    return value
+
+
+def _choice(data: dict, key: str, enum: type[Enum], where: str, default: Optional[Enum] = None) -> Any:
+    value = data.get(key, default.value if default is not None else None)
+    try:
+        return enum(value)
+    except ValueError:
+        allowed = ", ".join(f'"{e.value}"' for e in enum)
+        raise ManifestError(f"{where}: {key!r} must be one of {allowed}, not {value!r}") from None
+
+
+def read_manifest(path: str | Path) -> Manifest:
+    """The manifest at ``path``; :class:`ManifestError` naming the file and the field at fault."""
+    path = Path(path).resolve()
+    where = str(path)
+    try:
+        document = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ManifestError(f"manifest not found: {path}") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ManifestError(f"{where}: cannot be read: {exc}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ManifestError(f"{where}: not valid TOML: {exc}") from None
+    data = document.get("implementation")
+    if not isinstance(data, dict):
+        raise ManifestError(f"{where}: needs an [implementation] table")
+    unknown = sorted(set(data) - _FIELDS)
+    if unknown:
+        raise ManifestError(f"{where}: unknown field {unknown[0]!r} in [implementation]; allowed: {', '.join(sorted(_FIELDS))}")
+    exact = data.get("exact")
+    if not isinstance(exact, bool):
+        raise ManifestError(f"{where}: [implementation] needs 'exact = true' or 'exact = false'")
+    weights = data.get("weights")
+    if weights not in (None, "power"):
+        raise ManifestError(f"{where}: 'weights' may only be \"power\" (it takes weighted sites), not {weights!r}")
+    requires = data.get("requires", [])
+    if not isinstance(requires, list) or not all(isinstance(r, str) and r for r in requires):
+        raise ManifestError(f"{where}: 'requires' must be a list of program names or absolute paths")
+    name = _text(data, "name", where)
+    if name != name.strip() or "," in name or any(c.isspace() for c in name):
+        raise ManifestError(f"{where}: the name {name!r} may not hold spaces or commas (it is used in --impls)")
+    return Manifest(path=path, name=name, command=_argv(data, "command", where, required=True),
+                    output=_choice(data, "output", OutputKind, where), exact=exact,
+                    complexity=_text(data, "complexity", where), weighted=weights == "power",
+                    setup=_argv(data, "setup", where), version=_argv(data, "version", where),
+                    input=_choice(data, "input", InputFormat, where, InputFormat.TEXT),
+                    description=_text(data, "description", where, ""), origin=_text(data, "origin", where, ""),
+                    requires=tuple(requires))

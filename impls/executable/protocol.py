@@ -1,0 +1,137 @@
+"""The executable protocol's bytes: the sites a program reads and the answer it prints.
+
+Input (stdin). Text: ``n`` (and ``weighted``) on the first line, then ``x y [w]`` per site in
+Python's ``repr`` (the shortest form that reads back to the same float64). Binary: an 8-byte
+little-endian n, a 1-byte weights flag, then the rows as little-endian float64.
+
+Output (stdout). ``triangles``: ``i j k`` lines. ``voronoi``: ``v x y`` lines, then
+``e i j a b`` lines (-1 = at infinity). Either may hold one ``time SECONDS`` line. An answer
+longer than what n sites allow (:func:`output_limit`) is refused before it is read to the end,
+so whatever a program prints, what the harness holds stays bounded.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import re
+import struct
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+from numpy.typing import NDArray
+
+from impls.executable.manifest import InputFormat, OutputKind
+
+__all__ = ["encode_sites", "output_limit", "parse_output", "ProgramOutput", "InvalidOutput"]
+
+
+class InvalidOutput(RuntimeError):
+    """What the program printed is not an answer the protocol allows (the verdict
+    ``invalid_output``)."""
+
+
+#: Longest line the limit allows for, by output kind: an ``i j k`` line of 20-digit indices,
+#: a ``v x y`` line of 24-character floats (or an ``e i j a b`` line), with room to spare.
+_LINE_BYTES = {OutputKind.TRIANGLES: 64, OutputKind.VORONOI: 96}
+
+
+def encode_sites(sites: NDArray[np.float64], weights: Optional[NDArray[np.float64]], fmt: InputFormat) -> bytes:
+    """The program's stdin for ``sites`` (and ``weights``, one per site, or None)."""
+    sites = np.ascontiguousarray(sites, dtype=np.float64).reshape(-1, 2)
+    n = sites.shape[0]
+    rows = sites if weights is None else np.column_stack([sites, np.asarray(weights, dtype=np.float64)])
+    if fmt == InputFormat.BINARY:
+        return struct.pack("<QB", n, weights is not None) + np.ascontiguousarray(rows, dtype="<f8").tobytes()
+    header = f"{n} weighted\n" if weights is not None else f"{n}\n"
+    words = list(map(float.__repr__, rows.reshape(-1).tolist()))      # repr: shortest round trip
+    columns = [words[k::rows.shape[1]] for k in range(rows.shape[1])]
+    body = "\n".join(map(" ".join, zip(*columns)))
+    return (header + body + ("\n" if n else "")).encode("ascii")
+
+
+def output_limit(n: int, kind: OutputKind) -> int:
+    """The most bytes an honest answer for ``n`` sites needs: 2n triangles, or 2n vertices and 3n
+    edges, in lines of generous length, and a time line."""
+    lines = 2 * n + 4 if kind == OutputKind.TRIANGLES else 5 * n + 8
+    return _LINE_BYTES[kind] * lines + 256
+
+
+@dataclass
+class ProgramOutput:
+    """A parsed answer: ``triangles`` (m, 3), or ``vertices`` (V, 2) with ``edge_sites`` and
+    ``edge_ends`` (E, 2) each; ``library_s``: the program's own time line, if any."""
+
+    triangles: Optional[NDArray[np.int64]] = None
+    vertices: Optional[NDArray[np.float64]] = None
+    edge_sites: Optional[NDArray[np.int64]] = None
+    edge_ends: Optional[NDArray[np.int64]] = None
+    library_s: Optional[float] = None
+
+
+_TIME_LINE = re.compile(rb"^[ \t]*time[ \t]+(\S+)[ \t]*$", re.MULTILINE)
+
+
+def _time_line(body: bytes) -> tuple[bytes, Optional[float]]:
+    """The body without its ``time`` line, and that line's seconds."""
+    found = _TIME_LINE.findall(body)
+    if not found:
+        return body, None
+    if len(found) > 1:
+        raise InvalidOutput(f"{len(found)} time lines; the protocol allows one")
+    try:
+        seconds = float(found[0])
+    except ValueError:
+        raise InvalidOutput(f"the time line's {found[0][:40]!r} is not a number of seconds") from None
+    if not math.isfinite(seconds) or seconds < 0:
+        raise InvalidOutput(f"the time line says {seconds!r} seconds")
+    return _TIME_LINE.sub(b"", body, count=1), seconds
+
+
+def _table(text: bytes, columns: int, dtype: type, what: str) -> np.ndarray:
+    """Whitespace-separated rows of ``columns`` numbers each."""
+    if not text.strip():
+        return np.empty((0, columns), dtype=dtype)
+    try:
+        table = np.loadtxt(io.BytesIO(text), dtype=dtype, ndmin=2, comments=None)
+    except ValueError as exc:
+        raise InvalidOutput(f"{what} do not parse: {str(exc)[:200]}") from None
+    if table.shape[1] != columns:
+        raise InvalidOutput(f"{what} have {table.shape[1]} numbers per line, not {columns}")
+    return table
+
+
+def _tagged(part: bytes, tag: bytes, what: str) -> bytes:
+    """The lines of ``part`` (each after a newline) without their ``tag``; every line must carry it."""
+    lines = part.count(b"\n")
+    tagged = part.count(b"\n" + tag + b" ")
+    if tagged != lines:
+        raise InvalidOutput(f"{lines - tagged} of the {lines} {what} lines do not start with {tag.decode()!r} "
+                            f"(vertex lines come first, then edge lines)")
+    return part.replace(b"\n" + tag + b" ", b"\n")
+
+
+def parse_output(data: bytes, kind: OutputKind, n: int) -> ProgramOutput:
+    """The answer in ``data`` for ``n`` sites; :class:`InvalidOutput` saying what is wrong."""
+    body = data.replace(b"\r\n", b"\n")
+    body, seconds = _time_line(body)
+    if kind == OutputKind.TRIANGLES:
+        triangles = _table(body, 3, np.int64, "triangle lines")
+        if triangles.size and (triangles.min() < 0 or triangles.max() >= n):
+            raise InvalidOutput(f"a triangle names a site outside 0..{n - 1}")
+        return ProgramOutput(triangles=triangles, library_s=seconds)
+    body = b"\n" + b"\n".join(line for line in body.strip().split(b"\n")) if body.strip() else b""
+    cut = body.find(b"\ne ")
+    vertex_part, edge_part = (body, b"") if cut < 0 else (body[:cut], body[cut:])
+    vertices = _table(_tagged(vertex_part, b"v", "vertex"), 2, np.float64, "vertex lines")
+    edges = _table(_tagged(edge_part, b"e", "edge"), 4, np.int64, "edge lines")
+    if not np.isfinite(vertices).all():
+        raise InvalidOutput(f"vertex {int(np.flatnonzero(~np.isfinite(vertices).all(axis=1))[0])} is not finite")
+    if edges.size:
+        if edges[:, :2].min() < 0 or edges[:, :2].max() >= n:
+            raise InvalidOutput(f"an edge names a site outside 0..{n - 1}")
+        if edges[:, 2:].min() < -1 or edges[:, 2:].max() >= vertices.shape[0]:
+            raise InvalidOutput(f"an edge names a vertex outside -1..{vertices.shape[0] - 1}")
+    return ProgramOutput(vertices=vertices, edge_sites=np.ascontiguousarray(edges[:, :2]),
+                         edge_ends=np.ascontiguousarray(edges[:, 2:]), library_s=seconds)
