@@ -93,9 +93,10 @@ class Manifest:
         return out
 
     def fingerprint(self) -> str:
-        """A hash of every file in the manifest's folder (names and contents): a changed source
-        is another build, so its ``setup`` runs again."""
-        digest = hashlib.sha256()
+        """A hash of the manifest's folder (its path, and every file's name and contents): a
+        changed source is another build, and so is the same source in another checkout (a
+        ``setup`` that builds in place must run there too), so ``setup`` runs again."""
+        digest = hashlib.sha256(str(self.folder).encode() + b"\0")
         for file in sorted(p for p in self.folder.rglob("*") if p.is_file() and not _generated(p, self.folder)):
             digest.update(str(file.relative_to(self.folder)).encode() + b"\0")
             digest.update(hashlib.sha256(file.read_bytes()).digest())

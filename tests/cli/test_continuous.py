@@ -154,3 +154,54 @@ def continuous_order(rounds):
     from vorobench.harness.continuous import round_order
 
     return round_order(rounds)
+
+
+EXECUTABLE = '''\
+"""A test program: scipy's Delaunay triangles, and a counter-like marker of its revision."""
+import sys
+from pathlib import Path
+
+import numpy as np
+from scipy.spatial import Delaunay
+
+assert Path("built").read_text() == "{revision}", "setup did not run in this worktree"
+lines = sys.stdin.read().split("\\n")
+n = int(lines[0])
+sites = np.array([[float(v) for v in line.split()] for line in lines[1:1 + n]])
+sys.stdout.write("".join(f"{{a}} {{b}} {{c}}\\n" for a, b, c in Delaunay(sites).simplices.tolist()))
+'''
+MANIFEST = '''\
+[implementation]
+name = "tri-exe"
+command = ["{python}", "prog.py"]
+output = "triangles"
+exact = false
+complexity = "O(n log n)"
+setup = ["{python}", "-c", "open('built', 'w').write(open('REVISION').read())"]
+'''
+
+
+def test_an_executable_plugin_repository_sets_up_and_runs_each_revision_in_its_worktree(tmp_path, capsys):
+    """Each revision's manifest and program run from its own worktree, after its own setup
+    (which builds in place: the program refuses to run without that revision's build)."""
+    import pandas as pd
+
+    repo = tmp_path / "exe-repo"
+    (repo / "tri").mkdir(parents=True)
+    _git(repo, "init", "-q")
+    for revision in ("one", "two"):
+        (repo / "tri" / "prog.py").write_text(EXECUTABLE.format(revision=revision))
+        (repo / "tri" / "REVISION").write_text(revision)
+        (repo / "tri" / "impl.toml").write_text(MANIFEST)
+        _git(repo, "add", ".")
+        _git(repo, "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", revision)
+    keep = tmp_path / "kept"
+    code = main(["continuous", "HEAD~1", "HEAD", "--repo", str(repo), "--plugin", str(repo / "tri" / "impl.toml"),
+                 "--impls", "tri-exe", "--sizes", "50", "--repeat", "1", "--min-time", "0", "--rounds", "1",
+                 "--quiet", "--results-dir", str(keep), "--threshold", "1000"])
+    assert code == 0, capsys.readouterr()
+    frames = [pd.read_csv(keep / f"{side}-{_git(repo, 'rev-parse', rev)[:10]}.csv")
+              for side, rev in (("a", "HEAD~1"), ("b", "HEAD"))]
+    for frame in frames:
+        assert set(frame.status) == {"ok"} and set(frame.verdict) <= {"exact", "within_tolerance"}
+    assert not (repo / "tri" / "built").exists()          # the repository's own checkout is left alone

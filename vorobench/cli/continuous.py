@@ -35,6 +35,7 @@ import math
 import sys
 import tempfile
 from pathlib import Path
+from typing import Optional
 
 from rich.console import Console
 
@@ -56,9 +57,11 @@ _OWN_OPTIONS = {"out", "resume", "overwrite", "repeat", "store"}
 _PATH_OPTIONS = {"store"}
 
 
-def bench_arguments(args: argparse.Namespace) -> list[str]:
+def bench_arguments(args: argparse.Namespace, repo: Optional[Path] = None) -> list[str]:
     """The bench options of ``args`` that differ from bench's defaults, as command-line words
-    (paths of the caller's made absolute), for a revision's own ``vorobench bench``."""
+    (paths of the caller's made absolute), for a revision's own ``vorobench bench``. A
+    ``--plugin`` file inside ``repo`` is named relative to it: each revision runs its own copy
+    (its worktree is the working directory), an executable's manifest and sources included."""
     parser = argparse.ArgumentParser(add_help=False)
     bench_cmd.add_arguments(parser)
     words: list[str] = []
@@ -74,7 +77,7 @@ def bench_arguments(args: argparse.Namespace) -> list[str]:
             words.append(flag)
         elif isinstance(action, argparse._AppendAction):
             for item in value:
-                words += [flag, _caller_path(str(item))]
+                words += [flag, _revision_path(str(item), repo) if dest == "plugin" else _caller_path(str(item))]
         elif isinstance(value, (list, tuple)):
             words += [flag, ",".join(_caller_path(str(v)) if str(v).startswith("file:") else str(v) for v in value)]
         elif dest in _PATH_OPTIONS:
@@ -90,6 +93,18 @@ def _caller_path(text: str) -> str:
     prefix = "file:" if text.startswith("file:") else ""
     path = Path(text[len(prefix):])
     return prefix + str(path.resolve()) if path.exists() else text
+
+
+def _revision_path(text: str, repo: Optional[Path]) -> str:
+    """A plugin file of the repository as a path relative to its root (the revision's copy in
+    its worktree); any other file made absolute, a module name left as it is."""
+    path = Path(text)
+    if repo is not None and path.exists():
+        try:
+            return str(path.resolve().relative_to(repo.resolve()))
+        except ValueError:
+            pass
+    return _caller_path(text)
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -117,7 +132,7 @@ def run(args: argparse.Namespace) -> int:
     console = Console(stderr=True)
     repo = repository_root(args.repo)
     a, b = resolve_revision(repo, args.rev_a), resolve_revision(repo, args.rev_b)
-    words = bench_arguments(args)
+    words = bench_arguments(args, repo)
     rounds = args.rounds
     per_round = max(1, math.ceil(args.repeat / rounds))
     env_dir = Path(args.env_dir).expanduser() if args.env_dir else Path.home() / ".cache" / "vorobench" / "envs"
