@@ -4,6 +4,10 @@
     python3 dev.py demo    # default benchmark + cross-validation, report under reports/
     python3 dev.py test    # the test suite (what CI runs)
     python3 dev.py bench   # pytest-benchmark suite (not part of the tests)
+    python3 dev.py setup [--references]
+                           # the venv only; --references also installs the toolchains of the
+                           # shipped executable references (apt-get as root: g++ libcgal-dev
+                           # qhull-bin nodejs npm) and builds them (CGAL compile, npm ci)
 
 Only python3 (3.11+) is assumed: the venv and every dependency are installed from
 pyproject.toml into ./.venv the first time, and again whenever pyproject.toml changes.
@@ -42,6 +46,36 @@ def ensure_venv() -> None:
     STAMP.write_text(wanted)
 
 
+#: What each shipped executable reference needs, and the Debian package that provides it.
+REFERENCE_TOOLS = {"g++": "g++", "/usr/include/CGAL/Delaunay_triangulation_2.h": "libcgal-dev",
+                   "qvoronoi": "qhull-bin", "node": "nodejs", "npm": "npm"}
+
+
+def _missing_tools() -> list[str]:
+    """The Debian packages of REFERENCE_TOOLS whose program or file is not here."""
+    import shutil
+
+    return [package for tool, package in REFERENCE_TOOLS.items()
+            if not (Path(tool).exists() if os.sep in tool else shutil.which(tool))]
+
+
+def install_references() -> int:
+    """Install the references' toolchains where this machine allows it (apt-get as root),
+    then build every reference whose toolchain is present; the others are said, not failed."""
+    missing = _missing_tools()
+    if missing:
+        command = ["apt-get", "install", "-y", "-q", "--no-install-recommends", *missing]
+        if hasattr(os, "geteuid") and os.geteuid() == 0 and Path("/usr/bin/apt-get").exists():
+            print(f"installing {' '.join(missing)} with apt-get", flush=True)
+            env = {**os.environ, "DEBIAN_FRONTEND": "noninteractive"}
+            if subprocess.call(["apt-get", "update", "-q"], env=env) != 0 or subprocess.call(command, env=env) != 0:
+                print("apt-get failed: the references whose toolchain is missing stay unavailable", flush=True)
+        else:
+            print(f"not root (or no apt-get): install {' '.join(missing)} yourself, e.g. "
+                  f"`sudo apt-get update && sudo {' '.join(command)}`", flush=True)
+    return run(["-c", "from impls.executable import build_references; raise SystemExit(build_references())"])
+
+
 def run(args: list[str]) -> int:
     return subprocess.call([str(PYTHON), *args], cwd=ROOT)
 
@@ -54,7 +88,7 @@ def main(argv: list[str]) -> int:
         return 0 if job == "help" else 2
     ensure_venv()
     if job == "setup":
-        return 0
+        return install_references() if "--references" in rest else 0
     if job == "test":
         return run(["-m", "pytest", *rest])
     if job == "bench":

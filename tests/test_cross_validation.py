@@ -25,7 +25,9 @@ from vorobench.judge.engine import Judge, agree_exactly, decide
 SIZES = (0, 1, 2, 3, 10, 100, 1000)
 SEEDS = (0, 1)
 PROBES = 4000
-IMPLS = impls.available()
+#: Programs behind manifests (the shipped references) have their own, smaller matrix:
+#: tests/impls/test_references.py (each build there is a process of its own).
+IMPLS = [name for name in impls.available() if impls.get(name).kind != "executable"]
 EXACT = [name for name in IMPLS if name != DEFAULT_REFERENCE and impls.get(name).exact]
 ANCHOR = EXACT[0] if EXACT else None
 #: Seconds one implementation may take on one case here (n <= 1000; warm-up has its own allowance).

@@ -19,10 +19,11 @@ from vorobench.judge.engine import Judge, agree_exactly, decide, prepare_case
 SIZES = (2, 3, 10, 120, 1000)
 SEED = 0
 PROBES = 2000
-WEIGHTED = impls.weighted()
+#: Executables (the shipped references) are judged in tests/impls/test_references.py.
+WEIGHTED = [name for name in impls.weighted() if impls.get(name).kind != "executable"]
 EXACT = [name for name in WEIGHTED if name != DEFAULT_REFERENCE and impls.get(name).exact]
 ANCHOR = EXACT[0] if EXACT else None
-UNWEIGHTED = [name for name in impls.available() if name not in WEIGHTED]
+UNWEIGHTED = [name for name in impls.available() if name not in impls.weighted() and impls.get(name).kind != "executable"]
 #: Inputs the floating-point reference cannot decide: integer weights (0 or 1) on sites 1e-9
 #: apart, where the lifted heights |p|^2 - w differ by 1e-18 against 1 and Qhull's doubles
 #: lose them (it is not certified there); and a grid perturbed by 1e-12 (``near_grid``), where

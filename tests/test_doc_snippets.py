@@ -47,3 +47,13 @@ def test_the_readme_scipy_snippet_at_a_million_points_prints_equal():
         exec(compile(block, "README.md", "exec"), {})
     head = out.getvalue().splitlines()[0]
     assert "EQUAL within tolerance" in head, out.getvalue()[:3000]
+
+
+@pytest.mark.parametrize("folder, language", [("c", "c"), ("js", "javascript")])
+def test_the_executables_page_shows_the_examples_as_they_are(folder, language):
+    """docs/executables.md's complete examples are the files the tests run (no drift)."""
+    page = (ROOT / "docs" / "executables.md").read_text()
+    example = ROOT / "examples" / "executable" / folder
+    source = next(p for p in example.iterdir() if p.suffix in (".c", ".mjs"))
+    for text, fence in ((example / "impl.toml").read_text(), "toml"), (source.read_text(), language):
+        assert f"```{fence}\n{text}```" in page, f"{example.name}: the page's {fence} block is not the file"

@@ -34,7 +34,8 @@ from impls.executable.process import ProgramFailed, run_program
 from impls.executable.protocol import InvalidOutput, encode_sites, output_limit, parse_output
 from vorobench.core.diagram import Diagram
 
-__all__ = ["implementation_of", "ensure_setup", "discovered", "rerun_command", "manifest_named", "program_input", "Manifest", "ManifestError",
+__all__ = ["implementation_of", "ensure_setup", "discovered", "rerun_command", "manifest_named", "program_input",
+           "build_references", "Manifest", "ManifestError",
            "InvalidOutput", "ProgramFailed", "read_manifest", "REFERENCES", "PATH_VARIABLE", "SetupFailed"]
 
 #: The shipped references: one folder each, holding ``impl.toml`` and the program's sources.
@@ -235,3 +236,26 @@ def program_input(manifest: Manifest, points: NDArray[np.float64],
         sites = scale_points(sites, shift)
         site_weights = None if site_weights is None else scale_weights(site_weights, shift)
     return encode_sites(sites, site_weights, manifest.input)
+
+
+def build_references() -> int:
+    """Run the setup of every shipped reference whose toolchain is here (say which are not):
+    what ``python3 dev.py setup --references`` does after installing the toolchains. 1 if a
+    setup failed."""
+    failed = 0
+    for path in _manifests_in(REFERENCES):
+        manifest = read_manifest(path)
+        missing = manifest.missing()
+        if missing:
+            print(f"{manifest.name}: not available here (needs {', '.join(missing)})", flush=True)
+            continue
+        started = time.monotonic()
+        print(f"{manifest.name}: setting up ...", end=" ", flush=True)
+        try:
+            ensure_setup(manifest)
+        except SetupFailed as exc:
+            failed = 1
+            print(f"failed: {exc}", flush=True)
+            continue
+        print(f"ready ({time.monotonic() - started:.0f} s; version {_version(manifest) or 'unknown'})", flush=True)
+    return failed

@@ -31,6 +31,8 @@ _CHUNK = 1 << 20
 class ProgramFailed(RuntimeError):
     """The program exited with a nonzero status or was killed by a signal."""
 
+    about_the_program = True
+
 
 @dataclass
 class ProgramRun:

@@ -31,6 +31,9 @@ class InvalidOutput(RuntimeError):
     """What the program printed is not an answer the protocol allows (the verdict
     ``invalid_output``)."""
 
+    #: Its message is about the program: where in vorobench it was noticed is no help.
+    about_the_program = True
+
 
 #: Longest line the limit allows for, by output kind: an ``i j k`` line of 20-digit indices,
 #: a ``v x y`` line of 24-character floats (or an ``e i j a b`` line), with room to spare.

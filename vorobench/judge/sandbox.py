@@ -67,6 +67,8 @@ def safe_message(exc: BaseException) -> str:
         text = str(exc)
     except BaseException:  # noqa: BLE001 - a message that cannot be printed is still a failure
         text = "<unprintable message>"
+    if getattr(exc, "about_the_program", False):   # an executable's failure: our file and line say nothing
+        return f"{type(exc).__name__}: {text}"[:600]
     try:
         origin = exc
         while origin.__cause__ is not None and origin.__cause__ is not origin:   # where it really began

@@ -1,0 +1,161 @@
+"""Programs in any language, judged like built-in implementations (``impls.executable``).
+
+The programs are small Python scripts in ``tests/support/executables`` (run with the
+interpreter running vorobench, ``{python}``): a correct one (scipy's Delaunay, and the regular
+triangulation as a lower hull for weights) and fault doubles that segfault, hang, exit 0
+without an answer, print prose, print the diagram of other sites, or print 10 GB. The C
+example of ``docs/executables.md`` is compiled and judged where a C compiler is present.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shlex
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import impls
+from impls.executable import implementation_of, read_manifest
+from impls.plugins import plugins_registered
+from vorobench.judge.engine import Judge
+
+ROOT = Path(__file__).resolve().parents[2]
+DOUBLES = ROOT / "tests" / "support" / "executables"
+C_EXAMPLE = ROOT / "examples" / "executable" / "c" / "impl.toml"
+JS_EXAMPLE = ROOT / "examples" / "executable" / "js" / "impl.toml"
+
+#: Each test program and the verdict it must get on 30 uniform sites.
+EXPECTED = {"scipy-delaunay": {"exact", "within_tolerance"}, "segfault": {"crashed"}, "hang": {"timeout"},
+            "silent": {"invalid_output"}, "garbage": {"invalid_output"}, "other-sites": {"not_certified"},
+            "flood": {"invalid_output"}}
+
+
+def _vorobench(args: list[str], env_extra: dict) -> tuple[int, float, str]:
+    """Run the CLI in a process of its own: (exit status, its peak resident MiB, output)."""
+    env = {**os.environ, **env_extra}
+    proc = subprocess.Popen([sys.executable, "-m", "vorobench", *args], cwd=ROOT, env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    out = proc.stdout.read().decode()
+    _, status, usage = os.wait4(proc.pid, 0)
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    return proc.returncode, usage.ru_maxrss / 1024, out
+
+
+@pytest.fixture(scope="module")
+def judged(tmp_path_factory):
+    """One validate run of every test program on 30 uniform sites; (summary, peak MiB, witnesses)."""
+    out = tmp_path_factory.mktemp("validate")
+    status, peak_mb, text = _vorobench(
+        ["validate", "--impls", ",".join(EXPECTED), "--datasets", "uniform", "--sizes", "30", "--timeout", "6",
+         "--no-shrink", "--out", str(out)], {"VOROBENCH_IMPLS_PATH": str(DOUBLES)})
+    assert status == 1, text                               # the doubles fail, and say so
+    return json.loads((out / "summary.json").read_text()), peak_mb, out / "witnesses"
+
+
+@pytest.mark.parametrize("name", EXPECTED)
+def test_each_program_gets_its_verdict(judged, name):
+    summary, _, _ = judged
+    rows = [r for r in summary["results"] if r["impl"] == name]
+    assert len(rows) == 1 and rows[0]["verdict"] in EXPECTED[name], rows
+
+
+def test_what_the_failures_say(judged):
+    message = {r["impl"]: r["message"] for r in judged[0]["results"]}
+    assert "SIGSEGV" in message["segfault"]
+    assert "no triangles for 30 sites" in message["silent"]
+    assert "'triangulation'" in message["garbage"]
+    assert "printed more than" in message["flood"]
+
+
+def test_a_10_gb_answer_leaves_the_judge_under_1_gb(judged):
+    assert judged[1] < 1024
+
+
+def test_executables_are_declared_as_such(judged):
+    declared = judged[0]["declarations"]["scipy-delaunay"]
+    assert declared["kind"] == "executable" and declared["weighted"] is True and declared["exact"] is False
+
+
+def test_a_witness_carries_the_command_that_reruns_the_program(judged):
+    witnesses = judged[2]
+    text = (witnesses / "garbage-uniform-n30-s0.txt").read_text()
+    assert f"--plugin {DOUBLES / 'garbage.toml'}" in text          # found through VOROBENCH_IMPLS_PATH
+    rerun = next(line for line in text.splitlines() if line.startswith("cd "))
+    done = subprocess.run(rerun, shell=True, capture_output=True, text=True, timeout=60)
+    assert done.stdout.startswith("triangulation complete")        # the program's answer, reproduced
+    assert (witnesses / "garbage-uniform-n30-s0.stdin").read_bytes().startswith(b"30\n")
+
+
+def test_a_power_diagram_program_is_judged_on_weighted_sites():
+    with plugins_registered([str(DOUBLES / "scipy-delaunay.toml")]), Judge(["scipy-delaunay"], "qhull") as judge:
+        sites = np.random.default_rng(3).random((60, 2))
+        weights = np.random.default_rng(4).random(60) * 0.01
+        case = judge.judge(sites, weights=weights)
+        row = next(v for name, v, _ in case.rows if name == "scipy-delaunay")
+        assert row.passed, row.message
+        assert row.result.diagram.hidden.size > 0                  # some sites are hidden, as in qhull's
+
+
+def test_bench_times_the_program_and_keeps_the_protocol_apart(tmp_path):
+    results = tmp_path / "results.csv"
+    status, _, text = _vorobench(["bench", "--plugin", str(DOUBLES / "scipy-delaunay.toml"), "--plugin",
+                                  str(DOUBLES / "garbage.toml"), "--impls", "scipy-delaunay,garbage",
+                                  "--datasets", "uniform", "--sizes", "200", "--repeat", "2", "--min-time", "0", "--out",
+                                  str(results)], {})
+    df = pd.read_csv(results)
+    ok = df[df.impl == "scipy-delaunay"]
+    assert len(ok) == 2 and (ok.status == "ok").all(), text
+    assert (ok.time_protocol_s > 0).all() and (ok.time_library_s > 0).all() and (ok.cpu_s > 0).all()
+    assert (ok.time_library_s < ok.time_s).all()                  # scipy's call is part of the process
+    assert (ok.peak_rss_mb > 10).all()                             # a Python process with numpy
+    bad = df[df.impl == "garbage"]
+    assert set(bad.verdict) == {"invalid_output"}, text
+
+
+#: The complete examples of docs/executables.md, each with the programs its toolchain needs.
+EXAMPLES = {"c-example": (C_EXAMPLE, ("cc",)), "js-example": (JS_EXAMPLE, ("node", "npm"))}
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_the_docs_examples_are_set_up_once_and_judged(tmp_path, name):
+    manifest, tools = EXAMPLES[name]
+    if any(shutil.which(tool) is None for tool in tools):
+        pytest.skip(f"{name} needs {', '.join(tools)}, not all here")
+    env = {"VOROBENCH_CACHE_DIR": str(tmp_path / "cache")}
+    status, _, text = _vorobench(["validate", "--plugin", str(manifest), "--impls", name, "--datasets",
+                                  "uniform,clusters,collinear", "--sizes", "2,10,100", "--out", str(tmp_path / "v")], env)
+    assert status == 0, text
+    summary = json.loads((tmp_path / "v" / "summary.json").read_text())
+    rows = [r for r in summary["results"] if r["impl"] == name]
+    assert len(rows) == 9 and all(r["verdict"] in ("exact", "within_tolerance") for r in rows), rows
+    built = list((tmp_path / "cache" / "executables").glob(f"{name}-*/.setup-done"))
+    assert len(built) == 1
+
+
+def test_a_setup_that_fails_is_the_implementations_failure_said_once(tmp_path):
+    (tmp_path / "impl.toml").write_text('[implementation]\nname = "broken-build"\ncommand = ["./nothing"]\n'
+                                        'output = "triangles"\nexact = true\ncomplexity = "O(n)"\n'
+                                        f'setup = [{json.dumps(sys.executable)}, "-c", "import sys; '
+                                        f'sys.exit(\'cannot compile: missing header\')"]\n')
+    impl = implementation_of(read_manifest(tmp_path / "impl.toml"))
+    with pytest.raises(RuntimeError, match="setup of broken-build .* failed with status 1: cannot compile"):
+        impl.warmup()
+    impls.unregister("broken-build")
+
+
+def test_rerun_command_quotes_its_paths(tmp_path):
+    from impls.executable import rerun_command
+
+    folder = tmp_path / "a folder"
+    folder.mkdir()
+    (folder / "impl.toml").write_text('[implementation]\nname = "q"\ncommand = ["./my prog", "-x"]\n'
+                                      'output = "voronoi"\nexact = false\ncomplexity = "O(n)"\n')
+    line = rerun_command(read_manifest(folder / "impl.toml"), tmp_path / "in put.txt")
+    assert shlex.split(line.split(" && ")[1])[:2] == [str(folder / "my prog"), "-x"]
