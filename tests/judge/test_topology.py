@@ -264,3 +264,16 @@ def test_a_wrong_way_edge_is_near_degenerate_by_roundings_not_by_its_length():
     edges = cert.check("edges")
     assert not edges.ok and edges.within_tolerance, edges.detail
     assert cert.ok_within_tolerance, str(cert)
+
+
+@pytest.mark.parametrize("lift, level", [(0.0, "certified"), (2.0 ** -50, "certified_within_tolerance"),
+                                         (1e-9, "not_certified")])
+def test_parallel_lines_are_certified_only_for_collinear_sites(lift, level):
+    """d3-delaunay's finding (issue 24): three sites a little off one line drawn as the two
+    parallel bisectors of collinear sites. The vertex they lack is far away (at ~1/lift), so
+    no probe and no other check sees it: the exact check does (all sites on one line, or
+    within the near-degenerate allowance of it)."""
+    from vorobench.core.builder import collinear_diagram
+
+    sites = np.array([[0.0, 0.0], [1.0, lift], [2.0, 0.0]])
+    assert certify(collinear_diagram(sites)).level == level

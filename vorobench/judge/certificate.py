@@ -81,7 +81,7 @@ from vorobench.core.tolerances import (
 )
 from vorobench.judge.defaults import DEFAULT_PROBES
 from vorobench.judge.outcomes import CertificateLevel, Verdict
-from vorobench.judge.topology import judge_topology, wrongly_hidden
+from vorobench.judge.topology import collinear_ulps, judge_topology, wrongly_hidden
 
 __all__ = ["certify", "Certificate", "Check", "CHECKS"]
 
@@ -482,11 +482,22 @@ def _check_edges(ctx: _Context) -> Check:
 
 
 def _check_topology(ctx: _Context) -> Check:
-    """Exact: every vertex's sites cocircular, every finite edge locally Delaunay
-    (:mod:`vorobench.judge.topology`)."""
-    if ctx.H == 0 or ctx.V == 0:
-        return Check("topology", True, "no finite vertex")
+    """Exact: every vertex's sites cocircular, every finite edge locally Delaunay, a whole line
+    only between sites that are all collinear (:mod:`vorobench.judge.topology`)."""
     e = np.flatnonzero(np.arange(ctx.H) < ctx.twin)
+    lines = e[(ctx.origin[e] < 0) & (ctx.dest[e] < 0)]
+    if lines.size:
+        # A line with no vertex on it separates two cells only when all sites are on one line.
+        off = collinear_ulps(ctx.sites, ctx.site[lines[0]], ctx.site[ctx.twin[lines[0]]], ctx.extents[0])
+        if off > 0:
+            return Check("topology", False, f"{lines.size} edges are whole lines (no vertex), but the sites are not "
+                         f"all collinear (the farthest is {_ulps(off)} of the data off the line of sites "
+                         f"{int(ctx.site[lines[0]])} and {int(ctx.site[ctx.twin[lines[0]]])}; "
+                         f"{NEAR_DEGENERATE_ULPS:.0f} are forgiven a floating-point library)",
+                         _ids(lines), "half-edge", within_tolerance=bool(off <= NEAR_DEGENERATE_ULPS))
+    if ctx.H == 0 or ctx.V == 0:
+        return Check("topology", True, "no finite vertex" + (f"; {lines.size} lines between collinear sites"
+                                                             if lines.size else ""))
     ptr, s = ctx.vertex_sites
     extent, lifted = ctx.extents
     found = judge_topology(ctx.sites, ctx.weights, ctx.weighted, ptr, s, ctx.site[e], ctx.site[ctx.twin[e]],

@@ -36,7 +36,7 @@ from vorobench.core.predicates import incircle, orient2d, power_test
 from vorobench.core.predicates.degeneracy import incircle_ulps, orient2d_ulps, power_test_ulps
 from vorobench.core.tolerances import NEAR_DEGENERATE_ULPS
 
-__all__ = ["topology_violations", "judge_topology", "wrongly_hidden"]
+__all__ = ["topology_violations", "judge_topology", "wrongly_hidden", "collinear_ulps"]
 
 #: Why a vertex fails: its sites are not exactly cocircular, or all on one line.
 NOT_COCIRCULAR = 1
@@ -69,6 +69,24 @@ def _lifted_ulps(sites, weights, weighted, extent, lift_extent, a, b, c, d):
 def _line_ulps(sites, extent, a, b, c):
     """How far a, b, c are from collinear, in roundings of the data."""
     return orient2d_ulps(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sites[c, 0], sites[c, 1], extent)
+
+
+@njit(cache=True)
+def _farthest_off_line(sites, extent, a, b):
+    """The largest distance from the line ab of any site, in roundings of the data (0: all on it)."""
+    worst = 0.0
+    for c in range(sites.shape[0]):
+        if c != a and c != b and orient2d(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1],
+                                          sites[c, 0], sites[c, 1]) != 0:
+            worst = max(worst, _line_ulps(sites, extent, a, b, c))
+    return worst
+
+
+def collinear_ulps(sites: NDArray[np.float64], a: int, b: int, extent: float) -> float:
+    """Exact: 0 when every site lies on the line through sites a and b, else how far the
+    farthest one is from it, in roundings of the data. An edge that is a whole line (both ends
+    at infinity) exists only between neighbours of sites that are all collinear."""
+    return float(_farthest_off_line(sites, float(extent), int(a), int(b)))
 
 
 @njit(cache=True)
