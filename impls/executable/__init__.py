@@ -19,7 +19,9 @@ where their toolchain is present).
 from __future__ import annotations
 
 import fcntl
+import json
 import os
+import shutil
 import subprocess
 import time
 from pathlib import Path
@@ -29,7 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from impls.base import Implementation, record_process, record_timing
-from impls.executable.manifest import MANIFEST_NAME, Manifest, ManifestError, OutputKind, read_manifest
+from impls.executable.manifest import MANIFEST_NAME, Manifest, ManifestError, OutputKind, file_digest, read_manifest
 from impls.executable.process import ProgramFailed, run_program
 from impls.executable.protocol import InvalidOutput, encode_sites, output_limit, parse_output
 from vorobench.core.diagram import Diagram
@@ -79,37 +81,100 @@ def discovered() -> dict[str, Path]:
             try:
                 found[read_manifest(path).name] = path
             except ManifestError:
-                found.setdefault(path.parent.name if path.name == MANIFEST_NAME else path.stem, path)
+                # A manifest with a mistake is listed (using it says what is wrong); another TOML
+                # file that happens to lie there (a pyproject.toml) is not one.
+                try:
+                    meant = "[implementation]" in path.read_text(encoding="utf-8", errors="replace")
+                except OSError:
+                    meant = False
+                if meant:
+                    found.setdefault(path.parent.name if path.name == MANIFEST_NAME else path.stem, path)
     return found
 
 
+#: Manifest folders whose setup this process has checked (a build then costs no second look).
+_READY: set[Path] = set()
+
+#: How much of a failed setup's output its error message quotes (the whole is in setup.log).
+_SETUP_TAIL = 4000
+
+
+def _unchanged(recorded: dict, manifest: Manifest) -> bool:
+    """Whether every source the setup was run on is still there, unchanged (files added since,
+    such as a build's outputs or a program's logs, do not count)."""
+    for relative, digest in recorded.items():
+        try:
+            if file_digest(manifest.folder / relative) != digest:
+                return False
+        except OSError:
+            return False
+    return True
+
+
+def _check_command(manifest: Manifest) -> None:
+    """The command's program exists and can run (said once, before any build, with a hint)."""
+    program = manifest.argv(manifest.command)[0]
+    if os.sep in program:
+        if not Path(program).is_file():
+            raise SetupFailed(f"{manifest.name}: its program {program} does not exist"
+                              + (" (setup ran: does it build there?)" if manifest.setup else ""))
+        if not os.access(program, os.X_OK):
+            raise SetupFailed(f"{manifest.name}: its program {program} is not executable (chmod +x, or run it "
+                              f"through its interpreter: command = [\"{{python}}\", ...])")
+    elif shutil.which(program) is None:
+        hint = (f"; the manifest's folder has a file {program}: write \"./{program}\" (a bare name is looked up "
+                f"on PATH)" if (manifest.folder / program).exists() else "")
+        raise SetupFailed(f"{manifest.name}: its program {program!r} is not on PATH{hint}")
+
+
 def ensure_setup(manifest: Manifest) -> None:
-    """Run the manifest's ``setup`` once for this content of its folder (a stamp in its cache
-    folder; a lock keeps two sandboxes from running it at once); :class:`SetupFailed` with the
-    end of its output when it fails or when a ``requires`` entry is missing."""
+    """Run the manifest's ``setup`` before the first use of its folder's sources: again when a
+    source it was run on changed, and from an empty cache folder (a setup killed half-way
+    leaves nothing behind). One lock per manifest folder keeps two sandboxes from running it at
+    once. Then check that the command's program can run. :class:`SetupFailed` says what failed
+    (the end of setup's output; the whole is in the cache folder's ``setup.log``)."""
     missing = manifest.missing()
     if missing:
         raise SetupFailed(f"{manifest.name} needs {', '.join(missing)}, not found on this machine "
                           f"(`python3 dev.py setup --references` installs the shipped references' toolchains)")
-    if not manifest.setup:
+    if manifest.folder in _READY:
         return
-    cache = manifest.cache()
-    stamp = cache / ".setup-done"
-    if stamp.exists():
-        return
-    cache.mkdir(parents=True, exist_ok=True)
-    with open(cache / ".lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        if stamp.exists():           # another sandbox finished it while this one waited
-            return
-        started = time.monotonic()
-        done = subprocess.run(manifest.argv(manifest.setup, cache), cwd=manifest.folder, capture_output=True,
-                              env={**os.environ, "VOROBENCH_CACHE": str(cache)})
-        if done.returncode != 0:
-            tail = (done.stderr or done.stdout).decode("utf-8", "replace").strip().splitlines()[-5:]
-            raise SetupFailed(f"setup of {manifest.name} ({' '.join(manifest.setup)}) failed with status "
-                              f"{done.returncode}: {' | '.join(tail)[:600]}")
-        stamp.write_text(f"{time.monotonic() - started:.1f} s\n")
+    if manifest.setup:
+        cache = manifest.cache()
+        locks = cache.parent / "locks"
+        locks.mkdir(parents=True, exist_ok=True)
+        with open(locks / f"{cache.name}.lock", "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            stamp = cache / ".setup.json"
+            try:
+                recorded = json.loads(stamp.read_text())["sources"]
+            except (OSError, ValueError, KeyError, TypeError):
+                recorded = None
+            if recorded is None or not _unchanged(recorded, manifest):
+                _run_setup(manifest, cache, stamp)
+    _check_command(manifest)
+    _READY.add(manifest.folder)
+
+
+def _run_setup(manifest: Manifest, cache: Path, stamp: Path) -> None:
+    """Empty the cache folder, run setup, record the sources it ran on (under the caller's lock)."""
+    if cache.exists():
+        shutil.rmtree(cache)
+    cache.mkdir(parents=True)
+    sources = manifest.sources()
+    argv = manifest.argv(manifest.setup, cache)
+    started = time.monotonic()
+    log_path = cache / "setup.log"
+    with open(log_path, "wb") as log:
+        status = subprocess.call(argv, cwd=manifest.folder, stdout=log, stderr=subprocess.STDOUT,
+                                 env={**os.environ, "VOROBENCH_CACHE": str(cache)})
+    if status != 0:
+        with open(log_path, "rb") as log:
+            log.seek(max(0, log_path.stat().st_size - _SETUP_TAIL))
+            tail = log.read().decode("utf-8", "replace").strip().splitlines()[-5:]
+        raise SetupFailed(f"setup of {manifest.name} ({' '.join(argv)}, in {manifest.folder}) failed with status "
+                          f"{status}: {' | '.join(tail)[:800]} (whole output: {log_path})")
+    stamp.write_text(json.dumps({"sources": sources, "seconds": round(time.monotonic() - started, 1)}))
 
 
 def _version(manifest: Manifest) -> str:
@@ -169,6 +234,9 @@ class _Program:
         del stdin
         t1 = time.perf_counter_ns()
         diagram, library_s = _assembled(manifest, sites, weights, run.stdout)
+        if library_s is not None and library_s > 1.05 * run.wall_s + 0.005:
+            raise InvalidOutput(f"its time line says {library_s:.6g} s, longer than its whole process "
+                                f"({run.wall_s:.6g} s)")
         record_process(run.wall_s, run.cpu_s, run.peak_rss_mb)
         record_timing("protocol", (encoded + time.perf_counter_ns() - t1) / 1e9)
         if library_s is not None:

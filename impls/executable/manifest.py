@@ -21,7 +21,7 @@ from enum import Enum
 from pathlib import Path
 from typing import Any, Optional
 
-__all__ = ["Manifest", "ManifestError", "OutputKind", "InputFormat", "read_manifest", "cache_root",
+__all__ = ["Manifest", "ManifestError", "OutputKind", "InputFormat", "read_manifest", "cache_root", "file_digest",
            "MANIFEST_NAME"]
 
 #: The file name of a manifest inside an implementation's folder (shipped references, and the
@@ -92,23 +92,31 @@ class Manifest:
                 out.append(item)
         return out
 
-    def fingerprint(self) -> str:
-        """A hash of the manifest's folder (its path, and every file's name and contents): a
-        changed source is another build, and so is the same source in another checkout (a
-        ``setup`` that builds in place must run there too), so ``setup`` runs again."""
-        digest = hashlib.sha256(str(self.folder).encode() + b"\0")
-        for file in sorted(p for p in self.folder.rglob("*") if p.is_file() and not _generated(p, self.folder)):
-            digest.update(str(file.relative_to(self.folder)).encode() + b"\0")
-            digest.update(hashlib.sha256(file.read_bytes()).digest())
-        return digest.hexdigest()[:16]
+    def sources(self) -> dict[str, str]:
+        """The files of the manifest's folder, by relative path, with a digest of each (contents
+        up to ``_HASHED_BYTES``, size and modification time beyond): what ``setup`` built from.
+        Folders that builds and tools fill (``.git``, ``node_modules``, ``build``, ...) are left out."""
+        out = {}
+        for file in sorted(self.folder.rglob("*")):
+            if _generated(file, self.folder):
+                continue
+            try:
+                if not file.is_file():
+                    continue
+                out[str(file.relative_to(self.folder))] = file_digest(file)
+            except OSError:             # removed while we looked (a build's temporary file)
+                continue
+        return out
 
     def cache(self) -> Path:
-        """This build's cache folder (not created here)."""
-        return cache_root() / "executables" / f"{_safe(self.name)}-{self.fingerprint()}"
+        """This implementation's cache folder (not created here): one per manifest folder, so
+        each checkout (a worktree of ``continuous``) has its own build."""
+        key = hashlib.sha256(str(self.folder).encode()).hexdigest()[:12]
+        return cache_root() / "executables" / f"{_safe(self.name)}-{key}"
 
     def argv(self, words: tuple[str, ...], cache: Optional[Path] = None) -> list[str]:
         """``words`` with the placeholders filled in and a relative program path (``./x``,
-        ``bin/x``) resolved against the manifest's folder."""
+        ``bin/x``) resolved against the manifest's folder; a bare name is looked up on PATH."""
         cache = cache or self.cache()
         out = [w.replace("{cache}", str(cache)).replace("{python}", sys.executable) for w in words]
         if out and not os.path.isabs(out[0]) and os.sep in out[0]:
@@ -116,10 +124,30 @@ class Manifest:
         return out
 
 
+#: Folders of a manifest's folder that hold what tools and builds make, not sources.
+_NOT_SOURCES = {"__pycache__", "node_modules", ".git", ".hg", ".svn", ".venv", "venv", "build", "dist", "target",
+                ".mypy_cache", ".pytest_cache"}
+#: Files larger than this are known by their size and modification time, not read.
+_HASHED_BYTES = 16 * 2 ** 20
+
+
 def _generated(path: Path, folder: Path) -> bool:
-    """Files that building or running leaves beside the sources (not part of the fingerprint)."""
+    """Whether ``path`` is something tools and builds leave beside the sources."""
     parts = path.relative_to(folder).parts
-    return any(p in {"__pycache__", "node_modules", ".git"} for p in parts) or path.suffix in {".pyc", ".o"}
+    return any(p in _NOT_SOURCES for p in parts[:-1]) or parts[-1] in _NOT_SOURCES \
+        or path.suffix in {".pyc", ".o", ".so", ".class"}
+
+
+def file_digest(file: Path) -> str:
+    """A file's contents hash, read in chunks (size and modification time for a large file)."""
+    info = file.stat()
+    if info.st_size > _HASHED_BYTES:
+        return f"size {info.st_size} mtime {info.st_mtime_ns}"
+    digest = hashlib.sha256()
+    with open(file, "rb") as handle:
+        for chunk in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(chunk)
+    return digest.hexdigest()
 
 
 def _safe(name: str) -> str:

@@ -73,11 +73,14 @@ class ProgramOutput:
     library_s: Optional[float] = None
 
 
-_TIME_LINE = re.compile(rb"^[ \t]*time[ \t]+(\S+)[ \t]*$", re.MULTILINE)
+_TIME_LINE = re.compile(rb"^[ \t]*time[ \t]+(\S+)[ \t]*(?:\n|$)", re.MULTILINE)
+_BLANK_LINES = re.compile(rb"^[ \t]*\n", re.MULTILINE)
+_VERTEX_TAG = re.compile(rb"^[ \t]*v[ \t]", re.MULTILINE)
+_EDGE_TAG = re.compile(rb"^[ \t]*e[ \t]", re.MULTILINE)
 
 
 def _time_line(body: bytes) -> tuple[bytes, Optional[float]]:
-    """The body without its ``time`` line, and that line's seconds."""
+    """The body without its ``time`` line (the whole line), and that line's seconds."""
     found = _TIME_LINE.findall(body)
     if not found:
         return body, None
@@ -90,6 +93,10 @@ def _time_line(body: bytes) -> tuple[bytes, Optional[float]]:
     if not math.isfinite(seconds) or seconds < 0:
         raise InvalidOutput(f"the time line says {seconds!r} seconds")
     return _TIME_LINE.sub(b"", body, count=1), seconds
+
+
+def _lines(body: bytes) -> int:
+    return body.count(b"\n") + (1 if body and not body.endswith(b"\n") else 0)
 
 
 def _table(text: bytes, columns: int, dtype: type, what: str) -> np.ndarray:
@@ -105,30 +112,39 @@ def _table(text: bytes, columns: int, dtype: type, what: str) -> np.ndarray:
     return table
 
 
-def _tagged(part: bytes, tag: bytes, what: str) -> bytes:
-    """The lines of ``part`` (each after a newline) without their ``tag``; every line must carry it."""
-    lines = part.count(b"\n")
-    tagged = part.count(b"\n" + tag + b" ")
+def _untagged(part: bytes, tag: re.Pattern, letter: str, what: str, most: int) -> bytes:
+    """The lines of ``part`` without their tag (``v`` or ``e`` and a blank); every line must
+    carry it, and there may be at most ``most`` of them."""
+    lines = _lines(part)
+    if lines > most:
+        raise InvalidOutput(f"{lines} {what} lines, more than the {most} that these sites can have")
+    stripped, tagged = tag.subn(b"", part)
     if tagged != lines:
-        raise InvalidOutput(f"{lines - tagged} of the {lines} {what} lines do not start with {tag.decode()!r} "
+        raise InvalidOutput(f"{lines - tagged} of the {lines} {what} lines do not start with {letter!r} "
                             f"(vertex lines come first, then edge lines)")
-    return part.replace(b"\n" + tag + b" ", b"\n")
+    return stripped
 
 
 def parse_output(data: bytes, kind: OutputKind, n: int) -> ProgramOutput:
-    """The answer in ``data`` for ``n`` sites; :class:`InvalidOutput` saying what is wrong."""
-    body = data.replace(b"\r\n", b"\n")
+    """The answer in ``data`` for ``n`` sites; :class:`InvalidOutput` saying what is wrong.
+    Blank lines are ignored; more lines than n sites can need are refused before any is parsed
+    (2n triangles; 2n vertices and 3n edges, the bounds of a planar diagram, and a margin)."""
+    body = _BLANK_LINES.sub(b"", data.replace(b"\r\n", b"\n"))
     body, seconds = _time_line(body)
     if kind == OutputKind.TRIANGLES:
+        most = 2 * n + 8
+        if _lines(body) > most:
+            raise InvalidOutput(f"{_lines(body)} triangle lines, more than the {most} that {n} sites can have")
         triangles = _table(body, 3, np.int64, "triangle lines")
         if triangles.size and (triangles.min() < 0 or triangles.max() >= n):
             raise InvalidOutput(f"a triangle names a site outside 0..{n - 1}")
         return ProgramOutput(triangles=triangles, library_s=seconds)
-    body = b"\n" + b"\n".join(line for line in body.strip().split(b"\n")) if body.strip() else b""
-    cut = body.find(b"\ne ")
-    vertex_part, edge_part = (body, b"") if cut < 0 else (body[:cut], body[cut:])
-    vertices = _table(_tagged(vertex_part, b"v", "vertex"), 2, np.float64, "vertex lines")
-    edges = _table(_tagged(edge_part, b"e", "edge"), 4, np.int64, "edge lines")
+    edge = _EDGE_TAG.search(body)
+    vertex_part, edge_part = (body, b"") if edge is None else (body[:edge.start()], body[edge.start():])
+    vertices = _table(_untagged(vertex_part, _VERTEX_TAG, "v", "vertex", 2 * n + 16), 2, np.float64,
+                      "vertex lines")
+    edges = _table(_untagged(edge_part, _EDGE_TAG, "e", "edge", 3 * n + 16), 4, np.int64, "edge lines")
+    del body, vertex_part, edge_part
     if not np.isfinite(vertices).all():
         raise InvalidOutput(f"vertex {int(np.flatnonzero(~np.isfinite(vertices).all(axis=1))[0])} is not finite")
     if edges.size:

@@ -181,11 +181,13 @@ setup = ["{python}", "-c", "open('built', 'w').write(open('REVISION').read())"]
 '''
 
 
-def test_an_executable_plugin_repository_sets_up_and_runs_each_revision_in_its_worktree(tmp_path, capsys):
+def test_an_executable_plugin_repository_sets_up_and_runs_each_revision_in_its_worktree(tmp_path, capsys,
+                                                                                      monkeypatch):
     """Each revision's manifest and program run from its own worktree, after its own setup
     (which builds in place: the program refuses to run without that revision's build)."""
     import pandas as pd
 
+    monkeypatch.setenv("VOROBENCH_CACHE_DIR", str(tmp_path / "cache"))
     repo = tmp_path / "exe-repo"
     (repo / "tri").mkdir(parents=True)
     _git(repo, "init", "-q")

@@ -44,6 +44,11 @@ def test_triangles_and_the_time_line_parse():
     assert parse_output(b"", OutputKind.TRIANGLES, 2).triangles.shape == (0, 3)
 
 
+def test_blank_lines_tabs_and_a_time_line_anywhere_are_allowed():
+    out = parse_output(b"v 0 0\n\ntime 2\nv\t1 1\n  \ne 0 1 0 1\n", OutputKind.VORONOI, 4)
+    assert out.vertices.shape == (2, 2) and out.edge_sites.tolist() == [[0, 1]] and out.library_s == 2.0
+
+
 def test_voronoi_output_parses_vertices_then_edges():
     out = parse_output(b"v 0.5 0.5\nv 1e300 -2\ne 0 1 0 -1\ne 1 2 -1 1\ntime 1e-3\n", OutputKind.VORONOI, 3)
     assert out.vertices.tolist() == [[0.5, 0.5], [1e300, -2.0]]
@@ -64,6 +69,9 @@ def test_voronoi_output_parses_vertices_then_edges():
     (b"v nan 0\n", OutputKind.VORONOI, "not finite"),
     (b"v 0 0\ne 0 9 0 -1\n", OutputKind.VORONOI, "site outside"),
     (b"v 0 0\ne 0 1 0 3\n", OutputKind.VORONOI, "vertex outside"),
+    (b"v 0 0\n" * 30, OutputKind.VORONOI, "30 vertex lines, more than the 24"),
+    (b"v 0 0\n" + b"e 0 1 0 -1\n" * 40, OutputKind.VORONOI, "40 edge lines, more than the 28"),
+    (b"0 1 2\n" * 20, OutputKind.TRIANGLES, "20 triangle lines, more than the 16"),
 ])
 def test_what_the_protocol_does_not_allow_is_said(data, kind, says):
     with pytest.raises(InvalidOutput, match=says):
@@ -107,12 +115,19 @@ def test_a_manifest_that_needs_what_is_not_here_says_so(tmp_path):
     assert m.missing() == ["no-such-program-xyz", "/no/such/file"]
 
 
-def test_the_cache_follows_the_sources(tmp_path):
+def test_each_manifest_folder_has_its_own_cache(tmp_path):
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    first, second = (_manifest(tmp_path / d, GOOD) for d in "ab")
+    assert first.cache() != second.cache() and first.cache().parent == second.cache().parent
+
+
+def test_sources_leave_out_what_builds_and_tools_make(tmp_path):
     m = _manifest(tmp_path, GOOD)
-    (tmp_path / "mine.c").write_text("int main(void) { return 0; }\n")
-    before = m.cache()
-    (tmp_path / "mine.c").write_text("int main(void) { return 1; }\n")
-    assert m.cache() != before and m.cache().parent == before.parent
+    for name in ("mine.c", "node_modules/x/index.js", ".git/HEAD", "build/mine.o", "lib/util.c"):
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text(name)
+    assert sorted(m.sources()) == ["impl.toml", "lib/util.c", "mine.c"]
 
 
 @pytest.mark.parametrize("change, says", [

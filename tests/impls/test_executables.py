@@ -34,7 +34,8 @@ JS_EXAMPLE = ROOT / "examples" / "executable" / "js" / "impl.toml"
 #: Each test program and the verdict it must get on 30 uniform sites.
 EXPECTED = {"scipy-delaunay": {"exact", "within_tolerance"}, "segfault": {"crashed"}, "hang": {"timeout"},
             "silent": {"invalid_output"}, "garbage": {"invalid_output"}, "other-sites": {"not_certified"},
-            "flood": {"invalid_output"}}
+            "flood": {"invalid_output"}, "hider": {"exact", "within_tolerance"},
+            "daemon": {"exact", "within_tolerance"}}
 
 
 def _vorobench(args: list[str], env_extra: dict) -> tuple[int, float, str]:
@@ -54,9 +55,18 @@ def judged(tmp_path_factory):
     out = tmp_path_factory.mktemp("validate")
     status, peak_mb, text = _vorobench(
         ["validate", "--impls", ",".join(EXPECTED), "--datasets", "uniform", "--sizes", "30", "--timeout", "6",
-         "--no-shrink", "--out", str(out)], {"VOROBENCH_IMPLS_PATH": str(DOUBLES)})
+         "--no-shrink", "--out", str(out)], {"VOROBENCH_IMPLS_PATH": str(DOUBLES),
+                                             "DAEMON_PID_FILE": str(out / "daemon.pid")})
     assert status == 1, text                               # the doubles fail, and say so
     return json.loads((out / "summary.json").read_text()), peak_mb, out / "witnesses"
+
+
+def test_a_daemon_the_program_leaves_behind_is_ended(judged):
+    from tests.support.processes import alive
+
+    pid_file = judged[2].parent / "daemon.pid"
+    assert pid_file.exists()                               # it did start one
+    assert not alive(int(pid_file.read_text()))
 
 
 @pytest.mark.parametrize("name", EXPECTED)
@@ -106,7 +116,8 @@ def test_a_power_diagram_program_is_judged_on_weighted_sites():
 def test_bench_times_the_program_and_keeps_the_protocol_apart(tmp_path):
     results = tmp_path / "results.csv"
     status, _, text = _vorobench(["bench", "--plugin", str(DOUBLES / "scipy-delaunay.toml"), "--plugin",
-                                  str(DOUBLES / "garbage.toml"), "--impls", "scipy-delaunay,garbage",
+                                  str(DOUBLES / "garbage.toml"), "--plugin", str(DOUBLES / "hider.toml"),
+                                  "--impls", "scipy-delaunay,garbage,hider",
                                   "--datasets", "uniform", "--sizes", "200", "--repeat", "2", "--min-time", "0", "--out",
                                   str(results)], {})
     df = pd.read_csv(results)
@@ -115,6 +126,8 @@ def test_bench_times_the_program_and_keeps_the_protocol_apart(tmp_path):
     assert (ok.time_protocol_s > 0).all() and (ok.time_library_s > 0).all() and (ok.cpu_s > 0).all()
     assert (ok.time_library_s < ok.time_s).all()                  # scipy's call is part of the process
     assert (ok.peak_rss_mb > 10).all()                             # a Python process with numpy
+    hidden = df[df.impl == "hider"]                               # its grandchild's CPU is its own
+    assert (hidden.cpu_s >= 0.4).all(), hidden[["time_s", "cpu_s"]]
     bad = df[df.impl == "garbage"]
     assert set(bad.verdict) == {"invalid_output"}, text
 
@@ -135,17 +148,76 @@ def test_the_docs_examples_are_set_up_once_and_judged(tmp_path, name):
     summary = json.loads((tmp_path / "v" / "summary.json").read_text())
     rows = [r for r in summary["results"] if r["impl"] == name]
     assert len(rows) == 9 and all(r["verdict"] in ("exact", "within_tolerance") for r in rows), rows
-    built = list((tmp_path / "cache" / "executables").glob(f"{name}-*/.setup-done"))
+    built = list((tmp_path / "cache" / "executables").glob(f"{name}-*/.setup.json"))
     assert len(built) == 1
 
 
-def test_a_setup_that_fails_is_the_implementations_failure_said_once(tmp_path):
+SETUP_COUNTER = """[implementation]
+name = "counted"
+command = ["{{python}}", "prog.py"]
+output = "triangles"
+exact = false
+complexity = "O(n)"
+setup = ["{{python}}", "-c", "open({count!r}, 'a').write('x'); open('built.txt', 'w').write('in place')"]
+"""
+
+
+def test_setup_runs_once_then_again_only_when_a_source_changes(tmp_path, monkeypatch):
+    """Files a setup or a run leaves in the folder (an in-place build, a log) are no reason to
+    set up again; a changed source is."""
+    import impls.executable as executable
+
+    monkeypatch.setenv("VOROBENCH_CACHE_DIR", str(tmp_path / "cache"))
+    folder, count = tmp_path / "prog", tmp_path / "count"
+    folder.mkdir()
+    (folder / "impl.toml").write_text(SETUP_COUNTER.format(count=str(count)))
+    (folder / "prog.py").write_text("print('v1')\n")
+    manifest = read_manifest(folder / "impl.toml")
+
+    def set_up() -> int:
+        executable._READY.discard(manifest.folder)          # as a new sandbox would
+        executable.ensure_setup(manifest)
+        return len(count.read_text())
+
+    assert set_up() == 1 and (folder / "built.txt").exists()
+    (folder / "run.log").write_text("a program's log")
+    assert set_up() == 1
+    (folder / "prog.py").write_text("print('v2')\n")
+    assert set_up() == 2
+
+
+def test_a_setup_killed_half_way_starts_again_from_an_empty_cache(tmp_path, monkeypatch):
+    import impls.executable as executable
+
+    monkeypatch.setenv("VOROBENCH_CACHE_DIR", str(tmp_path / "cache"))
+    (tmp_path / "impl.toml").write_text(SETUP_COUNTER.format(count=str(tmp_path / "count")).replace(
+        "open('built.txt', 'w').write('in place')", "import os; os.mkdir(os.environ['VOROBENCH_CACHE'] + '/out')"))
+    (tmp_path / "prog.py").write_text("")
+    manifest = read_manifest(tmp_path / "impl.toml")
+    (manifest.cache() / "out").mkdir(parents=True)          # what a killed setup left, without its stamp
+    executable.ensure_setup(manifest)                        # mkdir would fail on the leftover
+    assert (manifest.cache() / ".setup.json").exists()
+
+
+@pytest.mark.parametrize("command, says", [
+    ('["prog.py"]', 'write "./prog.py"'), ('["./prog.py"]', "not executable"),
+    ('["./missing"]', "does not exist"), ('["no-such-program-xyz"]', "not on PATH")])
+def test_a_command_that_cannot_run_is_said_before_any_build(tmp_path, command, says):
+    (tmp_path / "impl.toml").write_text(f'[implementation]\nname = "c"\ncommand = {command}\n'
+                                        'output = "triangles"\nexact = false\ncomplexity = "O(n)"\n')
+    (tmp_path / "prog.py").write_text("")
+    with pytest.raises(RuntimeError, match=says):
+        implementation_of(read_manifest(tmp_path / "impl.toml")).warmup()
+
+
+def test_a_setup_that_fails_is_the_implementations_failure_said_once(tmp_path, monkeypatch):
+    monkeypatch.setenv("VOROBENCH_CACHE_DIR", str(tmp_path / "cache"))
     (tmp_path / "impl.toml").write_text('[implementation]\nname = "broken-build"\ncommand = ["./nothing"]\n'
                                         'output = "triangles"\nexact = true\ncomplexity = "O(n)"\n'
                                         f'setup = [{json.dumps(sys.executable)}, "-c", "import sys; '
                                         f'sys.exit(\'cannot compile: missing header\')"]\n')
     impl = implementation_of(read_manifest(tmp_path / "impl.toml"))
-    with pytest.raises(RuntimeError, match="setup of broken-build .* failed with status 1: cannot compile"):
+    with pytest.raises(RuntimeError, match="setup of broken-build .* failed with status 1: cannot compile.*setup.log"):
         impl.warmup()
     impls.unregister("broken-build")
 

@@ -210,7 +210,8 @@ def build_parser() -> argparse.ArgumentParser:
                                    "decisions are exact, whether it takes weights, its declared complexity, where "
                                    "it comes from.")
     p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
-                   help="also list these implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
+                   help="also list these implementations: a module or .py file defining IMPLEMENTATIONS, "
+                        "or a program's manifest (impl.toml); repeatable")
     p.set_defaults(func=cmd_impls)
     sub.add_parser("datasets", help="list dataset families",
                    description="List the dataset families (random and degenerate) that --datasets and "
@@ -230,7 +231,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--memory-limit", type=non_negative_float, default=None, metavar="MB",
                    help="address space the build may add (MemoryError instead of the OOM killer)")
     p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
-                   help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
+                   help="extra implementations: a module or .py file defining IMPLEMENTATIONS, or a "
+                        "program's manifest (impl.toml; docs/executables.md); repeatable")
     p.set_defaults(func=cmd_build)
     for name, (module, help_text) in _EXTRA_COMMANDS.items():
         if importlib.util.find_spec(module) is None:

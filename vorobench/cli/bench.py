@@ -73,7 +73,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"reference implementation for the check (default {impls.DEFAULT_REFERENCE})")
     p.add_argument("--no-check", action="store_true", help="skip certification and comparison with the reference")
     p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
-                   help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
+                   help="extra implementations: a module or .py file defining IMPLEMENTATIONS, or a "
+                        "program's manifest (impl.toml; docs/executables.md); repeatable")
     p.add_argument("--start-method", choices=("forkserver", "spawn"), default=None,
                    help="how workers start: forked from a server with the libraries imported (default "
                         "where available), or a fresh interpreter per case (spawn, ~2 s slower per case)")

@@ -54,7 +54,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--timeout", type=cli_args.positive_float, default=60.0,
                    help="seconds per build and per check (default 60)")
     p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
-                   help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
+                   help="extra implementations: a module or .py file defining IMPLEMENTATIONS, or a "
+                        "program's manifest (impl.toml; docs/executables.md); repeatable")
     p.add_argument("--resume", action="store_true", help="continue an interrupted demo in the same folder")
     p.add_argument("--title", default=None, help="report title")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no line per case")

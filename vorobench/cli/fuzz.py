@@ -66,7 +66,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--executor", default="local", help="'local' (process pool here) or dask://HOST:PORT")
     p.add_argument("--workers", type=cli_args.positive_int, default=1, help="local worker processes (default 1)")
     p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
-                   help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
+                   help="extra implementations: a module or .py file defining IMPLEMENTATIONS, or a "
+                        "program's manifest (impl.toml; docs/executables.md); repeatable")
     p.add_argument("--no-shrink", action="store_true", help="save failing cases unshrunk")
     p.add_argument("--shrink-seconds", type=cli_args.non_negative_float, default=30.0,
                    help="most time to shrink one witness (default 30; a duration budget may leave less)")

@@ -75,7 +75,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--memory-limit", type=cli_args.positive_float, default=None, metavar="MB",
                    help="address space an implementation's worker may add (MemoryError instead of the OOM killer)")
     p.add_argument("--plugin", action="append", default=[], metavar="MODULE",
-                   help="import extra implementations (module or .py file defining IMPLEMENTATIONS); repeatable")
+                   help="extra implementations: a module or .py file defining IMPLEMENTATIONS, or a "
+                        "program's manifest (impl.toml; docs/executables.md); repeatable")
     p.add_argument("--junit", metavar="FILE", help="also write the verdicts as JUnit XML (one test case per row)")
     p.add_argument("--markdown", metavar="FILE",
                    help="also write a Markdown digest (for $GITHUB_STEP_SUMMARY or a pull-request comment)")

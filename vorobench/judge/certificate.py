@@ -386,7 +386,8 @@ def _check_vertices(ctx: _Context) -> Check:
         nearest[finite] = (radius + (smallest - p_max) / (2 * radius))[finite]
     else:
         nearest[finite] = ctx.query(ctx.xy[used[finite]])[0]
-    closer = ~(nearest >= r_min - tol)
+    with np.errstate(invalid="ignore"):         # inf - inf of a vertex out at infinity: a violation, said below
+        closer = ~(nearest >= r_min - tol)
     spread = (r_max - r_min) / np.maximum(r_max, 1e-300)
     problems = []
     if few.size:

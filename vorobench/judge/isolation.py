@@ -50,6 +50,10 @@ class Terminated(BaseException):
     """SIGTERM arrived: unwind like KeyboardInterrupt (exit status 143)."""
 
 
+#: Set in every sandbox process: code there owns the process and all its children.
+SANDBOX_VARIABLE = "VOROBENCH_SANDBOX"
+
+
 def enter_worker(expected_parent: Optional[int] = None) -> None:
     """Set up this process as an isolated worker: own process group, killed with its parent,
     the group killed with the worker, its parent or the harness.

@@ -109,6 +109,7 @@ def _serve(conn, parent: Optional[int], impl_blobs: dict, name: Optional[str], p
     isolation.enter_worker(parent)
     os.environ.clear()                      # forked from the fork server: take the judge's environment
     os.environ.update(environ)
+    os.environ[isolation.SANDBOX_VARIABLE] = "1"    # what runs here may end what it starts (impls.executable)
     signal.signal(signal.SIGINT, signal.SIG_IGN)          # Ctrl-C is the judge's to handle
 
     def send(kind: str, payload: Any = None, arrays: Optional[dict] = None) -> None:
