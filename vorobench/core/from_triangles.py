@@ -74,26 +74,50 @@ def _hull_cycles(tri, neighbours, n):
     return cycles
 
 
+@njit(cache=True)
+def _pair_edges(tri, n):
+    """Per corner k of each triangle, the triangle across the edge opposite it (-1 on the hull),
+    by the out-edges of each site (a site has few); (neighbours, -1) or (_, the first half-edge
+    3 t + k whose directed edge another triangle also holds)."""
+    m = tri.shape[0]
+    start = np.zeros(n + 1, dtype=np.int64)
+    for t in range(m):
+        for k in range(3):
+            start[tri[t, k] + 1] += 1
+    for v in range(n):
+        start[v + 1] += start[v]
+    fill = start[:-1].copy()
+    edge_of = np.empty(3 * m, dtype=np.int64)      # half-edges e = 3 t + k grouped by their tail site
+    for t in range(m):
+        for k in range(3):
+            a = tri[t, k]
+            edge_of[fill[a]] = 3 * t + k
+            fill[a] += 1
+    across = np.full((m, 3), -1, dtype=np.int64)
+    for t in range(m):
+        for k in range(3):
+            a, b = tri[t, k], tri[t, (k + 1) % 3]
+            for j in range(start[a], start[a + 1]):        # the same directed edge twice: overlap
+                f = edge_of[j]
+                if f != 3 * t + k and tri[f // 3, (f % 3 + 1) % 3] == b:
+                    return across, 3 * t + k
+            for j in range(start[b], start[b + 1]):        # its reverse b -> a, in the triangle across
+                f = edge_of[j]
+                if tri[f // 3, (f % 3 + 1) % 3] == a:
+                    across[t, (k + 2) % 3] = f // 3        # edge k -> k + 1 is opposite corner k + 2
+    return across, -1
+
+
 def _neighbours(tri: NDArray[np.int64], n: int) -> NDArray[np.int64]:
     """Per corner k of each (counter-clockwise) triangle, the triangle across the edge opposite
     it (-1 on the hull); raises when a directed edge belongs to two triangles (they overlap)."""
-    m = tri.shape[0]
-    tails = tri.reshape(-1)
-    heads = tri[:, [1, 2, 0]].reshape(-1)
-    keys = tails * np.int64(n) + heads                     # edge e = 3 t + k runs corner k -> k + 1
-    order = np.argsort(keys, kind="stable")
-    ordered = keys[order]
-    twice = np.flatnonzero(ordered[1:] == ordered[:-1])
-    if twice.size:
-        e = int(order[twice[0]])
-        raise NotATriangulation(f"triangles {e // 3} and {int(order[twice[0] + 1]) // 3} overlap: both hold the edge "
-                                f"{int(tails[e])} -> {int(heads[e])} with the same orientation")
-    reverse = heads * np.int64(n) + tails
-    at = np.minimum(np.searchsorted(ordered, reverse), ordered.size - 1)
-    found = ordered[at] == reverse
-    across = np.where(found, order[at] // 3, -1).reshape(m, 3)
-    # The edge k -> k + 1 is opposite corner k + 2.
-    return np.ascontiguousarray(across[:, [1, 2, 0]])
+    across, twice = _pair_edges(tri, n)
+    if twice >= 0:
+        t, k = divmod(int(twice), 3)
+        a, b = int(tri[t, k]), int(tri[t, (k + 1) % 3])
+        raise NotATriangulation(f"triangles overlap: triangle {t} and another both hold the edge {a} -> {b} with "
+                                f"the same orientation")
+    return across
 
 
 def diagram_from_triangles(sites: NDArray[np.float64], triangles: ArrayLike,
