@@ -32,7 +32,7 @@ C_EXAMPLE = ROOT / "examples" / "executable" / "c" / "impl.toml"
 JS_EXAMPLE = ROOT / "examples" / "executable" / "js" / "impl.toml"
 
 #: Each test program and the verdict it must get on 30 uniform sites.
-EXPECTED = {"scipy-delaunay": {"exact", "within_tolerance"}, "segfault": {"crashed"}, "hang": {"timeout"},
+EXPECTED = {"scipy-triangles": {"exact", "within_tolerance"}, "segfault": {"crashed"}, "hang": {"timeout"},
             "silent": {"invalid_output"}, "garbage": {"invalid_output"}, "other-sites": {"not_certified"},
             "flood": {"invalid_output"}, "hider": {"exact", "within_tolerance"},
             "daemon": {"exact", "within_tolerance"}}
@@ -89,7 +89,7 @@ def test_a_10_gb_answer_leaves_the_judge_under_1_gb(judged):
 
 
 def test_executables_are_declared_as_such(judged):
-    declared = judged[0]["declarations"]["scipy-delaunay"]
+    declared = judged[0]["declarations"]["scipy-triangles"]
     assert declared["kind"] == "executable" and declared["weighted"] is True and declared["exact"] is False
 
 
@@ -104,24 +104,24 @@ def test_a_witness_carries_the_command_that_reruns_the_program(judged):
 
 
 def test_a_power_diagram_program_is_judged_on_weighted_sites():
-    with plugins_registered([str(DOUBLES / "scipy-delaunay.toml")]), Judge(["scipy-delaunay"], "qhull") as judge:
+    with plugins_registered([str(DOUBLES / "scipy-triangles.toml")]), Judge(["scipy-triangles"], "qhull") as judge:
         sites = np.random.default_rng(3).random((60, 2))
         weights = np.random.default_rng(4).random(60) * 0.01
         case = judge.judge(sites, weights=weights)
-        row = next(v for name, v, _ in case.rows if name == "scipy-delaunay")
+        row = next(v for name, v, _ in case.rows if name == "scipy-triangles")
         assert row.passed, row.message
         assert row.result.diagram.hidden.size > 0                  # some sites are hidden, as in qhull's
 
 
 def test_bench_times_the_program_and_keeps_the_protocol_apart(tmp_path):
     results = tmp_path / "results.csv"
-    status, _, text = _vorobench(["bench", "--plugin", str(DOUBLES / "scipy-delaunay.toml"), "--plugin",
+    status, _, text = _vorobench(["bench", "--plugin", str(DOUBLES / "scipy-triangles.toml"), "--plugin",
                                   str(DOUBLES / "garbage.toml"), "--plugin", str(DOUBLES / "hider.toml"),
-                                  "--impls", "scipy-delaunay,garbage,hider",
+                                  "--impls", "scipy-triangles,garbage,hider",
                                   "--datasets", "uniform", "--sizes", "200", "--repeat", "2", "--min-time", "0", "--out",
                                   str(results)], {})
     df = pd.read_csv(results)
-    ok = df[df.impl == "scipy-delaunay"]
+    ok = df[df.impl == "scipy-triangles"]
     assert len(ok) == 2 and (ok.status == "ok").all(), text
     assert (ok.time_protocol_s > 0).all() and (ok.time_library_s > 0).all() and (ok.cpu_s > 0).all()
     assert (ok.time_library_s < ok.time_s).all()                  # scipy's call is part of the process
@@ -231,3 +231,12 @@ def test_rerun_command_quotes_its_paths(tmp_path):
                                       'output = "voronoi"\nexact = false\ncomplexity = "O(n)"\n')
     line = rerun_command(read_manifest(folder / "impl.toml"), tmp_path / "in put.txt")
     assert shlex.split(line.split(" && ")[1])[:2] == [str(folder / "my prog"), "-x"]
+
+
+def test_impls_lists_a_manifest_as_an_executable(capsys):
+    from vorobench.cli import main
+
+    assert main(["impls", "--plugin", str(DOUBLES / "garbage.toml")]) == 0
+    row = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("│ garbage "))
+    assert [cell.strip() for cell in row.split("│")[2:5]] == ["executable", "no", "no"]
+    assert "garbage" not in impls.available()                  # registered for that command only

@@ -62,14 +62,15 @@ def cmd_impls(args: argparse.Namespace) -> int:
     if "*" in failed:
         raise PluginError(failed["*"].split("\n")[0])
     table = Table(title="implementations")
-    for col in ("name", "exact", "weights", "complexity", "from", "description"):
+    for col in ("name", "kind", "exact", "weights", "complexity", "from", "description"):
         table.add_column(col)
     for name in available:
         d = declared.get(name)
         if d is None:        # an outside plugin that fails to load is listed, not fatal
-            table.add_row(escape(name), "?", "?", "?", "?", f"[red]failed to load: {escape(failed.get(name, ''))}[/red]")
+            table.add_row(escape(name), "?", "?", "?", "?", "?",
+                          f"[red]failed to load: {escape(failed.get(name, ''))}[/red]")
             continue
-        table.add_row(*(escape(clean_text(x, 200)) for x in (d.name, "yes" if d.exact else "no",
+        table.add_row(*(escape(clean_text(x, 200)) for x in (d.name, d.kind, "yes" if d.exact else "no",
                                                             "yes" if d.weighted else "no", d.complexity, d.origin,
                                                             d.description)))
     _console().print(table)
