@@ -48,7 +48,7 @@ VERDICT_COLOURS: dict[str, str] = {
     Verdict.NOT_CERTIFIED: "#D55E00",     # vermillion
     Verdict.CHECK_ERROR: "#F0E442",       # yellow
     Verdict.WRONG_SITES: "#CC79A7",       # reddish purple
-    Verdict.INVALID_OUTPUT: "#AA4499",    # purple (Tol)
+    Verdict.INVALID_OUTPUT: "#762A83",    # dark purple (ColorBrewer PRGn)
     Verdict.MUTATED_INPUT: "#882255",     # wine (Tol)
     Verdict.OOM: "#332288",               # indigo (Tol)
     Verdict.TIMEOUT: "#6F4E37",           # brown
