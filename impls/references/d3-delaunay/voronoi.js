@@ -7,9 +7,11 @@
 //                              (new Delaunay(coords) + .voronoi(bounds) only)
 //   node voronoi.js --version  prints the pinned d3-delaunay version (needs no setup)
 //
-// CACHE is the folder where setup.js ran `npm ci` (it holds node_modules/d3-delaunay). The
-// package's default export is dist/d3-delaunay.mjs, an ES module; it is loaded with a dynamic
-// import() of the file that the package's `exports` resolve to.
+// CACHE is the folder where ../node-common/setup.js ran `npm ci` (it holds
+// node_modules/d3-delaunay). The package's default export is dist/d3-delaunay.mjs, an ES
+// module; it is loaded with a dynamic import() of the file that the package's `exports`
+// resolve to. The command line, input parsing, output buffer and error handling are
+// ../node-common/protocol.js.
 //
 // Output, from d3's own arrays (nothing recomputed here):
 // * `v x y` for every triangle t: x = voronoi.circumcenters[2t], y = ...[2t + 1] (vertex id t);
@@ -38,97 +40,8 @@
 //   away, on the side away from the barycentre of the hull's sites ("at infinity"; if that
 //   side test gives 0 the vertex is the midpoint itself). We print that vertex as d3 has it.
 
-const fs = require('fs');
 const path = require('path');
-const { createRequire } = require('module');
-const { pathToFileURL } = require('url');
-
-const PACKAGE = 'd3-delaunay';
-
-function pinnedVersion() {
-  const pkg = JSON.parse(fs.readFileSync(path.join(__dirname, 'package.json'), 'utf8'));
-  return pkg.dependencies[PACKAGE];
-}
-
-async function loadModule(cache) {
-  const req = createRequire(path.join(path.resolve(cache), 'vorobench-resolve.js'));
-  const entry = req.resolve(PACKAGE);
-  return import(pathToFileURL(entry).href);
-}
-
-async function readStdin() {
-  const chunks = [];
-  for await (const chunk of process.stdin) chunks.push(chunk);
-  return Buffer.concat(chunks).toString('latin1');
-}
-
-// Parse `n [weighted]` then n lines `x y`; numbers are Python repr strings, which Number()
-// converts exactly (correctly rounded, hence round-trip exact).
-function parseInput(text) {
-  const len = text.length;
-  let pos = 0;
-  const lineEnd = text.indexOf('\n');
-  const header = (lineEnd < 0 ? text : text.slice(0, lineEnd)).trim().split(/\s+/);
-  if (header.length === 0 || header[0] === '') throw new Error('empty input');
-  const n = Number(header[0]);
-  if (!Number.isInteger(n) || n < 0) throw new Error(`bad site count: ${header[0]}`);
-  if (header.length > 1) {
-    if (header[1] === 'weighted') throw new Error('weighted sites are not supported by d3-delaunay');
-    throw new Error(`unexpected header: ${header.join(' ')}`);
-  }
-  pos = lineEnd < 0 ? len : lineEnd + 1;
-  const coords = new Float64Array(2 * n);
-  const want = 2 * n;
-  for (let k = 0; k < want; k++) {
-    while (pos < len && text.charCodeAt(pos) <= 32) pos++;
-    const start = pos;
-    while (pos < len && text.charCodeAt(pos) > 32) pos++;
-    if (start === pos) throw new Error(`expected ${want} coordinates, got ${k}`);
-    const v = Number(text.slice(start, pos));
-    if (!Number.isFinite(v)) throw new Error(`bad coordinate: ${text.slice(start, pos)}`);
-    coords[k] = v;
-  }
-  return { n, coords };
-}
-
-// Writes ASCII output into one growing Buffer, integers digit by digit.
-class Output {
-  constructor(capacity) {
-    this.buf = Buffer.allocUnsafe(Math.max(capacity, 256));
-    this.len = 0;
-  }
-  ensure(extra) {
-    if (this.len + extra <= this.buf.length) return;
-    const bigger = Buffer.allocUnsafe(Math.max(2 * this.buf.length, this.len + extra));
-    this.buf.copy(bigger, 0, 0, this.len);
-    this.buf = bigger;
-  }
-  int(v) { // needs ensure(12) beforehand
-    const buf = this.buf;
-    if (v < 0) {
-      buf[this.len++] = 45; // '-'
-      v = -v;
-    }
-    let digits = 1;
-    for (let p = 10; p <= v; p *= 10) digits++;
-    let end = this.len + digits;
-    this.len = end;
-    do {
-      buf[--end] = 48 + (v % 10);
-      v = Math.floor(v / 10);
-    } while (v > 0);
-  }
-  byte(c) {
-    this.buf[this.len++] = c;
-  }
-  text(s) {
-    this.ensure(s.length);
-    this.len += this.buf.write(s, this.len, 'latin1');
-  }
-  flush() {
-    process.stdout.write(this.buf.subarray(0, this.len));
-  }
-}
+const { Output, runProgram } = require(path.join(__dirname, '..', 'node-common', 'protocol.js'));
 
 function next(e) {
   return e % 3 === 2 ? e - 2 : e + 1;
@@ -146,18 +59,7 @@ function printChain(out, chain) {
   }
 }
 
-async function main() {
-  const args = process.argv.slice(2);
-  if (args[0] === '--version') {
-    process.stdout.write(pinnedVersion() + '\n');
-    return;
-  }
-  const cache = args[0] || process.env.VOROBENCH_CACHE;
-  if (!cache) throw new Error('usage: node voronoi.js CACHE_DIR < input');
-  const { Delaunay } = await loadModule(cache);
-
-  const { n, coords } = parseInput(await readStdin());
-
+runProgram('d3-delaunay', __filename, ({ Delaunay }, { n, coords }) => {
   // Bounds only matter to d3's clipping (cell polygons, rendering), which is not used here;
   // give it the sites' bounding box (the unit square when there are no sites).
   let xmin = Infinity, ymin = Infinity, xmax = -Infinity, ymax = -Infinity;
@@ -215,9 +117,4 @@ async function main() {
   }
   out.text(`time ${Number(t1 - t0) / 1e9}\n`);
   out.flush();
-}
-
-main().catch((err) => {
-  process.stderr.write(`d3-delaunay: ${err && err.stack ? err.stack : err}\n`);
-  process.exitCode = 1;
 });
