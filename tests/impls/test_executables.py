@@ -73,7 +73,7 @@ def judged(tmp_path_factory):
     """One validate run of every test program on 30 uniform sites; (summary, peak MiB, witnesses)."""
     out = tmp_path_factory.mktemp("validate")
     status, peak_mb, text = _vorobench(
-        ["validate", "--impls", ",".join(EXPECTED), "--datasets", "uniform", "--sizes", "30", "--timeout", "12",
+        ["validate", "--impls", ",".join(EXPECTED), "--datasets", "uniform", "--sizes", "30", "--timeout", "8",
          "--no-shrink", "--out", str(out)], {"VOROBENCH_IMPLS_PATH": str(DOUBLES),
                                              "DAEMON_PID_FILE": str(out / "daemon.pid")})
     assert status == 1, text                               # the doubles fail, and say so
