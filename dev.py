@@ -42,9 +42,7 @@ def ensure_venv() -> None:
     print("installing vorobench and its dependencies into .venv", flush=True)
     pip = [str(PYTHON), "-m", "pip", "--disable-pip-version-check"]
     subprocess.run(pip + ["install", "-q", "--upgrade", "pip"], check=True)
-    # --no-compile: Python writes the bytecode of what is imported when it is imported; compiling
-    # every module of every dependency up front costs a fresh machine tens of seconds.
-    subprocess.run(pip + ["install", "-q", "--no-compile", "-e", f".[{EXTRAS}]"], check=True, cwd=ROOT)
+    subprocess.run(pip + ["install", "-q", "-e", f".[{EXTRAS}]"], check=True, cwd=ROOT)
     STAMP.write_text(wanted)
 
 
