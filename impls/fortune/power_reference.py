@@ -1,0 +1,489 @@
+"""Fortune's sweep for power diagrams, in exact rational arithmetic: the specification.
+
+The weighted sweep of ``docs/power.md`` ("The sweep for weighted sites"), written to be read
+and checked rather than to be fast: every quantity is a :class:`~fractions.Fraction` or
+``a + b sqrt(H)`` with rational a, b, H, so every decision is exact with no filter to
+analyse. It is the oracle for the compiled sweep and the place where the event rules are
+stated once.
+
+Shift the weights so the largest is 0: site i gets s_i = max(w) - w_i >= 0 and the lifted
+power l_i(x) = |x - p_i|^2 + s_i (the power plus a constant: the same diagram). A point x at
+height Y is reached at time T_i(x) = Y + sqrt(l_i(x)); the level curve T_i = t is a parabola
+opening downwards (the *wavefront* of i), and the beach line is the upper envelope of the
+wavefronts of the sites present. Three kinds of event, in exact order of time:
+
+* ``CIRCLE``: consecutive arcs (l, k, m) whose breakpoints meet at the power centre v of the
+  three sites, at time T(v); arc k vanishes, v is a vertex. As in the ordinary sweep.
+* ``CONTACT``: a pending site i (its time y_i has come, its wavefront is below the beach line)
+  first touches the beach line: either at a breakpoint (a, b), at the power centre of
+  (a, i, b) (a vertex: the edge (a, b) ends, (a, i) and (i, b) start there), or inside an
+  arc k whose site is lower (y_k < y_i), at the point c_ik of the bisector of i and k where
+  T_k is least: the arc k splits into (k, i, k) and one edge starts there in both directions.
+  A site with s_i = 0 touches at time y_i right above itself: the ordinary site event.
+* ``ACTIVATION``: at time y_i site i becomes pending (before that its wavefront is empty).
+
+A site still pending when the events run out is hidden. Candidates are computed for every
+pending site against every breakpoint and arc of the beach line whenever either appears
+(O(n (b + p)) for a beach line of b arcs and p pending sites): a candidate is only valid
+while its breakpoint or arc keeps its neighbours, and is discarded lazily when popped.
+"""
+
+from __future__ import annotations
+
+import heapq
+from dataclasses import dataclass, field
+from enum import IntEnum
+from fractions import Fraction
+from typing import Optional
+
+import numpy as np
+from numpy.typing import NDArray
+
+from vorobench.core.builder import assemble
+from vorobench.core.diagram import Diagram
+
+__all__ = ["build_weighted", "Event", "Sweep"]
+
+
+def _sign(x: Fraction) -> int:
+    return (x > 0) - (x < 0)
+
+
+def surd_sign(a: Fraction, b: Fraction, h: Fraction) -> int:
+    """The sign of a + b sqrt(h), h >= 0, exactly."""
+    if b == 0 or h == 0:
+        return _sign(a)
+    sa, sb = _sign(a), _sign(b)
+    if sa == 0:
+        return sb
+    if sa == sb:
+        return sa
+    # opposite signs: |a| against |b| sqrt(h), compared squared
+    return sa * _sign(a * a - b * b * h)
+
+
+class Time:
+    """An event time a + sqrt(b) (b >= 0), ordered exactly (equal means equal as numbers, so
+    ties between events fall to their kinds)."""
+
+    __slots__ = ("a", "b")
+
+    def __init__(self, a: Fraction, b: Fraction = Fraction(0)) -> None:
+        self.a, self.b = a, b
+
+    def compare(self, other: "Time") -> int:
+        """-1, 0 or 1 as self is before, at or after ``other``."""
+        d = self.a - other.a
+        sd, sr = _sign(d), _sign(self.b - other.b)    # sr: the sign of sqrt(b1) - sqrt(b2)
+        if sr == 0 or sd == sr:
+            return sd if sd != 0 else sr
+        if sd == 0:
+            return sr
+        # opposite signs: |d| against |sqrt(b1) - sqrt(b2)|, squared:
+        # d^2 - b1 - b2 + 2 sqrt(b1 b2)
+        return sd * surd_sign(d * d - self.b - other.b, Fraction(2), self.b * other.b)
+
+    def __lt__(self, other: "Time") -> bool:
+        return self.compare(other) < 0
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Time) and self.compare(other) == 0
+
+    __hash__ = None         # equal times have different (a, b)
+
+    def __float__(self) -> float:
+        return float(self.a) + float(self.b) ** 0.5
+
+
+class Event(IntEnum):
+    """Event kinds, in the order they go at equal times (circle events first, as in the
+    ordinary sweep; a contact at a breakpoint before one inside an arc at the same point)."""
+
+    CIRCLE = 0
+    CONTACT_VERTEX = 1
+    CONTACT_ARC = 2
+    ACTIVATION = 3
+
+
+@dataclass
+class _Arc:
+    site: int
+    edge: int = -1            # the edge traced by the breakpoint on this arc's right
+    version: int = 0          # bumped whenever a neighbour changes: stale events are skipped
+    alive: bool = True
+
+
+@dataclass(order=True)
+class _Queued:
+    time: Time
+    kind: int
+    seq: int
+    payload: tuple = field(compare=False)
+
+
+class Sweep:
+    """One run of the exact weighted sweep over prepared ``sites`` with ``weights``."""
+
+    def __init__(self, sites: NDArray[np.float64], weights: NDArray[np.float64]) -> None:
+        self.n = n = sites.shape[0]
+        self.x = [Fraction(float(v)) for v in sites[:, 0]]
+        self.y = [Fraction(float(v)) for v in sites[:, 1]]
+        w = [Fraction(float(v)) for v in weights]
+        top = max(w)
+        self.s = [top - v for v in w]
+        # q_i = |p_i|^2 + s_i: the bisector of i and j is 2 x . (p_j - p_i) = q_j - q_i
+        self.q = [self.x[i] ** 2 + self.y[i] ** 2 + self.s[i] for i in range(n)]
+        self.arcs: list[_Arc] = []
+        self.beach: list[int] = []          # arc ids, left to right
+        self.pending: set[int] = set()
+        self.present: set[int] = set()
+        self.heap: list[_Queued] = []
+        self.seq = 0
+        self.now = Time(Fraction(0))
+        self.edges: list[list[int]] = []    # [a, b, start, end]
+        self.vertices: list[tuple[float, float]] = []
+        self.counts = {"circle_events": 0, "contacts_at_vertex": 0, "contacts_in_arc": 0,
+                       "candidates": 0, "stale": 0}
+
+    # ------------------------------------------------------------------ geometry (exact)
+
+    def ell(self, i: int, zx: Fraction, zy: Fraction) -> Fraction:
+        """The lifted power l_i(z) = |z - p_i|^2 + s_i of a rational point."""
+        return (zx - self.x[i]) ** 2 + (zy - self.y[i]) ** 2 + self.s[i]
+
+    def power_centre(self, a: int, b: int, c: int) -> Optional[tuple[Fraction, Fraction]]:
+        """The point of equal power for three sites; None if they are collinear."""
+        x, y, q = self.x, self.y, self.q
+        a11, a12, r1 = 2 * (x[b] - x[a]), 2 * (y[b] - y[a]), q[b] - q[a]
+        a21, a22, r2 = 2 * (x[c] - x[a]), 2 * (y[c] - y[a]), q[c] - q[a]
+        det = a11 * a22 - a12 * a21
+        if det == 0:
+            return None
+        return (r1 * a22 - a12 * r2) / det, (a11 * r2 - r1 * a21) / det
+
+    def vertex_of_wavefronts(self, a: int, b: int, x0: Fraction, x1: Fraction, t0: Fraction,
+                             h: Fraction) -> int:
+        """Where a point on the wavefronts of both a and b at time t = t0 + sqrt(h) lies
+        against the apex of their difference: the sign of z_x - X_g(t), z_x = x0 + x1 sqrt(h).
+
+        The wavefront of i at time t is Y = V_i - (X - x_i)^2 / (2 (t - y_i)); the difference of
+        two of them is a quadratic in X with its extremum at
+        X_g = (x_a (t - y_b) - x_b (t - y_a)) / (y_a - y_b) (y_a != y_b)."""
+        x, y = self.x, self.y
+        dy = y[a] - y[b]
+        g0 = ((x[a] - x[b]) * t0 - x[a] * y[b] + x[b] * y[a]) / dy
+        g1 = (x[a] - x[b]) / dy
+        return surd_sign(x0 - g0, x1 - g1, h)
+
+    def is_breakpoint(self, a: int, b: int, x0: Fraction, x1: Fraction, t0: Fraction, h: Fraction) -> bool:
+        """Whether a point on the wavefronts of both a and b at time t0 + sqrt(h) is the
+        breakpoint with a's arc on its left (not the other intersection of the two curves).
+
+        Right of the breakpoint b's wavefront is on top. If a is the narrower (y_a > y_b), a is
+        on top between the two intersections: the breakpoint is the right one; if a is the
+        wider, the left one. Equal heights: the curves meet once. At the apex the two
+        intersections are one (the breakpoints are being born there): both count."""
+        if self.y[a] == self.y[b]:
+            return True
+        side = self.vertex_of_wavefronts(a, b, x0, x1, t0, h)
+        return side >= 0 if self.y[a] > self.y[b] else side <= 0
+
+    def orient(self, a: int, b: int, c: int) -> int:
+        """The sign of the turn a -> b -> c (positive: counter-clockwise)."""
+        x, y = self.x, self.y
+        return _sign((x[b] - x[a]) * (y[c] - y[a]) - (y[b] - y[a]) * (x[c] - x[a]))
+
+    def power_gap(self, j: int, k: int, cx: tuple, cy: tuple, h: Fraction) -> int:
+        """The sign of l_j(c) - l_k(c) at c = (cx0 + cx1 sqrt h, cy0 + cy1 sqrt h): positive
+        where k has the smaller power (the difference of two powers is affine in c)."""
+        ux, uy = self.x[j] - self.x[k], self.y[j] - self.y[k]
+        a = self.q[j] - self.q[k] - 2 * (cx[0] * ux + cy[0] * uy)
+        b = -2 * (cx[1] * ux + cy[1] * uy)
+        return surd_sign(a, b, h)
+
+    def arc_contact(self, i: int, k: int) -> Optional[tuple[Time, tuple, tuple, Fraction]]:
+        """Where and when the wavefront of i first touches that of a lower site k:
+        (time, c_x, c_y, h) with c = (c0 + c1 sqrt h) and time f_y + sqrt h.
+
+        On the bisector L of i and k (normal n = p_k - p_i), T_k is least at
+        c = f + sqrt(h) (n_x / n_y, -n_x^2 / n_y^2), where f is p_k's projection on L and
+        h = (|f - p_k|^2 + s_k) n_y^2 / |n|^2, at time f_y + sqrt(h)."""
+        if not self.y[k] < self.y[i]:
+            return None
+        x, y = self.x, self.y
+        nx, ny = x[k] - x[i], y[k] - y[i]
+        nn = nx * nx + ny * ny
+        cst = (self.q[k] - self.q[i]) / 2
+        lam = (cst - (nx * x[k] + ny * y[k])) / nn
+        fx, fy = x[k] + lam * nx, y[k] + lam * ny
+        h = (lam * lam * nn + self.s[k]) * ny * ny / nn
+        return Time(fy, h), (fx, nx / ny), (fy, -(nx * nx) / (ny * ny)), h
+
+    # ------------------------------------------------------------------ queue
+
+    def push(self, time: Time, kind: Event, payload: tuple) -> None:
+        self.seq += 1
+        heapq.heappush(self.heap, _Queued(time, int(kind), self.seq, payload))
+
+    def neighbours(self, pos: int) -> tuple[int, int]:
+        left = self.beach[pos - 1] if pos > 0 else -1
+        right = self.beach[pos + 1] if pos + 1 < len(self.beach) else -1
+        return left, right
+
+    def stamp(self, *arcs: int) -> tuple:
+        return tuple((a, self.arcs[a].version) for a in arcs)
+
+    def fresh(self, stamps: tuple) -> bool:
+        return all(self.arcs[a].alive and self.arcs[a].version == v for a, v in stamps)
+
+    # ------------------------------------------------------------------ candidates
+
+    def circle_candidate(self, pos: int) -> None:
+        """Schedule the vanishing of the arc at ``pos`` if its breakpoints converge."""
+        left, right = self.neighbours(pos)
+        if left < 0 or right < 0:
+            return
+        k = self.beach[pos]
+        sl, sk, sr = self.arcs[left].site, self.arcs[k].site, self.arcs[right].site
+        # the breakpoints (l, k) and (k, m) converge iff l, k, m turn counter-clockwise, weights
+        # or not: k's cell among the three is then the wedge their paths have already traced
+        if sl == sr or self.orient(sl, sk, sr) <= 0:
+            return
+        v = self.power_centre(sl, sk, sr)
+        if v is None:
+            return
+        t = Time(v[1], self.ell(sk, *v))
+        if t < self.now:
+            return
+        zero = Fraction(0)
+        if self.is_breakpoint(sl, sk, v[0], zero, t.a, t.b) and self.is_breakpoint(sk, sr, v[0], zero, t.a, t.b):
+            self.push(t, Event.CIRCLE, (self.stamp(left, k, right), v))
+
+    def vertex_candidate(self, pos: int, i: int) -> None:
+        """Schedule site i's contact at the breakpoint between ``pos`` and its right neighbour."""
+        a_arc, b_arc = self.beach[pos], self.beach[pos + 1]
+        a, b = self.arcs[a_arc].site, self.arcs[b_arc].site
+        # i's arc must be born growing: its breakpoints with a and b diverge (a, i, b turn
+        # clockwise). Converging ones would close at once: i's cell is the point v alone, and
+        # a cell of no area is hidden.
+        if self.orient(a, i, b) >= 0:
+            return
+        v = self.power_centre(a, i, b)
+        if v is None:
+            return
+        t = Time(v[1], self.ell(a, *v))
+        self.counts["candidates"] += 1
+        if t < self.now or not self.is_breakpoint(a, b, v[0], Fraction(0), t.a, t.b):
+            return
+        self.push(t, Event.CONTACT_VERTEX, (self.stamp(a_arc, b_arc), i, v))
+
+    def arc_candidate(self, pos: int, i: int) -> None:
+        """Schedule site i's contact inside the arc at ``pos`` (its site lower than i)."""
+        k_arc = self.beach[pos]
+        k = self.arcs[k_arc].site
+        found = self.arc_contact(i, k)
+        self.counts["candidates"] += 1
+        if found is None:
+            return
+        t, cx, cy, h = found
+        if t < self.now:
+            return
+        # c must lie strictly inside the arc at time t (on its ends the contact is at a
+        # breakpoint: a vertex candidate). Beyond a breakpoint with a neighbour j, j's wavefront
+        # is on top: the power gap l_j(c) - l_k(c) says which is on top at c, and the side of
+        # the apex of their difference says which of the two crossings is meant.
+        left, right = self.neighbours(pos)
+        if right >= 0:
+            m = self.arcs[right].site
+            gap = self.power_gap(m, k, cx, cy, h)
+            if self.y[m] == self.y[k]:
+                inside = gap > 0
+            else:
+                side = self.vertex_of_wavefronts(k, m, cx[0], cx[1], t.a, h)
+                inside = (gap > 0 or side < 0) if self.y[k] > self.y[m] else (gap > 0 and side < 0)
+            if not inside:
+                return
+        if left >= 0:
+            l_site = self.arcs[left].site
+            gap = self.power_gap(l_site, k, cx, cy, h)
+            if self.y[l_site] == self.y[k]:
+                inside = gap > 0
+            else:
+                side = self.vertex_of_wavefronts(l_site, k, cx[0], cx[1], t.a, h)
+                inside = (gap > 0 and side > 0) if self.y[l_site] > self.y[k] else (gap > 0 or side > 0)
+            if not inside:
+                return
+        self.push(t, Event.CONTACT_ARC, (self.stamp(k_arc), i))
+
+    def candidates_at(self, pos: int) -> None:
+        """Everything that depends on the arc at ``pos`` and its neighbours: its circle event,
+        and every pending site's contacts inside it and at its right breakpoint."""
+        self.circle_candidate(pos)
+        for i in sorted(self.pending):
+            self.arc_candidate(pos, i)
+            if pos + 1 < len(self.beach):
+                self.vertex_candidate(pos, i)
+
+    def refresh(self, lo: int, hi: int) -> None:
+        """Bump and reschedule the arcs at positions lo..hi (clipped to the beach line), the
+        breakpoint left of lo and the circle events of the arcs on either side (their triples
+        hold a bumped arc)."""
+        lo, hi = max(lo, 0), min(hi, len(self.beach) - 1)
+        for pos in range(lo, hi + 1):
+            self.arcs[self.beach[pos]].version += 1
+        for pos in range(lo, hi + 1):
+            self.candidates_at(pos)
+        if lo > 0:
+            self.circle_candidate(lo - 1)
+            for i in sorted(self.pending):
+                self.vertex_candidate(lo - 1, i)
+        if hi + 1 < len(self.beach):
+            self.circle_candidate(hi + 1)
+
+    # ------------------------------------------------------------------ events
+
+    def new_arc(self, site: int) -> int:
+        self.arcs.append(_Arc(site))
+        return len(self.arcs) - 1
+
+    def new_edge(self, a: int, b: int, start: int = -1) -> int:
+        self.edges.append([a, b, start, -1])
+        return len(self.edges) - 1
+
+    def close(self, edge: int, left_site: int, vertex: int) -> None:
+        """The breakpoint with ``left_site`` on its left stops tracing ``edge`` at ``vertex``
+        (it traces the end of an edge whose first site is its left arc's, else the start)."""
+        if self.edges[edge][0] == left_site:
+            self.edges[edge][3] = vertex
+        else:
+            self.edges[edge][2] = vertex
+
+    def add_vertex(self, v: tuple[Fraction, Fraction]) -> int:
+        self.vertices.append((float(v[0]), float(v[1])))
+        return len(self.vertices) - 1
+
+    def start(self) -> None:
+        """The first sweep position: the lowest sites whose wavefronts are on top somewhere
+        along the bottom (a 1-D power diagram: upper envelope of 2 x_i X - x_i^2 - s_i) start
+        the beach line, separated by vertical bisectors; the others are hidden for good."""
+        order = sorted(range(self.n), key=lambda i: (self.y[i], self.x[i]))
+        y0 = self.y[order[0]]
+        lowest = [i for i in order if self.y[i] == y0]
+        hull: list[int] = []
+        for i in lowest:                        # slopes 2 x_i increase along ``lowest``
+            while len(hull) >= 2 and not self._keeps_middle(hull[-2], hull[-1], i):
+                hull.pop()
+            hull.append(i)
+        previous = -1
+        for i in hull:
+            arc = self.new_arc(i)
+            self.beach.append(arc)
+            self.present.add(i)
+            if previous >= 0:
+                self.arcs[previous].edge = self.new_edge(self.arcs[previous].site, i)
+            previous = arc
+        for pos in range(len(self.beach)):
+            self.circle_candidate(pos)
+        for i in order[len(lowest):]:
+            self.push(Time(self.y[i]), Event.ACTIVATION, (i,))
+
+    def _keeps_middle(self, a: int, b: int, c: int) -> bool:
+        # line b is on the upper envelope of lines a, b, c (slopes increasing) strictly: b beats
+        # a at the crossing of a and c
+        f = lambda i, X: 2 * self.x[i] * X - self.x[i] ** 2 - self.s[i]
+        xa, xc = self.x[a], self.x[c]
+        X = (f(c, 0) - f(a, 0)) / (2 * (xa - xc))
+        return f(b, X) > f(a, X)
+
+    def activate(self, i: int) -> None:
+        self.pending.add(i)
+        for pos in range(len(self.beach)):
+            self.arc_candidate(pos, i)
+            if pos + 1 < len(self.beach):
+                self.vertex_candidate(pos, i)
+
+    def circle(self, stamps: tuple, v: tuple) -> None:
+        left, k, right = (a for a, _ in stamps)
+        pos = self.beach.index(k)
+        vid = self.add_vertex(v)
+        self.counts["circle_events"] += 1
+        la, ka = self.arcs[left], self.arcs[k]
+        self.close(la.edge, la.site, vid)
+        self.close(ka.edge, ka.site, vid)
+        la.edge = self.new_edge(la.site, self.arcs[right].site, vid)
+        ka.alive = False
+        del self.beach[pos]
+        self.refresh(pos - 1, pos)
+
+    def contact_vertex(self, stamps: tuple, i: int, v: tuple) -> None:
+        a_arc, b_arc = (a for a, _ in stamps)
+        pos = self.beach.index(a_arc)
+        vid = self.add_vertex(v)
+        self.counts["contacts_at_vertex"] += 1
+        self.pending.discard(i)
+        self.present.add(i)
+        aa = self.arcs[a_arc]
+        self.close(aa.edge, aa.site, vid)
+        arc = self.new_arc(i)
+        aa.edge = self.new_edge(aa.site, i, vid)
+        self.arcs[arc].edge = self.new_edge(i, self.arcs[b_arc].site, vid)
+        self.beach.insert(pos + 1, arc)
+        self.refresh(pos, pos + 2)
+
+    def contact_arc(self, stamps: tuple, i: int) -> None:
+        (k_arc, _), = stamps
+        pos = self.beach.index(k_arc)
+        self.counts["contacts_in_arc"] += 1
+        self.pending.discard(i)
+        self.present.add(i)
+        ka = self.arcs[k_arc]
+        arc, twin = self.new_arc(i), self.new_arc(ka.site)
+        # the split arc's right part keeps its old right breakpoint's edge
+        self.arcs[twin].edge = ka.edge
+        ka.edge = self.new_edge(ka.site, i)
+        self.arcs[arc].edge = ka.edge
+        self.beach[pos + 1:pos + 1] = [arc, twin]
+        self.refresh(pos, pos + 2)
+
+    def run(self) -> None:
+        if self.n == 0:
+            return
+        self.start()
+        while self.heap:
+            item = heapq.heappop(self.heap)
+            kind = Event(item.kind)
+            if kind == Event.ACTIVATION:
+                self.now = item.time
+                self.activate(item.payload[0])
+                continue
+            stamps = item.payload[0]
+            if not self.fresh(stamps) or (kind != Event.CIRCLE and item.payload[1] not in self.pending):
+                self.counts["stale"] += 1
+                continue
+            self.now = item.time
+            if kind == Event.CIRCLE:
+                self.circle(*item.payload)
+            elif kind == Event.CONTACT_VERTEX:
+                self.contact_vertex(*item.payload)
+            else:
+                self.contact_arc(*item.payload)
+
+    @property
+    def hidden(self) -> list[int]:
+        return sorted(set(range(self.n)) - self.present)
+
+
+def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64],
+                   stats: Optional[dict] = None) -> Diagram:
+    """The power diagram of prepared ``sites`` with ``weights`` by the exact weighted sweep."""
+    sites = np.ascontiguousarray(sites, dtype=np.float64).reshape(-1, 2)
+    weights = np.ascontiguousarray(weights, dtype=np.float64).reshape(-1)
+    if sites.shape[0] <= 1:
+        return Diagram.empty(sites, weights)
+    sweep = Sweep(sites, weights)
+    sweep.run()
+    if stats is not None:
+        stats.update(sweep.counts, hidden_sites=len(sweep.hidden))
+    edges = np.array(sweep.edges, dtype=np.int64).reshape(-1, 4)
+    vertices = np.array(sweep.vertices, dtype=np.float64).reshape(-1, 2)
+    return assemble(sites, vertices, edges[:, :2], edges[:, 2:], weights=weights)
