@@ -96,13 +96,13 @@ class Time:
 
 
 class Event(IntEnum):
-    """Event kinds, in the order they go at equal times (circle events first, as in the
-    ordinary sweep; a contact at a breakpoint before one inside an arc at the same point)."""
+    """Event kinds. At equal times circle events go first (as in the ordinary sweep), then
+    activations, then contacts, in increasing s (see :meth:`Sweep.push`)."""
 
     CIRCLE = 0
-    CONTACT_VERTEX = 1
-    CONTACT_ARC = 2
-    ACTIVATION = 3
+    ACTIVATION = 1
+    CONTACT_VERTEX = 2
+    CONTACT_ARC = 3
 
 
 @dataclass
@@ -116,8 +116,9 @@ class _Arc:
 @dataclass(order=True)
 class _Queued:
     time: Time
-    kind: int
+    rank: tuple
     seq: int
+    kind: int = field(compare=False)
     payload: tuple = field(compare=False)
 
 
@@ -141,7 +142,10 @@ class Sweep:
         self.seq = 0
         self.now = Time(Fraction(0))
         self.edges: list[list[int]] = []    # [a, b, start, end]
-        self.vertices: list[tuple[float, float]] = []
+        self.vertices: list[tuple[Fraction, Fraction]] = []
+        self.vertex_ids: dict[tuple[Fraction, Fraction], int] = {}
+        self.here: Optional[tuple[Fraction, Fraction]] = None   # the point of the event at hand
+        self.log: Optional[list] = None     # a list to record the events processed in (for tests)
         self.counts = {"circle_events": 0, "contacts_at_vertex": 0, "contacts_in_arc": 0,
                        "candidates": 0, "stale": 0}
 
@@ -188,6 +192,15 @@ class Sweep:
         side = self.vertex_of_wavefronts(a, b, x0, x1, t0, h)
         return side >= 0 if self.y[a] > self.y[b] else side <= 0
 
+    def tied(self, a: int, b: int, c: int) -> bool:
+        """Collinear a, b, c with b between a and c, and the bisectors (a, b) and (b, c) one
+        line: the three have equal power all along it, so b's cell lies in the line (no area)."""
+        x, y, q = self.x, self.y, self.q
+        ux, uy, uq = x[b] - x[a], y[b] - y[a], q[b] - q[a]
+        vx, vy, vq = x[c] - x[b], y[c] - y[b], q[c] - q[b]
+        return (ux * vy == uy * vx and ux * vq == uq * vx and uy * vq == uq * vy
+                and ux * vx + uy * vy > 0)
+
     def orient(self, a: int, b: int, c: int) -> int:
         """The sign of the turn a -> b -> c (positive: counter-clockwise)."""
         x, y = self.x, self.y
@@ -222,8 +235,16 @@ class Sweep:
     # ------------------------------------------------------------------ queue
 
     def push(self, time: Time, kind: Event, payload: tuple) -> None:
+        """Queue an event. Contacts at one time go in increasing s: where several sites touch
+        at one point together and tie along a line (equal power all along it), the one
+        nearest the line has the largest s and would get a cell of no area; the outer ones
+        enter first and leave it no room."""
         self.seq += 1
-        heapq.heappush(self.heap, _Queued(time, int(kind), self.seq, payload))
+        if kind in (Event.CONTACT_VERTEX, Event.CONTACT_ARC):
+            rank = (int(Event.CONTACT_VERTEX), self.s[payload[1]])
+        else:
+            rank = (int(kind), Fraction(0))
+        heapq.heappush(self.heap, _Queued(time, rank, self.seq, int(kind), payload))
 
     def neighbours(self, pos: int) -> tuple[int, int]:
         left = self.beach[pos - 1] if pos > 0 else -1
@@ -247,7 +268,15 @@ class Sweep:
         sl, sk, sr = self.arcs[left].site, self.arcs[k].site, self.arcs[right].site
         # the breakpoints (l, k) and (k, m) converge iff l, k, m turn counter-clockwise, weights
         # or not: k's cell among the three is then the wedge their paths have already traced
-        if sl == sr or self.orient(sl, sk, sr) <= 0:
+        if sl == sr:
+            return
+        turn = self.orient(sl, sk, sr)
+        if turn == 0 and self.here is not None and self.tied(sl, sk, sr):
+            # k has just met a neighbour that ties with it along a line: its arc has no width and
+            # never will; it closes now, where the event at hand is (its cell is hidden)
+            self.push(self.now, Event.CIRCLE, (self.stamp(left, k, right), self.here))
+            return
+        if turn <= 0:
             return
         v = self.power_centre(sl, sk, sr)
         if v is None:
@@ -359,8 +388,12 @@ class Sweep:
             self.edges[edge][2] = vertex
 
     def add_vertex(self, v: tuple[Fraction, Fraction]) -> int:
-        self.vertices.append((float(v[0]), float(v[1])))
-        return len(self.vertices) - 1
+        """The id of the vertex at exact point v (one id per point: the events of a degenerate
+        vertex share it, and the zero-length edges between them are dropped at the end)."""
+        if v not in self.vertex_ids:
+            self.vertex_ids[v] = len(self.vertices)
+            self.vertices.append(v)
+        return self.vertex_ids[v]
 
     def start(self) -> None:
         """The first sweep position: the lowest sites whose wavefronts are on top somewhere
@@ -461,6 +494,10 @@ class Sweep:
                 self.counts["stale"] += 1
                 continue
             self.now = item.time
+            self.here = None if kind == Event.CONTACT_ARC else item.payload[-1]
+            if self.log is not None:
+                sites = [self.arcs[a].site for a, _ in stamps] + ([] if kind == Event.CIRCLE else [item.payload[1]])
+                self.log.append((kind, float(item.time), sites, self.here))
             if kind == Event.CIRCLE:
                 self.circle(*item.payload)
             elif kind == Event.CONTACT_VERTEX:
@@ -470,7 +507,9 @@ class Sweep:
 
     @property
     def hidden(self) -> list[int]:
-        return sorted(set(range(self.n)) - self.present)
+        """Sites with no edge of positive length (never touched, or a cell of no area)."""
+        owners = {s for e in self.edges if e[2] < 0 or e[2] != e[3] for s in e[:2]}
+        return sorted(set(range(self.n)) - owners) if self.n > 1 else []
 
 
 def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64],
@@ -484,6 +523,8 @@ def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64],
     sweep.run()
     if stats is not None:
         stats.update(sweep.counts, hidden_sites=len(sweep.hidden))
-    edges = np.array(sweep.edges, dtype=np.int64).reshape(-1, 4)
-    vertices = np.array(sweep.vertices, dtype=np.float64).reshape(-1, 2)
+    # an edge from a vertex to itself has no length: the sites of a degenerate vertex, and a
+    # site whose cell is that point alone (hidden)
+    edges = np.array([e for e in sweep.edges if e[2] < 0 or e[2] != e[3]], dtype=np.int64).reshape(-1, 4)
+    vertices = np.array([(float(vx), float(vy)) for vx, vy in sweep.vertices], dtype=np.float64).reshape(-1, 2)
     return assemble(sites, vertices, edges[:, :2], edges[:, 2:], weights=weights)
