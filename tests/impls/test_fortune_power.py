@@ -1,0 +1,211 @@
+"""The weighted sweep's specification (impls/fortune/power_reference.py): its exact number
+arithmetic, its contact geometry checked against first principles, and its diagrams checked
+exactly against the half-plane oracle and the regular triangulation on every dataset and
+weight family, on degenerate lattices, and where the contact rules matter (a cell away from
+its site, cells of no area, ties along a line)."""
+
+from decimal import Decimal, getcontext
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import datasets_gen
+import impls
+from impls.fortune.power_reference import Event, Sweep, Time, build_weighted, surd_sign
+from vorobench.core.prepare import prepare_weighted
+from vorobench.judge.comparison import Verdict, compare
+
+getcontext().prec = 80
+
+
+def _decimal(a: Fraction) -> Decimal:
+    return Decimal(a.numerator) / Decimal(a.denominator)
+
+
+def _case(dataset: str, family: str, n: int):
+    points = datasets_gen.generate(dataset, n, seed=0)
+    sites, weights, _ = prepare_weighted(points, datasets_gen.weights(family, points, seed=0))
+    return sites, weights
+
+
+def _assert_exact(sites, weights, oracle: str = "halfplane") -> None:
+    got = build_weighted(sites, weights)
+    want = impls.get(oracle).build_weighted(sites, weights)
+    result = compare(got, want, labels=("sweep", oracle))
+    assert result.verdict == Verdict.EXACT, result.differences[:4]
+
+
+# ------------------------------------------------------------------------------------------
+# Number arithmetic: signs of a + b sqrt(h) and the order of times a + sqrt(b)
+# ------------------------------------------------------------------------------------------
+
+fractions = st.fractions(min_value=-50, max_value=50, max_denominator=12)
+thirds = st.integers(0, 12).map(lambda k: Fraction(k, 3))
+
+
+@settings(max_examples=300, deadline=None)
+@given(fractions, fractions, st.fractions(min_value=0, max_value=50, max_denominator=12))
+def test_surd_sign_is_the_sign_of_the_number(a, b, h):
+    value = _decimal(a) + _decimal(b) * _decimal(h).sqrt()
+    expected = (value > 0) - (value < 0)
+    if abs(value) < Decimal(10) ** -60:           # zero: only when a^2 = b^2 h exactly
+        expected = 0 if a * a == b * b * h and (a == 0 or (a > 0) != (b > 0)) else expected
+    assert surd_sign(a, b, h) == expected
+
+
+@settings(max_examples=300, deadline=None)
+@given(fractions, thirds, fractions, thirds)
+def test_times_with_square_radicands_tie_exactly(a1, root1, a2, root2):
+    # radicands that are squares of rationals: the times are rational, so their exact order
+    # (ties included) is known without square roots
+    r1, r2 = a1 + root1, a2 + root2
+    assert Time(a1, root1 * root1).compare(Time(a2, root2 * root2)) == (r1 > r2) - (r1 < r2)
+
+
+def test_times_order_by_value_not_by_parts():
+    # 1 + sqrt(1) = 2 + sqrt(0): equal, although neither part is
+    assert Time(Fraction(1), Fraction(1)) == Time(Fraction(2))
+    assert Time(Fraction(0), Fraction(2)) < Time(Fraction(1), Fraction(1) / 4 + 0)   # 1.414 < 1.5
+    assert not Time(Fraction(3, 2)) < Time(Fraction(0), Fraction(9, 4))              # 1.5 = 1.5
+
+
+# ------------------------------------------------------------------------------------------
+# Contact geometry against first principles
+# ------------------------------------------------------------------------------------------
+
+def _wavefront_time(sweep: Sweep, i: int, x: float, y: float) -> float:
+    """T_i(x) = y + sqrt(|x - p_i|^2 + s_i), in floats (for checking, not deciding)."""
+    s = float(sweep.s[i])
+    return y + ((x - float(sweep.x[i])) ** 2 + (y - float(sweep.y[i])) ** 2 + s) ** 0.5
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.lists(st.tuples(st.integers(-9, 9), st.integers(-9, 9), st.integers(0, 30)), min_size=2, max_size=2,
+                unique_by=lambda t: t[:2]))
+def test_arc_contact_is_the_lowest_time_on_the_bisector(two):
+    (xi, yi, wi), (xk, yk, wk) = two
+    sites = np.array([[xi, yi], [xk, yk]], dtype=np.float64)
+    sweep = Sweep(sites, np.array([wi, wk], dtype=np.float64))
+    found = sweep.arc_contact(0, 1)
+    if not yk < yi:
+        assert found is None         # only a lower (wider) wavefront can be touched inside
+        return
+    t, cx, cy, h = found
+    root = float(h) ** 0.5
+    c = (float(cx[0]) + float(cx[1]) * root, float(cy[0]) + float(cy[1]) * root)
+    # c is on the bisector (equal power), at time t for both sites
+    assert _wavefront_time(sweep, 0, *c) == pytest.approx(float(t), rel=1e-9, abs=1e-9)
+    assert _wavefront_time(sweep, 1, *c) == pytest.approx(float(t), rel=1e-9, abs=1e-9)
+    # and every other point of the bisector is reached later
+    direction = np.array([-(yk - yi), xk - xi], dtype=np.float64)
+    direction /= np.hypot(*direction)
+    for step in (-3.0, -0.5, -0.01, 0.01, 0.5, 3.0):
+        p = (c[0] + step * direction[0], c[1] + step * direction[1])
+        assert _wavefront_time(sweep, 1, *p) > float(t) - 1e-9
+
+
+def test_every_site_of_a_shifted_weight_set_gives_the_same_diagram():
+    sites, weights = _case("uniform", "radii", 10)
+    a = build_weighted(sites, weights)
+    b = build_weighted(sites, weights + 7.0)
+    assert compare(a, b.with_weights(weights)).verdict == Verdict.EXACT
+
+
+# ------------------------------------------------------------------------------------------
+# Diagrams, exactly against the oracles
+# ------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("family", list(datasets_gen.WEIGHT_FAMILIES))
+@pytest.mark.parametrize("dataset", datasets_gen.available())
+def test_exact_against_the_halfplane_oracle(dataset, family):
+    for n in (2, 3, 10):
+        _assert_exact(*_case(dataset, family, n))
+
+
+@pytest.mark.parametrize("dataset, family", [("uniform", "radii"), ("grid", "integer"), ("cocircular", "hidden"),
+                                             ("near_grid", "integer")])
+def test_exact_against_the_regular_triangulation_at_40(dataset, family):
+    _assert_exact(*_case(dataset, family, 40), oracle="incremental")
+
+
+lattice_sites = st.lists(st.tuples(st.integers(0, 4), st.integers(0, 4), st.integers(0, 2)),
+                         min_size=2, max_size=9, unique_by=lambda t: t[:2])
+
+
+@settings(max_examples=60, deadline=None)
+@given(lattice_sites)
+def test_exact_on_integer_lattices_with_integer_weights(rows):
+    # weights differing by squared lattice distances: sites on each other's bisectors, lifted
+    # points coplanar, cells that shrink to a point or a segment
+    sites = np.array([r[:2] for r in rows], dtype=np.float64)
+    weights = np.array([r[2] for r in rows], dtype=np.float64)
+    if np.linalg.matrix_rank(sites - sites[0]) < 2:
+        return          # collinear sets go to collinear_diagram in every construction
+    _assert_exact(sites, weights)
+
+
+def test_a_cell_away_from_its_site_is_entered_where_the_cell_is():
+    # Site 1 at (0, 1), weight 0, next to site 0 at (-1, 0.99), weight 101: their bisector is
+    # near x = 50, so site 1's cell (between x = 50 and site 2's bisector near x = 60) is
+    # nowhere above or below the site. It enters the beach line there, at the vertex where its
+    # cell is lowest in time, between the arcs of sites 0 and 3.
+    sites = np.array([[-1.0, 0.99], [0.0, 1.0], [120.0, 0.5], [30.0, -40.0]])
+    weights = np.array([101.0, 0.0, 0.0, 0.0])
+    sweep = Sweep(sites, weights)
+    sweep.log = []
+    sweep.run()
+    contacts = [(kind, sites_, here) for kind, _, sites_, here in sweep.log if kind != Event.CIRCLE and sites_[-1] == 1]
+    assert len(contacts) == 1
+    kind, between, here = contacts[0]
+    assert kind == Event.CONTACT_VERTEX and sorted(between[:2]) == [0, 3]
+    assert 49 < float(here[0]) < 51
+    _assert_exact(sites, weights)
+    assert 1 not in build_weighted(sites, weights).hidden
+
+
+def test_a_cell_that_is_one_point_is_hidden():
+    # (1, 1) with weight 0 among four weight-1 sites at distance 1: all five have power 0 at
+    # (1, 1), and at any other point one of the four has less than the centre
+    sites = np.array([[1.0, 0.0], [0.0, 1.0], [2.0, 1.0], [1.0, 2.0], [1.0, 1.0]])
+    weights = np.array([1.0, 1.0, 1.0, 1.0, 0.0])
+    d = build_weighted(sites, weights)
+    assert list(d.hidden) == [4]
+    _assert_exact(sites, weights)
+
+
+def test_a_cell_that_lies_in_a_line_is_hidden():
+    # (3, 1) between (3, 0) and (3, 2), all three with equal power along y = 1: only the
+    # outer two own the sides of that line
+    sites = np.array([[3.0, 0.0], [3.0, 1.0], [3.0, 2.0], [1.0, 1.0], [5.0, 1.0]])
+    weights = np.array([1.0, 0.0, 1.0, 0.0, 0.0])
+    d = build_weighted(sites, weights)
+    assert 1 in d.hidden
+    _assert_exact(sites, weights)
+
+
+def test_equal_weights_give_the_ordinary_diagram():
+    for dataset in ("uniform", "grid", "cocircular"):
+        sites, _ = _case(dataset, "equal", 10)
+        weights = np.full(sites.shape[0], 0.25)
+        d = build_weighted(sites, weights)
+        ordinary = impls.get("fortune").build(sites)
+        assert compare(d, ordinary.with_weights(weights)).verdict == Verdict.EXACT
+
+
+# ------------------------------------------------------------------------------------------
+# The tests can fail: a sweep without one of its rules is caught
+# ------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("rule, dataset, family", [
+    ("arc_candidate", "uniform", "radii"),       # no contacts inside arcs
+    ("vertex_candidate", "uniform", "hidden"),   # no contacts at breakpoints
+])
+def test_a_sweep_without_a_contact_rule_differs(monkeypatch, rule, dataset, family):
+    monkeypatch.setattr(Sweep, rule, lambda self, pos, i: None)
+    sites, weights = _case(dataset, family, 10)
+    got = build_weighted(sites, weights)
+    want = impls.get("halfplane").build_weighted(sites, weights)
+    assert compare(got, want).verdict != Verdict.EXACT
