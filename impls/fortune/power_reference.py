@@ -103,6 +103,7 @@ class Event(IntEnum):
     ACTIVATION = 1
     CONTACT_VERTEX = 2
     CONTACT_ARC = 3
+    PROBE = 4
 
 
 @dataclass
@@ -240,7 +241,7 @@ class Sweep:
         nearest the line has the largest s and would get a cell of no area; the outer ones
         enter first and leave it no room."""
         self.seq += 1
-        if kind in (Event.CONTACT_VERTEX, Event.CONTACT_ARC):
+        if kind in (Event.CONTACT_VERTEX, Event.CONTACT_ARC, Event.PROBE):
             rank = (int(Event.CONTACT_VERTEX), self.s[payload[1]])
         else:
             rank = (int(kind), Fraction(0))
@@ -318,31 +319,40 @@ class Sweep:
         if t < self.now:
             return
         # c must lie strictly inside the arc at time t (on its ends the contact is at a
-        # breakpoint: a vertex candidate). Beyond a breakpoint with a neighbour j, j's wavefront
-        # is on top: the power gap l_j(c) - l_k(c) says which is on top at c, and the side of
-        # the apex of their difference says which of the two crossings is meant.
+        # breakpoint: a vertex candidate)
+        if not self.inside_arc(pos, cx, cy, t.a, h):
+            return
+        self.push(t, Event.CONTACT_ARC, (self.stamp(k_arc), i))
+
+    def inside_arc(self, pos: int, cx: tuple, cy: tuple, t0: Fraction, h: Fraction, strict: bool = True) -> bool:
+        """Whether a point c on the wavefront of the arc at ``pos`` at time t0 + sqrt(h) lies
+        between that arc's breakpoints (strictly, or ends included).
+
+        Beyond the breakpoint with a neighbour j, j's wavefront is on top: the power gap
+        l_j(c) - l_k(c) says which one is on top at c, and the side of the apex of their
+        difference which of their two crossings is the breakpoint."""
+        k = self.arcs[self.beach[pos]].site
         left, right = self.neighbours(pos)
+        on_top = (lambda gap: gap > 0) if strict else (lambda gap: gap >= 0)
+        beyond = (lambda side: side < 0) if strict else (lambda side: side <= 0)
         if right >= 0:
             m = self.arcs[right].site
             gap = self.power_gap(m, k, cx, cy, h)
             if self.y[m] == self.y[k]:
-                inside = gap > 0
+                inside = on_top(gap)
             else:
-                side = self.vertex_of_wavefronts(k, m, cx[0], cx[1], t.a, h)
-                inside = (gap > 0 or side < 0) if self.y[k] > self.y[m] else (gap > 0 and side < 0)
+                side = self.vertex_of_wavefronts(k, m, cx[0], cx[1], t0, h)
+                inside = (on_top(gap) or beyond(side)) if self.y[k] > self.y[m] else (on_top(gap) and beyond(side))
             if not inside:
-                return
+                return False
         if left >= 0:
             l_site = self.arcs[left].site
             gap = self.power_gap(l_site, k, cx, cy, h)
             if self.y[l_site] == self.y[k]:
-                inside = gap > 0
-            else:
-                side = self.vertex_of_wavefronts(l_site, k, cx[0], cx[1], t.a, h)
-                inside = (gap > 0 and side > 0) if self.y[l_site] > self.y[k] else (gap > 0 or side > 0)
-            if not inside:
-                return
-        self.push(t, Event.CONTACT_ARC, (self.stamp(k_arc), i))
+                return on_top(gap)
+            side = -self.vertex_of_wavefronts(l_site, k, cx[0], cx[1], t0, h)
+            return (on_top(gap) and beyond(side)) if self.y[l_site] > self.y[k] else (on_top(gap) or beyond(side))
+        return True
 
     def candidates_at(self, pos: int) -> None:
         """Everything that depends on the arc at ``pos`` and its neighbours: its circle event,
@@ -352,6 +362,11 @@ class Sweep:
             self.arc_candidate(pos, i)
             if pos + 1 < len(self.beach):
                 self.vertex_candidate(pos, i)
+
+    def contacts_at_breakpoint(self, pos: int) -> None:
+        """Every pending site's contact at the breakpoint right of ``pos``."""
+        for i in sorted(self.pending):
+            self.vertex_candidate(pos, i)
 
     def refresh(self, lo: int, hi: int) -> None:
         """Bump and reschedule the arcs at positions lo..hi (clipped to the beach line), the
@@ -364,8 +379,7 @@ class Sweep:
             self.candidates_at(pos)
         if lo > 0:
             self.circle_candidate(lo - 1)
-            for i in sorted(self.pending):
-                self.vertex_candidate(lo - 1, i)
+            self.contacts_at_breakpoint(lo - 1)
         if hi + 1 < len(self.beach):
             self.circle_candidate(hi + 1)
 
@@ -449,8 +463,11 @@ class Sweep:
         self.refresh(pos - 1, pos)
 
     def contact_vertex(self, stamps: tuple, i: int, v: tuple) -> None:
-        a_arc, b_arc = (a for a, _ in stamps)
-        pos = self.beach.index(a_arc)
+        self.insert_at_breakpoint(self.beach.index(stamps[0][0]), i, v)
+
+    def insert_at_breakpoint(self, pos: int, i: int, v: tuple) -> None:
+        """Site i enters at vertex v, between the arc at ``pos`` and the next."""
+        a_arc, b_arc = self.beach[pos], self.beach[pos + 1]
         vid = self.add_vertex(v)
         self.counts["contacts_at_vertex"] += 1
         self.pending.discard(i)
@@ -464,8 +481,11 @@ class Sweep:
         self.refresh(pos, pos + 2)
 
     def contact_arc(self, stamps: tuple, i: int) -> None:
-        (k_arc, _), = stamps
-        pos = self.beach.index(k_arc)
+        self.split_arc(self.beach.index(stamps[0][0]), i)
+
+    def split_arc(self, pos: int, i: int) -> None:
+        """Site i enters inside the arc at ``pos``, which splits in two around it."""
+        k_arc = self.beach[pos]
         self.counts["contacts_in_arc"] += 1
         self.pending.discard(i)
         self.present.add(i)
@@ -512,14 +532,164 @@ class Sweep:
         return sorted(set(range(self.n)) - owners) if self.n > 1 else []
 
 
+class ProbingSweep(Sweep):
+    """The same sweep, finding each pending site's contact by *probes* instead of trying it
+    against the whole beach line (docs/power.md, the last section).
+
+    Pending site i keeps a few present sites S_i. Its cell lies in Q_i, where i has less power
+    than every site of S_i, so the lowest time of T_i over Q_i, at a point q, bounds its
+    contact from below; a probe is queued then. At the probe q is on or below the beach line.
+    If no present site has less power at q than i, q is on the beach line and i enters there
+    (inside the arc of the site it ties with, or at the breakpoint there). Otherwise the
+    present site of least power at q joins S_i (q leaves Q_i, so the next bound is later).
+    A site whose Q_i becomes empty is hidden. The present sites are searched here by brute
+    force; the compiled sweep would walk from the arc above q.
+    """
+
+    def __init__(self, sites: NDArray[np.float64], weights: NDArray[np.float64]) -> None:
+        super().__init__(sites, weights)
+        self.watch: dict[int, list[int]] = {}
+        self.counts.update(probes=0, candidates=0)
+
+    # no candidates against the whole beach line: only circle events when arcs change
+    def candidates_at(self, pos: int) -> None:
+        self.circle_candidate(pos)
+
+    def contacts_at_breakpoint(self, pos: int) -> None:
+        return None
+
+    def least_power(self, sites, cx: tuple, cy: tuple, h: Fraction) -> int:
+        """The site of ``sites`` with the least power at c (exact; the first of equals)."""
+        best = -1
+        for o in sites:
+            if best < 0 or self.power_gap(best, o, cx, cy, h) > 0:
+                best = o
+        return best
+
+    def activate(self, i: int) -> None:
+        self.pending.add(i)
+        zero = Fraction(0)
+        here = (self.x[i], zero), (self.y[i], zero)
+        watch = [self.least_power(sorted(self.present), *here, zero)]
+        if self.y[watch[0]] >= self.y[i]:
+            # a bound needs a lower site (else T_i falls forever straight down): the leftmost
+            # arc belongs to the lowest row
+            watch.append(self.arcs[self.beach[0]].site)
+        self.watch[i] = watch
+        self.schedule_probe(i)
+
+    def lowest_point(self, i: int) -> Optional[tuple[Time, tuple, tuple, Fraction]]:
+        """The least time of T_i over Q_i and where: (time, c_x, c_y, h) as in
+        :meth:`arc_contact`; None if Q_i is empty. T_i is strictly convex and grows in every
+        direction but straight down, which a lower site in S_i closes off, so the least is on
+        an edge of Q_i (a point c_ij) or at a corner (a power centre with two of S_i)."""
+        watch = self.watch[i]
+        zero = Fraction(0)
+
+        def in_q(cx, cy, h):
+            return all(self.power_gap(k, i, cx, cy, h) >= 0 for k in watch)
+
+        best = None
+        for j in watch:
+            found = self.arc_contact(i, j)
+            if found is not None and in_q(*found[1:]) and (best is None or found[0] < best[0]):
+                best = found
+        for a in range(len(watch)):
+            for b in range(a + 1, len(watch)):
+                v = self.power_centre(i, watch[a], watch[b])
+                if v is None:
+                    continue
+                h = self.ell(i, *v)
+                cx, cy = (v[0], zero), (v[1], zero)
+                if in_q(cx, cy, h) and (best is None or Time(v[1], h) < best[0]):
+                    best = (Time(v[1], h), cx, cy, h)
+        return best
+
+    def schedule_probe(self, i: int) -> None:
+        low = self.lowest_point(i)
+        if low is None:
+            self.pending.discard(i)         # its cell is empty: hidden
+            return
+        self.push(low[0], Event.PROBE, (None, i, low))
+
+    def probe(self, i: int, low: tuple) -> None:
+        t, cx, cy, h = low
+        self.counts["probes"] += 1
+        present = sorted(self.present)
+        owner = self.least_power(present, cx, cy, h)
+        if self.power_gap(owner, i, cx, cy, h) < 0:
+            # q is below the beach line, in owner's cell: the bound moves on
+            self.watch[i].append(owner)
+            self.schedule_probe(i)
+            return
+        # q is on the beach line: inside one arc, or at breakpoints (several if degenerate)
+        ties = {o for o in present if self.power_gap(o, i, cx, cy, h) == 0}
+        at_breakpoints, inside = [], None
+        for pos, arc in enumerate(self.beach):
+            k = self.arcs[arc].site
+            if k not in ties:
+                continue
+            if pos + 1 < len(self.beach):
+                m = self.arcs[self.beach[pos + 1]].site
+                if m in ties and self.is_breakpoint(k, m, cx[0], cx[1], t.a, h):
+                    at_breakpoints.append(pos)
+                    continue
+            if inside is None and self.inside_arc(pos, cx, cy, t.a, h):
+                inside = pos
+        if not at_breakpoints and inside is not None:
+            self.here = None
+            self.log_event(Event.CONTACT_ARC, t, [self.arcs[self.beach[inside]].site, i])
+            self.pending.discard(i)
+            self.present.add(i)
+            self.split_arc(inside, i)
+            return
+        for pos in at_breakpoints:
+            a, b = self.arcs[self.beach[pos]].site, self.arcs[self.beach[pos + 1]].site
+            if self.orient(a, i, b) < 0:        # i's arc is born growing there
+                v = self.power_centre(a, i, b)
+                self.here = v
+                self.log_event(Event.CONTACT_VERTEX, t, [a, b, i])
+                self.pending.discard(i)
+                self.present.add(i)
+                self.insert_at_breakpoint(pos, i, v)
+                return
+        if not at_breakpoints:
+            raise RuntimeError(f"probe of site {i}: its point is on no arc of the beach line")
+        self.pending.discard(i)             # squeezed out at once: a cell of no area, hidden
+
+    def log_event(self, kind: Event, time: Time, sites: list) -> None:
+        if self.log is not None:
+            self.log.append((kind, float(time), sites, self.here))
+
+    def run(self) -> None:
+        if self.n == 0:
+            return
+        self.start()
+        while self.heap:
+            item = heapq.heappop(self.heap)
+            kind = Event(item.kind)
+            self.now = item.time
+            if kind == Event.ACTIVATION:
+                self.activate(item.payload[0])
+            elif kind == Event.PROBE:
+                self.probe(item.payload[1], item.payload[2])
+            elif self.fresh(item.payload[0]):
+                self.here = item.payload[-1]
+                self.log_event(kind, item.time, [self.arcs[a].site for a, _ in item.payload[0]])
+                self.circle(*item.payload)
+            else:
+                self.counts["stale"] += 1
+
+
 def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64],
-                   stats: Optional[dict] = None) -> Diagram:
-    """The power diagram of prepared ``sites`` with ``weights`` by the exact weighted sweep."""
+                   stats: Optional[dict] = None, probing: bool = False) -> Diagram:
+    """The power diagram of prepared ``sites`` with ``weights`` by the exact weighted sweep
+    (``probing``: contacts found by probes, :class:`ProbingSweep`)."""
     sites = np.ascontiguousarray(sites, dtype=np.float64).reshape(-1, 2)
     weights = np.ascontiguousarray(weights, dtype=np.float64).reshape(-1)
     if sites.shape[0] <= 1:
         return Diagram.empty(sites, weights)
-    sweep = Sweep(sites, weights)
+    sweep = (ProbingSweep if probing else Sweep)(sites, weights)
     sweep.run()
     if stats is not None:
         stats.update(sweep.counts, hidden_sites=len(sweep.hidden))
