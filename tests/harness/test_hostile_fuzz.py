@@ -94,13 +94,13 @@ def test_a_build_cut_short_by_the_budgets_end_is_no_finding(tmp_path):
 
 def test_a_duration_budget_bounds_a_campaign_with_a_hanging_implementation(tmp_path):
     out = tmp_path / "campaign"
-    code = _fuzz_sleeper(_sleeper(tmp_path), out, "20s", "8")
+    code = _fuzz_sleeper(_sleeper(tmp_path), out, "10s", "8")
     assert code == 1
     summary = json.loads((out / "summary.json").read_text())
     assert summary["failed"] + summary["cut"] >= 1          # the hang is reported either way
     # The campaign's own clock (not the queue, not start-up): the hang costs one timeout at most
     # beyond the budget, never one per case.
-    assert summary["seconds"] <= 20 + 8 + 20, summary["seconds"]
+    assert summary["seconds"] <= 10 + 8 + 20, summary["seconds"]
 
 
 def test_a_duration_budget_bounds_shrinking_of_many_failures(tmp_path):
