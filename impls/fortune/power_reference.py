@@ -542,8 +542,10 @@ class ProbingSweep(Sweep):
     If no present site has less power at q than i, q is on the beach line and i enters there
     (inside the arc of the site it ties with, or at the breakpoint there). Otherwise the
     present site of least power at q joins S_i (q leaves Q_i, so the next bound is later).
-    A site whose Q_i becomes empty is hidden. The present sites are searched here by brute
-    force; the compiled sweep would walk from the arc above q.
+    A site whose Q_i becomes empty is hidden. Whether q is below the beach line is read off
+    the arc above q alone: the beach line at q's x is that arc's wavefront, so q is below it
+    iff that arc's site has less power at q than i. Nothing but that arc is looked at (the
+    arc is found here by walking the beach line; the compiled sweep searches its tree).
     """
 
     def __init__(self, sites: NDArray[np.float64], weights: NDArray[np.float64]) -> None:
@@ -558,25 +560,67 @@ class ProbingSweep(Sweep):
     def contacts_at_breakpoint(self, pos: int) -> None:
         return None
 
-    def least_power(self, sites, cx: tuple, cy: tuple, h: Fraction) -> int:
-        """The site of ``sites`` with the least power at c (exact; the first of equals)."""
-        best = -1
-        for o in sites:
-            if best < 0 or self.power_gap(best, o, cx, cy, h) > 0:
-                best = o
-        return best
-
     def activate(self, i: int) -> None:
         self.pending.add(i)
         zero = Fraction(0)
-        here = (self.x[i], zero), (self.y[i], zero)
-        watch = [self.least_power(sorted(self.present), *here, zero)]
+        pos, _ = self.locate((self.x[i], zero), self.y[i], zero)
+        watch = [self.arcs[self.beach[pos]].site]
         if self.y[watch[0]] >= self.y[i]:
             # a bound needs a lower site (else T_i falls forever straight down): the leftmost
             # arc belongs to the lowest row
             watch.append(self.arcs[self.beach[0]].site)
         self.watch[i] = watch
         self.schedule_probe(i)
+
+    def side_of_breakpoint(self, l: int, r: int, cx: tuple, t0: Fraction, h: Fraction) -> int:
+        """Where x = cx0 + cx1 sqrt(h) lies against the breakpoint (l, r) at time t0 + sqrt(h):
+        -1 left of it, 0 at it, 1 right of it.
+
+        g(x) = P_l(x) - P_r(x), times 2 (t - y_l)(t - y_r) > 0, is
+        G = ((t^2 - y_l^2) - s_l - (x - x_l)^2)(t - y_r) - ((t^2 - y_r^2) - s_r - (x - x_r)^2)(t - y_l)
+        (at t = y_r, a site entering at its own height, G still has g's sign: r's wavefront is
+        the ray x = x_r). l is on top left of the breakpoint; which root of g it is follows
+        :meth:`is_breakpoint`."""
+        x, y, sq = self.x, self.y, self.s
+
+        def mul(u, v):
+            return (u[0] * v[0] + u[1] * v[1] * h, u[0] * v[1] + u[1] * v[0])
+
+        t = (t0, Fraction(1)) if h != 0 else (t0, Fraction(0))
+
+        def wave(k, other):
+            # ((t^2 - y_k^2) - s_k - (x - x_k)^2) (t - y_other)
+            tt = mul(t, t)
+            dx = (cx[0] - x[k], cx[1])
+            dd = mul(dx, dx)
+            left = (tt[0] - y[k] ** 2 - sq[k] - dd[0], tt[1] - dd[1])
+            return mul(left, (t[0] - y[other], t[1]))
+
+        gl, gr = wave(l, r), wave(r, l)
+        g = surd_sign(gl[0] - gr[0], gl[1] - gr[1], h)
+        if y[l] == y[r]:
+            return -g
+        side = self.vertex_of_wavefronts(l, r, cx[0], cx[1], t0, h)
+        if y[l] > y[r]:                         # the right root: g > 0 between the roots
+            if g > 0 or (g == 0 and side < 0) or (g < 0 and side < 0):
+                return -1
+            return 0 if g == 0 else 1
+        if g > 0 and side < 0:                  # the left root: g < 0 between the roots
+            return -1
+        return 0 if (g == 0 and side <= 0) else 1
+
+    def locate(self, cx: tuple, t0: Fraction, h: Fraction) -> tuple[int, list[int]]:
+        """The arc over x = cx0 + cx1 sqrt(h) at time t0 + sqrt(h), and the breakpoints at x
+        (positions of their left arcs; several where arcs of no width meet)."""
+        at = []
+        for pos in range(len(self.beach) - 1):
+            l, r = self.arcs[self.beach[pos]].site, self.arcs[self.beach[pos + 1]].site
+            side = self.side_of_breakpoint(l, r, cx, t0, h)
+            if side < 0:
+                return pos, at
+            if side == 0:
+                at.append(pos)
+        return len(self.beach) - 1, at
 
     def lowest_point(self, i: int) -> Optional[tuple[Time, tuple, tuple, Fraction]]:
         """The least time of T_i over Q_i and where: (time, c_x, c_y, h) as in
@@ -615,46 +659,34 @@ class ProbingSweep(Sweep):
     def probe(self, i: int, low: tuple) -> None:
         t, cx, cy, h = low
         self.counts["probes"] += 1
-        present = sorted(self.present)
-        owner = self.least_power(present, cx, cy, h)
-        if self.power_gap(owner, i, cx, cy, h) < 0:
-            # q is below the beach line, in owner's cell: the bound moves on
-            self.watch[i].append(owner)
+        pos, at_breakpoints = self.locate(cx, t.a, h)
+        above = self.arcs[self.beach[pos]].site
+        gap = self.power_gap(above, i, cx, cy, h)
+        if gap < 0:
+            # q is below the beach line: the bound moves on
+            self.watch[i].append(above)
             self.schedule_probe(i)
             return
-        # q is on the beach line: inside one arc, or at breakpoints (several if degenerate)
-        ties = {o for o in present if self.power_gap(o, i, cx, cy, h) == 0}
-        at_breakpoints, inside = [], None
-        for pos, arc in enumerate(self.beach):
-            k = self.arcs[arc].site
-            if k not in ties:
-                continue
-            if pos + 1 < len(self.beach):
-                m = self.arcs[self.beach[pos + 1]].site
-                if m in ties and self.is_breakpoint(k, m, cx[0], cx[1], t.a, h):
-                    at_breakpoints.append(pos)
-                    continue
-            if inside is None and self.inside_arc(pos, cx, cy, t.a, h):
-                inside = pos
-        if not at_breakpoints and inside is not None:
+        if gap > 0:
+            raise RuntimeError(f"probe of site {i}: its lower bound is above the beach line (a bug)")
+        # q is on the beach line: inside the arc above it, or at the breakpoints there
+        if not at_breakpoints:
             self.here = None
-            self.log_event(Event.CONTACT_ARC, t, [self.arcs[self.beach[inside]].site, i])
+            self.log_event(Event.CONTACT_ARC, t, [above, i])
             self.pending.discard(i)
             self.present.add(i)
-            self.split_arc(inside, i)
+            self.split_arc(pos, i)
             return
-        for pos in at_breakpoints:
-            a, b = self.arcs[self.beach[pos]].site, self.arcs[self.beach[pos + 1]].site
+        for left in at_breakpoints:
+            a, b = self.arcs[self.beach[left]].site, self.arcs[self.beach[left + 1]].site
             if self.orient(a, i, b) < 0:        # i's arc is born growing there
                 v = self.power_centre(a, i, b)
                 self.here = v
                 self.log_event(Event.CONTACT_VERTEX, t, [a, b, i])
                 self.pending.discard(i)
                 self.present.add(i)
-                self.insert_at_breakpoint(pos, i, v)
+                self.insert_at_breakpoint(left, i, v)
                 return
-        if not at_breakpoints:
-            raise RuntimeError(f"probe of site {i}: its point is on no arc of the beach line")
         self.pending.discard(i)             # squeezed out at once: a cell of no area, hidden
 
     def log_event(self, kind: Event, time: Time, sites: list) -> None:
