@@ -22,10 +22,14 @@ wavefronts of the sites present. Three kinds of event, in exact order of time:
   A site with s_i = 0 touches at time y_i right above itself: the ordinary site event.
 * ``ACTIVATION``: at time y_i site i becomes pending (before that its wavefront is empty).
 
-A site still pending when the events run out is hidden. Candidates are computed for every
-pending site against every breakpoint and arc of the beach line whenever either appears
-(O(n (b + p)) for a beach line of b arcs and p pending sites): a candidate is only valid
-while its breakpoint or arc keeps its neighbours, and is discarded lazily when popped.
+A site still pending when the events run out is hidden. Two ways to find contacts, judged
+alike by the tests: :class:`Sweep` computes candidates for every pending site against every
+breakpoint and arc of the beach line whenever either appears (O(n (b + p)) for a beach line
+of b arcs and p pending sites; a candidate is only valid while its breakpoint or arc keeps its
+neighbours, and is dropped when popped otherwise); :class:`ProbingSweep` queues one lower
+bound per pending site and looks at one arc per probe (about three per site on uniform sets).
+Not registered as a construction: it is slow (Python, rationals), and stands as the oracle for
+the compiled sweep.
 """
 
 from __future__ import annotations
@@ -42,7 +46,7 @@ from numpy.typing import NDArray
 from vorobench.core.builder import assemble
 from vorobench.core.diagram import Diagram
 
-__all__ = ["build_weighted", "Event", "Sweep"]
+__all__ = ["build_weighted", "Event", "ProbingSweep", "Sweep", "Time", "surd_sign"]
 
 
 def _sign(x: Fraction) -> int:
