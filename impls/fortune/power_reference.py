@@ -508,26 +508,32 @@ class Sweep:
         self.start()
         while self.heap:
             item = heapq.heappop(self.heap)
-            kind = Event(item.kind)
-            if kind == Event.ACTIVATION:
-                self.now = item.time
-                self.activate(item.payload[0])
-                continue
-            stamps = item.payload[0]
-            if not self.fresh(stamps) or (kind != Event.CIRCLE and item.payload[1] not in self.pending):
-                self.counts["stale"] += 1
-                continue
+            self.handle(Event(item.kind), item)
+
+    def handle(self, kind: Event, item: _Queued) -> None:
+        """Carry out one popped event (stale ones are counted and dropped)."""
+        if kind == Event.ACTIVATION:
             self.now = item.time
-            self.here = None if kind == Event.CONTACT_ARC else item.payload[-1]
-            if self.log is not None:
-                sites = [self.arcs[a].site for a, _ in stamps] + ([] if kind == Event.CIRCLE else [item.payload[1]])
-                self.log.append((kind, float(item.time), sites, self.here))
-            if kind == Event.CIRCLE:
-                self.circle(*item.payload)
-            elif kind == Event.CONTACT_VERTEX:
-                self.contact_vertex(*item.payload)
-            else:
-                self.contact_arc(*item.payload)
+            self.activate(item.payload[0])
+            return
+        stamps = item.payload[0]
+        if not self.fresh(stamps) or (kind != Event.CIRCLE and item.payload[1] not in self.pending):
+            self.counts["stale"] += 1
+            return
+        self.now = item.time
+        self.here = None if kind == Event.CONTACT_ARC else item.payload[-1]
+        self.log_event(kind, item.time,
+                       [self.arcs[a].site for a, _ in stamps] + ([] if kind == Event.CIRCLE else [item.payload[1]]))
+        if kind == Event.CIRCLE:
+            self.circle(*item.payload)
+        elif kind == Event.CONTACT_VERTEX:
+            self.contact_vertex(*item.payload)
+        else:
+            self.contact_arc(*item.payload)
+
+    def log_event(self, kind: Event, time: Time, sites: list) -> None:
+        if self.log is not None:
+            self.log.append((kind, float(time), sites, self.here))
 
     @property
     def hidden(self) -> list[int]:
@@ -693,28 +699,12 @@ class ProbingSweep(Sweep):
                 return
         self.pending.discard(i)             # squeezed out at once: a cell of no area, hidden
 
-    def log_event(self, kind: Event, time: Time, sites: list) -> None:
-        if self.log is not None:
-            self.log.append((kind, float(time), sites, self.here))
-
-    def run(self) -> None:
-        if self.n == 0:
-            return
-        self.start()
-        while self.heap:
-            item = heapq.heappop(self.heap)
-            kind = Event(item.kind)
+    def handle(self, kind: Event, item: _Queued) -> None:
+        if kind == Event.PROBE:
             self.now = item.time
-            if kind == Event.ACTIVATION:
-                self.activate(item.payload[0])
-            elif kind == Event.PROBE:
-                self.probe(item.payload[1], item.payload[2])
-            elif self.fresh(item.payload[0]):
-                self.here = item.payload[-1]
-                self.log_event(kind, item.time, [self.arcs[a].site for a, _ in item.payload[0]])
-                self.circle(*item.payload)
-            else:
-                self.counts["stale"] += 1
+            self.probe(item.payload[1], item.payload[2])
+        else:
+            super().handle(kind, item)
 
 
 def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64],
