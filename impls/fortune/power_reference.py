@@ -239,14 +239,17 @@ class Sweep:
 
     # ------------------------------------------------------------------ queue
 
-    def push(self, time: Time, kind: Event, payload: tuple) -> None:
-        """Queue an event. Contacts at one time go in increasing s: where several sites touch
-        at one point together and tie along a line (equal power all along it), the one
-        nearest the line has the largest s and would get a cell of no area; the outer ones
-        enter first and leave it no room."""
+    def push(self, time: Time, kind: Event, payload: tuple, partner: int = -1) -> None:
+        """Queue an event. Contacts (and probes) at one time go farthest from their partner
+        first: a contact inside the arc of a site k has partner k. Sites that touch k's arc at
+        one point together and tie with k along a line (collinear, equal power all along it)
+        own cells there only if outermost: the one farthest from k enters first and leaves the
+        ones between no room (their cells lie in the line)."""
         self.seq += 1
         if kind in (Event.CONTACT_VERTEX, Event.CONTACT_ARC, Event.PROBE):
-            rank = (int(Event.CONTACT_VERTEX), self.s[payload[1]])
+            i = payload[1]
+            far = (self.x[i] - self.x[partner]) ** 2 + (self.y[i] - self.y[partner]) ** 2 if partner >= 0 else 0
+            rank = (int(Event.CONTACT_VERTEX), -far)
         else:
             rank = (int(kind), Fraction(0))
         heapq.heappush(self.heap, _Queued(time, rank, self.seq, int(kind), payload))
@@ -326,7 +329,7 @@ class Sweep:
         # breakpoint: a vertex candidate)
         if not self.inside_arc(pos, cx, cy, t.a, h):
             return
-        self.push(t, Event.CONTACT_ARC, (self.stamp(k_arc), i))
+        self.push(t, Event.CONTACT_ARC, (self.stamp(k_arc), i), partner=k)
 
     def inside_arc(self, pos: int, cx: tuple, cy: tuple, t0: Fraction, h: Fraction, strict: bool = True) -> bool:
         """Whether a point c on the wavefront of the arc at ``pos`` at time t0 + sqrt(h) lies
@@ -632,9 +635,10 @@ class ProbingSweep(Sweep):
                 at.append(pos)
         return len(self.beach) - 1, at
 
-    def lowest_point(self, i: int) -> Optional[tuple[Time, tuple, tuple, Fraction]]:
-        """The least time of T_i over Q_i and where: (time, c_x, c_y, h) as in
-        :meth:`arc_contact`; None if Q_i is empty. T_i is strictly convex and grows in every
+    def lowest_point(self, i: int) -> Optional[tuple[tuple[Time, tuple, tuple, Fraction], int]]:
+        """The least time of T_i over Q_i and where: ((time, c_x, c_y, h) as in
+        :meth:`arc_contact`, the site of S_i whose bisector it is on, -1 at a corner); None if
+        Q_i is empty. T_i is strictly convex and grows in every
         direction but straight down, which a lower site in S_i closes off, so the least is on
         an edge of Q_i (a point c_ij) or at a corner (a power centre with two of S_i)."""
         watch = self.watch[i]
@@ -647,7 +651,7 @@ class ProbingSweep(Sweep):
         for j in watch:
             found = self.arc_contact(i, j)
             if found is not None and in_q(*found[1:]) and (best is None or found[0] < best[0]):
-                best = found
+                best, partner = found, j
         for a in range(len(watch)):
             for b in range(a + 1, len(watch)):
                 v = self.power_centre(i, watch[a], watch[b])
@@ -656,15 +660,16 @@ class ProbingSweep(Sweep):
                 h = self.ell(i, *v)
                 cx, cy = (v[0], zero), (v[1], zero)
                 if in_q(cx, cy, h) and (best is None or Time(v[1], h) < best[0]):
-                    best = (Time(v[1], h), cx, cy, h)
-        return best
+                    best, partner = (Time(v[1], h), cx, cy, h), -1
+        return None if best is None else (best, partner)
 
     def schedule_probe(self, i: int) -> None:
         low = self.lowest_point(i)
         if low is None:
             self.pending.discard(i)         # its cell is empty: hidden
             return
-        self.push(low[0], Event.PROBE, (None, i, low))
+        low, partner = low
+        self.push(low[0], Event.PROBE, (None, i, low), partner=partner)
 
     def probe(self, i: int, low: tuple) -> None:
         t, cx, cy, h = low

@@ -196,6 +196,19 @@ def test_a_cell_that_lies_in_a_line_is_hidden(probing):
     _assert_exact(sites, weights, probing=probing)
 
 
+@PROBING
+@pytest.mark.parametrize("sites, weights", [
+    # (-2, -3), (0, -4) and (4, -6) are collinear and tie along one line, all three on one side
+    # of it; (-2, -3) and (0, -4) touch (4, -6)'s arc there at once, and (0, -4), in the middle,
+    # has the smaller s: the outer one must enter first (found by an adversarial campaign)
+    ([[-2.0, -3.0], [6.0, -2.0], [4.0, -6.0], [0.0, -4.0], [-3.0, 1.0]], [16.0, 49.0, 70.0, 24.0, 0.0]),
+    ([[-5.0, -6.0], [5.0, 0.0], [3.0, -4.0], [6.0, 5.0], [-1.0, -5.0]], [52.0, 0.0, 6.0, 31.0, 12.0]),
+])
+def test_of_sites_touching_at_once_along_a_tie_the_outermost_enters(sites, weights, probing):
+    sites, weights = np.array(sites), np.array(weights)
+    _assert_exact(sites, weights, probing=probing)
+
+
 def test_equal_weights_give_the_ordinary_diagram():
     for dataset in ("uniform", "grid", "cocircular"):
         sites, _ = _case(dataset, "equal", 10)
