@@ -293,7 +293,12 @@ class Sweep:
         if t < self.now:
             return
         zero = Fraction(0)
-        if self.is_breakpoint(sl, sk, v[0], zero, t.a, t.b) and self.is_breakpoint(sk, sr, v[0], zero, t.a, t.b):
+        if v == self.here and t == self.now:
+            # an arc with no width at the point of the event at hand, between neighbours that
+            # close on it: it has no room (another site co-power there enters around it) and
+            # closes now, whichever crossings its breakpoints were born on
+            self.push(t, Event.CIRCLE, (self.stamp(left, k, right), v))
+        elif self.is_breakpoint(sl, sk, v[0], zero, t.a, t.b) and self.is_breakpoint(sk, sr, v[0], zero, t.a, t.b):
             self.push(t, Event.CIRCLE, (self.stamp(left, k, right), v))
 
     def vertex_candidate(self, pos: int, i: int) -> None:

@@ -209,6 +209,20 @@ def test_of_sites_touching_at_once_along_a_tie_the_outermost_enters(sites, weigh
     _assert_exact(sites, weights, probing=probing)
 
 
+@PROBING
+@pytest.mark.parametrize("sites, weights", [
+    # four sites of equal power at one point, one inside the triangle of the other three: its
+    # cell is that point. Entering there before the others, it must close again at once when
+    # one of them enters around it (found by an adversarial campaign)
+    ([[-5, 3], [1, 4], [1, -5], [-2, 3]], [29, 0, 9, 2]),
+    ([[-5, 6], [-2, 4], [2, 6], [5, -4]], [63, 8, 0, 3]),
+    ([[2, 7], [0, 3], [6, 9], [2, 6], [7, 9]], [0, 0, 0, 0, 71]),
+    ([[2, 7], [0, 3], [3, 9], [2, 6], [7, 9], [9, 8], [9, 4]], [0, 0, 0, 0, 71, 0, 0]),
+])
+def test_a_site_inside_a_co_power_vertex_is_hidden_whatever_enters_first(sites, weights, probing):
+    _assert_exact(np.array(sites, dtype=np.float64), np.array(weights, dtype=np.float64), probing=probing)
+
+
 def test_equal_weights_give_the_ordinary_diagram():
     for dataset in ("uniform", "grid", "cocircular"):
         sites, _ = _case(dataset, "equal", 10)
