@@ -184,18 +184,50 @@ class Sweep:
         g1 = (x[a] - x[b]) / dy
         return surd_sign(x0 - g0, x1 - g1, h)
 
-    def is_breakpoint(self, a: int, b: int, x0: Fraction, x1: Fraction, t0: Fraction, h: Fraction) -> bool:
-        """Whether a point on the wavefronts of both a and b at time t0 + sqrt(h) is the
-        breakpoint with a's arc on its left (not the other intersection of the two curves).
+    def side_of_breakpoint(self, l: int, r: int, cx: tuple, t0: Fraction, h: Fraction) -> int:
+        """Where x = cx0 + cx1 sqrt(h) lies against the breakpoint (l, r) at time t0 + sqrt(h):
+        -1 left of it, 0 at it, 1 right of it.
 
-        Right of the breakpoint b's wavefront is on top. If a is the narrower (y_a > y_b), a is
-        on top between the two intersections: the breakpoint is the right one; if a is the
-        wider, the left one. Equal heights: the curves meet once. At the apex the two
-        intersections are one (the breakpoints are being born there): both count."""
-        if self.y[a] == self.y[b]:
-            return True
-        side = self.vertex_of_wavefronts(a, b, x0, x1, t0, h)
-        return side >= 0 if self.y[a] > self.y[b] else side <= 0
+        g(x) = P_l(x) - P_r(x), times 2 (t - y_l)(t - y_r) > 0, is
+        G = ((t^2 - y_l^2) - s_l - (x - x_l)^2)(t - y_r) - ((t^2 - y_r^2) - s_r - (x - x_r)^2)(t - y_l)
+        (at t = y_r, a site entering at its own height, G still has g's sign: r's wavefront is
+        the ray x = x_r). r is on top right of the breakpoint. If l is the narrower (y_l > y_r),
+        l is on top between the two crossings, so the breakpoint is the right one; if l is the
+        wider, the left one; equal heights: the curves cross once. Which side of the apex of g
+        x lies on (:meth:`vertex_of_wavefronts`) tells the two crossings apart."""
+        x, y, sq = self.x, self.y, self.s
+
+        def mul(u, v):
+            return (u[0] * v[0] + u[1] * v[1] * h, u[0] * v[1] + u[1] * v[0])
+
+        t = (t0, Fraction(1)) if h != 0 else (t0, Fraction(0))
+
+        def wave(k, other):
+            # ((t^2 - y_k^2) - s_k - (x - x_k)^2) (t - y_other)
+            tt = mul(t, t)
+            dx = (cx[0] - x[k], cx[1])
+            dd = mul(dx, dx)
+            left = (tt[0] - y[k] ** 2 - sq[k] - dd[0], tt[1] - dd[1])
+            return mul(left, (t[0] - y[other], t[1]))
+
+        gl, gr = wave(l, r), wave(r, l)
+        g = surd_sign(gl[0] - gr[0], gl[1] - gr[1], h)
+        if y[l] == y[r]:
+            return -g
+        side = self.vertex_of_wavefronts(l, r, cx[0], cx[1], t0, h)
+        if y[l] > y[r]:                         # the right root: g > 0 between the roots
+            if g > 0 or (g == 0 and side < 0) or (g < 0 and side < 0):
+                return -1
+            return 0 if g == 0 else 1
+        if g > 0 and side < 0:                  # the left root: g < 0 between the roots
+            return -1
+        return 0 if (g == 0 and side <= 0) else 1
+
+    def is_breakpoint(self, a: int, b: int, x0: Fraction, x1: Fraction, t0: Fraction, h: Fraction) -> bool:
+        """Whether a point on the wavefronts of both a and b at time t0 + sqrt(h), at
+        x = x0 + x1 sqrt(h), is the breakpoint with a's arc on its left (not the other crossing
+        of the two curves; at the apex, where they are born, the two are one)."""
+        return self.side_of_breakpoint(a, b, (x0, x1), t0, h) == 0
 
     def tied(self, a: int, b: int, c: int) -> bool:
         """Collinear a, b, c with b between a and c, and the bisectors (a, b) and (b, c) one
@@ -332,39 +364,18 @@ class Sweep:
             return
         # c must lie strictly inside the arc at time t (on its ends the contact is at a
         # breakpoint: a vertex candidate)
-        if not self.inside_arc(pos, cx, cy, t.a, h):
+        if not self.inside_arc(pos, cx, t.a, h):
             return
         self.push(t, Event.CONTACT_ARC, (self.stamp(k_arc), i), partner=k)
 
-    def inside_arc(self, pos: int, cx: tuple, cy: tuple, t0: Fraction, h: Fraction, strict: bool = True) -> bool:
-        """Whether a point c on the wavefront of the arc at ``pos`` at time t0 + sqrt(h) lies
-        between that arc's breakpoints (strictly, or ends included).
-
-        Beyond the breakpoint with a neighbour j, j's wavefront is on top: the power gap
-        l_j(c) - l_k(c) says which one is on top at c, and the side of the apex of their
-        difference which of their two crossings is the breakpoint."""
-        k = self.arcs[self.beach[pos]].site
+    def inside_arc(self, pos: int, cx: tuple, t0: Fraction, h: Fraction) -> bool:
+        """Whether x = cx0 + cx1 sqrt(h) lies strictly between the breakpoints of the arc at
+        ``pos`` at time t0 + sqrt(h)."""
         left, right = self.neighbours(pos)
-        on_top = (lambda gap: gap > 0) if strict else (lambda gap: gap >= 0)
-        beyond = (lambda side: side < 0) if strict else (lambda side: side <= 0)
-        if right >= 0:
-            m = self.arcs[right].site
-            gap = self.power_gap(m, k, cx, cy, h)
-            if self.y[m] == self.y[k]:
-                inside = on_top(gap)
-            else:
-                side = self.vertex_of_wavefronts(k, m, cx[0], cx[1], t0, h)
-                inside = (on_top(gap) or beyond(side)) if self.y[k] > self.y[m] else (on_top(gap) and beyond(side))
-            if not inside:
-                return False
-        if left >= 0:
-            l_site = self.arcs[left].site
-            gap = self.power_gap(l_site, k, cx, cy, h)
-            if self.y[l_site] == self.y[k]:
-                return on_top(gap)
-            side = -self.vertex_of_wavefronts(l_site, k, cx[0], cx[1], t0, h)
-            return (on_top(gap) and beyond(side)) if self.y[l_site] > self.y[k] else (on_top(gap) or beyond(side))
-        return True
+        k = self.arcs[self.beach[pos]].site
+        if left >= 0 and self.side_of_breakpoint(self.arcs[left].site, k, cx, t0, h) <= 0:
+            return False
+        return right < 0 or self.side_of_breakpoint(k, self.arcs[right].site, cx, t0, h) < 0
 
     def candidates_at(self, pos: int) -> None:
         """Everything that depends on the arc at ``pos`` and its neighbours: its circle event,
@@ -556,20 +567,18 @@ class ProbingSweep(Sweep):
 
     Pending site i keeps a few present sites S_i. Its cell lies in Q_i, where i has less power
     than every site of S_i, so the lowest time of T_i over Q_i, at a point q, bounds its
-    contact from below; a probe is queued then. At the probe q is on or below the beach line.
-    If no present site has less power at q than i, q is on the beach line and i enters there
-    (inside the arc of the site it ties with, or at the breakpoint there). Otherwise the
-    present site of least power at q joins S_i (q leaves Q_i, so the next bound is later).
-    A site whose Q_i becomes empty is hidden. Whether q is below the beach line is read off
-    the arc above q alone: the beach line at q's x is that arc's wavefront, so q is below it
-    iff that arc's site has less power at q than i. Nothing but that arc is looked at (the
-    arc is found here by walking the beach line; the compiled sweep searches its tree).
+    contact from below; a probe is queued then. At the probe q is on or below the beach line,
+    and the arc over q alone says which: the beach line at q's x is that arc's wavefront, so q
+    is below it iff that arc's site has less power at q than i. Below: that site joins S_i (q
+    leaves Q_i, so the next bound is later). On it: i enters at q, inside that arc or at the
+    breakpoint there. A site whose Q_i becomes empty is hidden. (The arc is found here by
+    walking the beach line; the compiled sweep would search its tree.)
     """
 
     def __init__(self, sites: NDArray[np.float64], weights: NDArray[np.float64]) -> None:
         super().__init__(sites, weights)
         self.watch: dict[int, list[int]] = {}
-        self.counts.update(probes=0, candidates=0)
+        self.counts.update(probes=0)
 
     # no candidates against the whole beach line: only circle events when arcs change
     def candidates_at(self, pos: int) -> None:
@@ -589,43 +598,6 @@ class ProbingSweep(Sweep):
             watch.append(self.arcs[self.beach[0]].site)
         self.watch[i] = watch
         self.schedule_probe(i)
-
-    def side_of_breakpoint(self, l: int, r: int, cx: tuple, t0: Fraction, h: Fraction) -> int:
-        """Where x = cx0 + cx1 sqrt(h) lies against the breakpoint (l, r) at time t0 + sqrt(h):
-        -1 left of it, 0 at it, 1 right of it.
-
-        g(x) = P_l(x) - P_r(x), times 2 (t - y_l)(t - y_r) > 0, is
-        G = ((t^2 - y_l^2) - s_l - (x - x_l)^2)(t - y_r) - ((t^2 - y_r^2) - s_r - (x - x_r)^2)(t - y_l)
-        (at t = y_r, a site entering at its own height, G still has g's sign: r's wavefront is
-        the ray x = x_r). l is on top left of the breakpoint; which root of g it is follows
-        :meth:`is_breakpoint`."""
-        x, y, sq = self.x, self.y, self.s
-
-        def mul(u, v):
-            return (u[0] * v[0] + u[1] * v[1] * h, u[0] * v[1] + u[1] * v[0])
-
-        t = (t0, Fraction(1)) if h != 0 else (t0, Fraction(0))
-
-        def wave(k, other):
-            # ((t^2 - y_k^2) - s_k - (x - x_k)^2) (t - y_other)
-            tt = mul(t, t)
-            dx = (cx[0] - x[k], cx[1])
-            dd = mul(dx, dx)
-            left = (tt[0] - y[k] ** 2 - sq[k] - dd[0], tt[1] - dd[1])
-            return mul(left, (t[0] - y[other], t[1]))
-
-        gl, gr = wave(l, r), wave(r, l)
-        g = surd_sign(gl[0] - gr[0], gl[1] - gr[1], h)
-        if y[l] == y[r]:
-            return -g
-        side = self.vertex_of_wavefronts(l, r, cx[0], cx[1], t0, h)
-        if y[l] > y[r]:                         # the right root: g > 0 between the roots
-            if g > 0 or (g == 0 and side < 0) or (g < 0 and side < 0):
-                return -1
-            return 0 if g == 0 else 1
-        if g > 0 and side < 0:                  # the left root: g < 0 between the roots
-            return -1
-        return 0 if (g == 0 and side <= 0) else 1
 
     def locate(self, cx: tuple, t0: Fraction, h: Fraction) -> tuple[int, list[int]]:
         """The arc over x = cx0 + cx1 sqrt(h) at time t0 + sqrt(h), and the breakpoints at x
