@@ -78,16 +78,24 @@ import numpy as np
 from numpy.typing import NDArray
 
 from impls.base import Implementation
+from numba import njit
+
+from impls.fortune import power_sweep
+from impls.fortune.power_exact import exact_context
 from impls.fortune.sweep import COUNTER_NAMES, N_COUNTERS, OK, sweep
+from vorobench.core.circumcentre import power_centre
 from vorobench.core.builder import assemble
 from vorobench.core.diagram import Diagram
 
-__all__ = ["build", "warmup", "IMPLEMENTATION"]
+__all__ = ["build", "build_weighted", "warmup", "IMPLEMENTATION"]
 
 _ERRORS = {1: "the search for the arc above a site left the beach line",
            2: "an internal table ran out of capacity",
            3: "the event loop exceeded its iteration cap",
            4: "a circle event's arc lost a neighbour"}
+
+_WEIGHTED_ERRORS = {power_sweep.ERR_STATE: "a probe found its bound above the beach line, or an arc lost a neighbour",
+                    power_sweep.ERR_ITERATIONS: "the event loop exceeded its iteration cap"}
 
 _STATS_KEPT = ("site_events", "circle_events", "false_alarms", "vertices", "max_beach_line",
                "breakpoint_tests", "breakpoint_exact", "event_comparisons", "event_comparisons_exact",
@@ -126,12 +134,68 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     return Diagram(sites, d.vertices, d.origin, d.twin, d.next, order[d.site])
 
 
+def _shift_table(sites: NDArray[np.float64], weights: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The weighted sweep's site table: x, y and the shift s_i = max(w) - w_i >= 0 as an
+    interval [s_lo, s_hi] (one point when the float subtraction is exact, as it is for weights
+    of similar size)."""
+    top = weights.max()
+    s = top - weights
+    # the rounding error of top - w, exactly (Knuth's two-difference)
+    bvirt = top - s
+    tail = (top - (s + bvirt)) + (bvirt - weights)
+    exact = tail == 0
+    lo = np.where(exact, s, np.maximum(np.nextafter(s, -np.inf), 0.0))
+    hi = np.where(exact, s, np.nextafter(s, np.inf))
+    return np.column_stack([sites[:, 0], sites[:, 1], lo, hi])
+
+
+@njit(cache=True)
+def _vertex_points(sites, weights, specs):
+    out = np.empty((specs.shape[0], 2), dtype=np.float64)
+    for v in range(specs.shape[0]):
+        a, b, c = specs[v, 0], specs[v, 1], specs[v, 2]
+        out[v, 0], out[v, 1] = power_centre(sites[a, 0], sites[a, 1], weights[a], sites[b, 0], sites[b, 1],
+                                            weights[b], sites[c, 0], sites[c, 1], weights[c])
+    return out
+
+
+def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
+    """The power diagram of prepared ``sites`` with ``weights`` (power |x - p|^2 - w) by the
+    weighted sweep (:mod:`impls.fortune.power_sweep`); equal weights go to the ordinary sweep,
+    so its diagram comes out bit for bit."""
+    sites = np.ascontiguousarray(sites, dtype=np.float64).reshape(-1, 2)
+    weights = np.ascontiguousarray(weights, dtype=np.float64).reshape(-1)
+    n = sites.shape[0]
+    if n <= 1 or np.all(weights == weights[0]):
+        d = build(sites, stats)
+        if stats is not None:
+            stats.update(hidden_sites=0)
+        return Diagram(sites, d.vertices, d.origin, d.twin, d.next, d.site, weights=weights)
+    order = _event_order(sites)
+    row = int(np.searchsorted(sites[order, 1], sites[order[0], 1], side="right"))
+    table = _shift_table(sites, weights)
+    counters = np.zeros(power_sweep.N_COUNTERS, dtype=np.int64)
+    with exact_context(sites, weights):
+        status, edges, specs = power_sweep.sweep(table, order, row, counters)
+        if status != power_sweep.OK:
+            raise RuntimeError(f"fortune (weighted): {_WEIGHTED_ERRORS.get(status, 'unknown error')} (n = {n}); "
+                               "this is a bug")
+        edges, specs = power_sweep.merge_vertices(table, counters, edges, specs)
+    if stats is not None:
+        stats.update(dict(zip(power_sweep.COUNTER_NAMES, counters.tolist())))
+    vertices = _vertex_points(sites, weights, specs)
+    return assemble(sites, vertices, edges[:, :2], edges[:, 2:], weights=weights)
+
+
 def warmup() -> None:
     """Compile (or load from numba's cache) every kernel, including the exact paths."""
     # a grid has exact ties (exact event comparisons) and sites below breakpoints
     g = np.array([[x, y] for y in range(3) for x in range(3)], dtype=np.float64)
     build(g)
     build(np.array([[0.1, 0.2], [0.7, 0.3], [0.4, 0.9], [0.5, 0.5]]))
+    rng = np.random.default_rng(0)
+    build_weighted(rng.random((40, 2)), rng.random(40) * 0.01)
+    build_weighted(g, np.arange(9.0) % 2)
 
 
 IMPLEMENTATION = Implementation(
@@ -139,6 +203,7 @@ IMPLEMENTATION = Implementation(
     description="Fortune's sweep line with exact predicates (numba): treap beach line, indexed event heap",
     complexity="O(n log n)",
     build=build,
+    build_weighted=build_weighted,
     exact=True,
     warmup=warmup,
     kind="own",

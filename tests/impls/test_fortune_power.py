@@ -1,10 +1,12 @@
-"""The weighted sweep's specification (impls/fortune/power_reference.py): its exact number
-arithmetic, its contact geometry checked against first principles, and its diagrams checked
+"""The weighted sweep's specification (impls/fortune/power_reference.py) and its compiled form
+(``fortune``'s ``build_weighted``): the exact number arithmetic, the contact geometry checked
+against first principles, and the diagrams of all three ways of finding contacts checked
 exactly against the half-plane oracle and the regular triangulation on every dataset and
 weight family, on degenerate lattices, and where the contact rules matter (a cell away from
 its site, cells of no area, ties along a line)."""
 
 from decimal import Decimal, getcontext
+from enum import Enum
 from fractions import Fraction
 
 import numpy as np
@@ -14,6 +16,7 @@ from hypothesis import strategies as st
 
 import datasets_gen
 import impls
+from impls import fortune
 from impls.fortune.power_reference import Event, ProbingSweep, Sweep, Time, build_weighted, surd_sign
 from vorobench.core.prepare import prepare_weighted
 from vorobench.judge.comparison import Verdict, compare
@@ -31,13 +34,26 @@ def _case(dataset: str, family: str, n: int):
     return sites, weights
 
 
-#: The two ways the specification finds contacts: every pending site against the whole beach
-#: line, or probes.
-PROBING = pytest.mark.parametrize("probing", [False, True], ids=["candidates", "probes"])
+class Way(Enum):
+    """The ways of finding contacts: the specification trying every pending site against the
+    whole beach line, the specification's probes, and the compiled sweep (probes, filtered)."""
+
+    CANDIDATES = "candidates"
+    PROBES = "probes"
+    COMPILED = "compiled"
 
 
-def _assert_exact(sites, weights, oracle: str = "halfplane", probing: bool = False) -> None:
-    got = build_weighted(sites, weights, probing=probing)
+WAYS = pytest.mark.parametrize("way", list(Way), ids=[w.value for w in Way])
+
+
+def _build(sites, weights, way: Way):
+    if way is Way.COMPILED:
+        return fortune.build_weighted(sites, weights)
+    return build_weighted(sites, weights, probing=way is Way.PROBES)
+
+
+def _assert_exact(sites, weights, oracle: str = "halfplane", way: Way = Way.CANDIDATES) -> None:
+    got = _build(sites, weights, way)
     want = impls.get(oracle).build_weighted(sites, weights)
     result = compare(got, want, labels=("sweep", oracle))
     assert result.verdict == Verdict.EXACT, result.differences[:4]
@@ -123,19 +139,19 @@ def test_one_constant_added_to_every_weight_gives_the_same_diagram():
 # Diagrams, exactly against the oracles
 # ------------------------------------------------------------------------------------------
 
-@PROBING
+@WAYS
 @pytest.mark.parametrize("family", list(datasets_gen.WEIGHT_FAMILIES))
 @pytest.mark.parametrize("dataset", datasets_gen.available())
-def test_exact_against_the_halfplane_oracle(dataset, family, probing):
+def test_exact_against_the_halfplane_oracle(dataset, family, way):
     for n in (2, 3, 10):
-        _assert_exact(*_case(dataset, family, n), probing=probing)
+        _assert_exact(*_case(dataset, family, n), way=way)
 
 
-@PROBING
+@WAYS
 @pytest.mark.parametrize("dataset, family", [("uniform", "radii"), ("grid", "integer"), ("cocircular", "hidden"),
                                              ("near_grid", "integer")])
-def test_exact_against_the_regular_triangulation_at_40(dataset, family, probing):
-    _assert_exact(*_case(dataset, family, 40), oracle="incremental", probing=probing)
+def test_exact_against_the_regular_triangulation_at_40(dataset, family, way):
+    _assert_exact(*_case(dataset, family, 40), oracle="incremental", way=way)
 
 
 lattice_sites = st.lists(st.tuples(st.integers(0, 4), st.integers(0, 4), st.integers(0, 2)),
@@ -143,14 +159,14 @@ lattice_sites = st.lists(st.tuples(st.integers(0, 4), st.integers(0, 4), st.inte
 
 
 @settings(max_examples=40, deadline=None)
-@given(lattice_sites, st.booleans())
-def test_exact_on_integer_lattices_with_integer_weights(rows, probing):
+@given(lattice_sites, st.sampled_from(list(Way)))
+def test_exact_on_integer_lattices_with_integer_weights(rows, way):
     # weights differing by squared lattice distances: sites on each other's bisectors, lifted
     # points coplanar, cells that shrink to a point or a segment
     sites = np.array([r[:2] for r in rows], dtype=np.float64)
     weights = np.array([r[2] for r in rows], dtype=np.float64)
     assume(np.linalg.matrix_rank(sites - sites[0]) == 2)   # collinear sets go to collinear_diagram everywhere
-    _assert_exact(sites, weights, probing=probing)
+    _assert_exact(sites, weights, way=way)
 
 
 @pytest.mark.parametrize("sweep_class", [Sweep, ProbingSweep])
@@ -169,33 +185,34 @@ def test_a_cell_away_from_its_site_is_entered_where_the_cell_is(sweep_class):
     kind, between, here = contacts[0]
     assert kind == Event.CONTACT_VERTEX and sorted(between[:2]) == [0, 3]
     assert 49 < float(here[0]) < 51
-    _assert_exact(sites, weights, probing=sweep_class is ProbingSweep)
+    _assert_exact(sites, weights, way=Way.PROBES if sweep_class is ProbingSweep else Way.CANDIDATES)
+    _assert_exact(sites, weights, way=Way.COMPILED)
     assert 1 not in build_weighted(sites, weights).hidden
 
 
-@PROBING
-def test_a_cell_that_is_one_point_is_hidden(probing):
+@WAYS
+def test_a_cell_that_is_one_point_is_hidden(way):
     # (1, 1) with weight 0 among four weight-1 sites at distance 1: all five have power 0 at
     # (1, 1), and at any other point one of the four has less than the centre
     sites = np.array([[1.0, 0.0], [0.0, 1.0], [2.0, 1.0], [1.0, 2.0], [1.0, 1.0]])
     weights = np.array([1.0, 1.0, 1.0, 1.0, 0.0])
-    d = build_weighted(sites, weights, probing=probing)
+    d = _build(sites, weights, way)
     assert list(d.hidden) == [4]
-    _assert_exact(sites, weights, probing=probing)
+    _assert_exact(sites, weights, way=way)
 
 
-@PROBING
-def test_a_cell_that_lies_in_a_line_is_hidden(probing):
+@WAYS
+def test_a_cell_that_lies_in_a_line_is_hidden(way):
     # (3, 1) between (3, 0) and (3, 2), all three with equal power along y = 1: only the
     # outer two own the sides of that line
     sites = np.array([[3.0, 0.0], [3.0, 1.0], [3.0, 2.0], [1.0, 1.0], [5.0, 1.0]])
     weights = np.array([1.0, 0.0, 1.0, 0.0, 0.0])
-    d = build_weighted(sites, weights, probing=probing)
+    d = _build(sites, weights, way)
     assert 1 in d.hidden
-    _assert_exact(sites, weights, probing=probing)
+    _assert_exact(sites, weights, way=way)
 
 
-@PROBING
+@WAYS
 @pytest.mark.parametrize("sites, weights", [
     # (-2, -3), (0, -4) and (4, -6) are collinear and tie along one line, all three on one side
     # of it; (-2, -3) and (0, -4) touch (4, -6)'s arc there at once, and (0, -4), in the middle,
@@ -203,12 +220,12 @@ def test_a_cell_that_lies_in_a_line_is_hidden(probing):
     ([[-2.0, -3.0], [6.0, -2.0], [4.0, -6.0], [0.0, -4.0], [-3.0, 1.0]], [16.0, 49.0, 70.0, 24.0, 0.0]),
     ([[-5.0, -6.0], [5.0, 0.0], [3.0, -4.0], [6.0, 5.0], [-1.0, -5.0]], [52.0, 0.0, 6.0, 31.0, 12.0]),
 ])
-def test_of_sites_touching_at_once_along_a_tie_the_outermost_enters(sites, weights, probing):
+def test_of_sites_touching_at_once_along_a_tie_the_outermost_enters(sites, weights, way):
     sites, weights = np.array(sites), np.array(weights)
-    _assert_exact(sites, weights, probing=probing)
+    _assert_exact(sites, weights, way=way)
 
 
-@PROBING
+@WAYS
 @pytest.mark.parametrize("sites, weights", [
     # four sites of equal power at one point, one inside the triangle of the other three: its
     # cell is that point. Entering there before the others, it must close again at once when
@@ -218,8 +235,8 @@ def test_of_sites_touching_at_once_along_a_tie_the_outermost_enters(sites, weigh
     ([[2, 7], [0, 3], [6, 9], [2, 6], [7, 9]], [0, 0, 0, 0, 71]),
     ([[2, 7], [0, 3], [3, 9], [2, 6], [7, 9], [9, 8], [9, 4]], [0, 0, 0, 0, 71, 0, 0]),
 ])
-def test_a_site_inside_a_co_power_vertex_is_hidden_whatever_enters_first(sites, weights, probing):
-    _assert_exact(np.array(sites, dtype=np.float64), np.array(weights, dtype=np.float64), probing=probing)
+def test_a_site_inside_a_co_power_vertex_is_hidden_whatever_enters_first(sites, weights, way):
+    _assert_exact(np.array(sites, dtype=np.float64), np.array(weights, dtype=np.float64), way=way)
 
 
 def test_equal_weights_give_the_ordinary_diagram():

@@ -1,0 +1,336 @@
+"""The weighted sweep's predicates, compiled: an interval filter, then the exact stage.
+
+Each decision of :mod:`impls.fortune.power_reference` (the specification) is evaluated here
+in interval arithmetic (:mod:`vorobench.core.predicates.interval`) on the points and times of
+*specs* (see :mod:`impls.fortune.power_exact`); when the interval of the deciding quantity
+holds 0, the same decision is taken in rationals by :mod:`impls.fortune.power_exact`, called
+from numba's object mode. Signs known to be 0 by construction are not filtered: the power gap
+of two sites at a point that defines them (their power centre, their contact point), and the
+difference of two wavefronts at such a point, where only the branch is left to decide.
+
+``G`` is the per-site table (x, y, s_lo, s_hi): coordinates and the shifted weight
+s_i = max(w) - w_i as an interval. ``counters`` counts filter calls and exact decisions.
+"""
+
+from __future__ import annotations
+
+from numba import njit, objmode
+
+from impls.fortune import power_exact
+from impls.fortune.power_exact import CENTRE, CONTACT, SITE
+from vorobench.core.predicates import interval as iv
+from vorobench.core.predicates.interval import UNDECIDED
+
+__all__ = ["SITE", "CENTRE", "CONTACT", "FILTERED", "EXACT", "spec_point", "time_order", "side",
+           "power_gap", "same_centre", "farther", "tied", "keeps_middle"]
+
+#: Indices into the counters array: weighted decisions filtered, and decided in rationals.
+FILTERED = 0
+EXACT = 1
+
+_X, _Y, _SLO, _SHI = 0, 1, 2, 3
+
+
+@njit(cache=True)
+def spec_point(G, kind, a, b, c):
+    """Intervals (xlo, xhi, ylo, yhi, tlo, thi) of the point and time of a spec."""
+    if kind == SITE:
+        x, y = G[a, _X], G[a, _Y]
+        return x, x, y, y, y, y
+    if kind == CENTRE:
+        # v = p_a + u with 2 u . (p_b - p_a) = |p_b - p_a|^2 + s_b - s_a (equal power with b), and
+        # the same with c; the time is v_y + sqrt(|u|^2 + s_a)
+        bxl, bxh = iv.sub(G[b, _X], G[b, _X], G[a, _X], G[a, _X])
+        byl, byh = iv.sub(G[b, _Y], G[b, _Y], G[a, _Y], G[a, _Y])
+        cxl, cxh = iv.sub(G[c, _X], G[c, _X], G[a, _X], G[a, _X])
+        cyl, cyh = iv.sub(G[c, _Y], G[c, _Y], G[a, _Y], G[a, _Y])
+        dbl, dbh = iv.sub(G[b, _SLO], G[b, _SHI], G[a, _SLO], G[a, _SHI])
+        dcl, dch = iv.sub(G[c, _SLO], G[c, _SHI], G[a, _SLO], G[a, _SHI])
+        t1l, t1h = iv.sqr(bxl, bxh)
+        t2l, t2h = iv.sqr(byl, byh)
+        rbl, rbh = iv.add(t1l, t1h, t2l, t2h)
+        rbl, rbh = iv.add(rbl, rbh, dbl, dbh)
+        t1l, t1h = iv.sqr(cxl, cxh)
+        t2l, t2h = iv.sqr(cyl, cyh)
+        rcl, rch = iv.add(t1l, t1h, t2l, t2h)
+        rcl, rch = iv.add(rcl, rch, dcl, dch)
+        t1l, t1h = iv.mul(bxl, bxh, cyl, cyh)
+        t2l, t2h = iv.mul(byl, byh, cxl, cxh)
+        dl, dh = iv.sub(t1l, t1h, t2l, t2h)
+        dl, dh = iv.add(dl, dh, dl, dh)                  # 2 D
+        t1l, t1h = iv.mul(rbl, rbh, cyl, cyh)
+        t2l, t2h = iv.mul(rcl, rch, byl, byh)
+        nl, nh = iv.sub(t1l, t1h, t2l, t2h)
+        uxl, uxh = iv.div(nl, nh, dl, dh)
+        t1l, t1h = iv.mul(bxl, bxh, rcl, rch)
+        t2l, t2h = iv.mul(cxl, cxh, rbl, rbh)
+        nl, nh = iv.sub(t1l, t1h, t2l, t2h)
+        uyl, uyh = iv.div(nl, nh, dl, dh)
+        xl, xh = iv.add(uxl, uxh, G[a, _X], G[a, _X])
+        yl, yh = iv.add(uyl, uyh, G[a, _Y], G[a, _Y])
+        t1l, t1h = iv.sqr(uxl, uxh)
+        t2l, t2h = iv.sqr(uyl, uyh)
+        ll, lh = iv.add(t1l, t1h, t2l, t2h)
+        ll, lh = iv.add(ll, lh, G[a, _SLO], G[a, _SHI])
+        rl, rh = iv.sqrt(ll, lh)
+        tl, th = iv.add(yl, yh, rl, rh)
+        return xl, xh, yl, yh, tl, th
+    # CONTACT of a (= i) with the lower b (= k): on their bisector, with n = p_k - p_i, the foot
+    # of p_k is f = (p_i + p_k) / 2 + n (s_k - s_i) / (2 |n|^2); with
+    # h = (lam^2 + s_k / |n|^2) n_y^2, lam = (s_k - s_i) / (2 |n|^2) - 1/2, the contact is
+    # c = f + sqrt(h) (n_x / n_y, -n_x^2 / n_y^2) at time f_y + sqrt(h)
+    i, k = a, b
+    nxl, nxh = iv.sub(G[k, _X], G[k, _X], G[i, _X], G[i, _X])
+    nyl, nyh = iv.sub(G[k, _Y], G[k, _Y], G[i, _Y], G[i, _Y])
+    t1l, t1h = iv.sqr(nxl, nxh)
+    t2l, t2h = iv.sqr(nyl, nyh)
+    nnl, nnh = iv.add(t1l, t1h, t2l, t2h)
+    dsl, dsh = iv.sub(G[k, _SLO], G[k, _SHI], G[i, _SLO], G[i, _SHI])
+    ql, qh = iv.div(dsl, dsh, nnl, nnh)
+    ql, qh = iv.half(ql, qh)                             # (s_k - s_i) / (2 |n|^2)
+    mxl, mxh = iv.add(G[i, _X], G[i, _X], G[k, _X], G[k, _X])
+    mxl, mxh = iv.half(mxl, mxh)
+    myl, myh = iv.add(G[i, _Y], G[i, _Y], G[k, _Y], G[k, _Y])
+    myl, myh = iv.half(myl, myh)
+    t1l, t1h = iv.mul(nxl, nxh, ql, qh)
+    fxl, fxh = iv.add(mxl, mxh, t1l, t1h)
+    t1l, t1h = iv.mul(nyl, nyh, ql, qh)
+    fyl, fyh = iv.add(myl, myh, t1l, t1h)
+    laml, lamh = iv.sub(ql, qh, 0.5, 0.5)
+    t1l, t1h = iv.sqr(laml, lamh)
+    t2l, t2h = iv.div(G[k, _SLO], G[k, _SHI], nnl, nnh)
+    hl, hh = iv.add(t1l, t1h, t2l, t2h)
+    t1l, t1h = iv.sqr(nyl, nyh)
+    hl, hh = iv.mul(hl, hh, t1l, t1h)
+    rl, rh = iv.sqrt(hl, hh)
+    ratl, rath = iv.div(nxl, nxh, nyl, nyh)
+    t1l, t1h = iv.mul(rl, rh, ratl, rath)
+    xl, xh = iv.add(fxl, fxh, t1l, t1h)
+    t2l, t2h = iv.sqr(ratl, rath)
+    t2l, t2h = iv.mul(rl, rh, t2l, t2h)
+    yl, yh = iv.sub(fyl, fyh, t2l, t2h)
+    tl, th = iv.add(fyl, fyh, rl, rh)
+    return xl, xh, yl, yh, tl, th
+
+
+@njit(cache=True, inline='always')
+def _defines(kind, a, b, c, s):
+    # whether site s is one of those that define the spec's point
+    if kind == CENTRE:
+        return s == a or s == b or s == c
+    if kind == CONTACT:
+        return s == a or s == b
+    return False
+
+
+@njit(cache=True)
+def _exact_time_order(k1, a1, b1, c1, k2, a2, b2, c2):
+    with objmode(r='int64'):
+        r = power_exact.time_order(k1, a1, b1, c1, k2, a2, b2, c2)
+    return r
+
+
+@njit(cache=True)
+def time_order(G, counters, k1, a1, b1, c1, lo1, hi1, k2, a2, b2, c2, lo2, hi2):
+    """-1, 0 or 1 as the time of spec 1 (enclosed in [lo1, hi1]) is before, at or after that
+    of spec 2."""
+    counters[FILTERED] += 1
+    if hi1 < lo2:
+        return -1
+    if hi2 < lo1:
+        return 1
+    if k1 == k2 and a1 == a2 and b1 == b2 and c1 == c2:
+        return 0
+    counters[EXACT] += 1
+    return _exact_time_order(k1, a1, b1, c1, k2, a2, b2, c2)
+
+
+@njit(cache=True)
+def _exact_side(left, right, kind, a, b, c):
+    with objmode(r='int64'):
+        r = power_exact.side(left, right, kind, a, b, c)
+    return r
+
+
+@njit(cache=True)
+def side(G, counters, left, right, kind, a, b, c, xl, xh, tl, th):
+    """Where the point of a spec (x in [xl, xh] at a time in [tl, th]) lies against the
+    breakpoint (left, right): -1 left of it, 0 at it, 1 right of it.
+
+    With A = t - y_l, B = t - y_r, the difference of the two wavefronts times 2 A B > 0 is
+    G = A B (y_l - y_r) + A (s_r + (x - x_r)^2) - B (s_l + (x - x_l)^2), and the side of the
+    apex of that difference is sign((x - x_l) B - (x - x_r) A) sign(y_l - y_r); the rule that
+    combines them is ``power_reference.Sweep.side_of_breakpoint``."""
+    counters[FILTERED] += 1
+    yl_, yr_ = G[left, _Y], G[right, _Y]
+    al, ah = iv.sub(tl, th, yl_, yl_)
+    bl, bh = iv.sub(tl, th, yr_, yr_)
+    dll, dlh = iv.sub(xl, xh, G[left, _X], G[left, _X])
+    drl, drh = iv.sub(xl, xh, G[right, _X], G[right, _X])
+    if _defines(kind, a, b, c, left) and _defines(kind, a, b, c, right):
+        g = 0                                   # the point is on both wavefronts
+    else:
+        t1l, t1h = iv.mul(al, ah, bl, bh)
+        dyl, dyh = iv.sub(yl_, yl_, yr_, yr_)
+        t1l, t1h = iv.mul(t1l, t1h, dyl, dyh)
+        t2l, t2h = iv.sqr(drl, drh)
+        t2l, t2h = iv.add(t2l, t2h, G[right, _SLO], G[right, _SHI])
+        t2l, t2h = iv.mul(t2l, t2h, al, ah)
+        t3l, t3h = iv.sqr(dll, dlh)
+        t3l, t3h = iv.add(t3l, t3h, G[left, _SLO], G[left, _SHI])
+        t3l, t3h = iv.mul(t3l, t3h, bl, bh)
+        gl, gh = iv.add(t1l, t1h, t2l, t2h)
+        gl, gh = iv.sub(gl, gh, t3l, t3h)
+        g = iv.sign(gl, gh)
+    if g != UNDECIDED:
+        if yl_ == yr_:
+            return -g
+        if g != 0 and yl_ > yr_ and g > 0:
+            return -1
+        if g != 0 and yl_ < yr_ and g < 0:
+            return 1
+        t1l, t1h = iv.mul(dll, dlh, bl, bh)
+        t2l, t2h = iv.mul(drl, drh, al, ah)
+        nl, nh = iv.sub(t1l, t1h, t2l, t2h)
+        apex = iv.sign(nl, nh)
+        if apex != UNDECIDED:
+            apex = apex if yl_ > yr_ else -apex
+            if yl_ > yr_:
+                # the right crossing (g > 0 between the two): g < 0 or 0 left of the apex: left
+                if apex < 0:
+                    return -1
+                return 0 if g == 0 else 1
+            # the left crossing: g > 0 (with 0 excluded above: g < 0 returned) left of the apex
+            if g > 0 and apex < 0:
+                return -1
+            if g == 0 and apex < 0:
+                return 0
+            return 1
+    counters[EXACT] += 1
+    return _exact_side(left, right, kind, a, b, c)
+
+
+@njit(cache=True)
+def _exact_power_gap(j, k, kind, a, b, c):
+    with objmode(r='int64'):
+        r = power_exact.power_gap(j, k, kind, a, b, c)
+    return r
+
+
+@njit(cache=True)
+def power_gap(G, counters, j, k, kind, a, b, c, xl, xh, yl, yh):
+    """The sign of l_j - l_k at the point of a spec, in the box [xl, xh] x [yl, yh]: positive
+    where k has the smaller power. l_j - l_k = (p_j - p_k) . ((p_j - c) + (p_k - c)) + s_j - s_k
+    is affine in c, so the box's interval is tight."""
+    if j == k or (_defines(kind, a, b, c, j) and _defines(kind, a, b, c, k)):
+        return 0
+    counters[FILTERED] += 1
+    ux_l, ux_h = iv.sub(G[j, _X], G[j, _X], G[k, _X], G[k, _X])
+    uy_l, uy_h = iv.sub(G[j, _Y], G[j, _Y], G[k, _Y], G[k, _Y])
+    t1l, t1h = iv.sub(G[j, _X], G[j, _X], xl, xh)
+    t2l, t2h = iv.sub(G[k, _X], G[k, _X], xl, xh)
+    sxl, sxh = iv.add(t1l, t1h, t2l, t2h)
+    t1l, t1h = iv.sub(G[j, _Y], G[j, _Y], yl, yh)
+    t2l, t2h = iv.sub(G[k, _Y], G[k, _Y], yl, yh)
+    syl, syh = iv.add(t1l, t1h, t2l, t2h)
+    t1l, t1h = iv.mul(ux_l, ux_h, sxl, sxh)
+    t2l, t2h = iv.mul(uy_l, uy_h, syl, syh)
+    vl, vh = iv.add(t1l, t1h, t2l, t2h)
+    dsl, dsh = iv.sub(G[j, _SLO], G[j, _SHI], G[k, _SLO], G[k, _SHI])
+    vl, vh = iv.add(vl, vh, dsl, dsh)
+    s = iv.sign(vl, vh)
+    if s != UNDECIDED:
+        return s
+    counters[EXACT] += 1
+    return _exact_power_gap(j, k, kind, a, b, c)
+
+
+@njit(cache=True)
+def _exact_same_centre(a1, b1, c1, a2, b2, c2):
+    with objmode(r='int64'):
+        r = power_exact.same_point(a1, b1, c1, a2, b2, c2)
+    return r
+
+
+@njit(cache=True)
+def same_centre(counters, a1, b1, c1, box1, a2, b2, c2, box2):
+    """Whether the power centres of (a1, b1, c1) and (a2, b2, c2), enclosed in the boxes
+    (xlo, xhi, ylo, yhi), are one point."""
+    counters[FILTERED] += 1
+    if box1[1] < box2[0] or box2[1] < box1[0] or box1[3] < box2[2] or box2[3] < box1[2]:
+        return False
+    counters[EXACT] += 1
+    return _exact_same_centre(a1, b1, c1, a2, b2, c2) == 1
+
+
+@njit(cache=True)
+def _exact_farther(i1, p1, i2, p2):
+    with objmode(r='int64'):
+        r = power_exact.farther(i1, p1, i2, p2)
+    return r
+
+
+@njit(cache=True)
+def _far(G, i, p):
+    if p < 0:
+        return 0.0, 0.0
+    dxl, dxh = iv.sub(G[i, _X], G[i, _X], G[p, _X], G[p, _X])
+    dyl, dyh = iv.sub(G[i, _Y], G[i, _Y], G[p, _Y], G[p, _Y])
+    t1l, t1h = iv.sqr(dxl, dxh)
+    t2l, t2h = iv.sqr(dyl, dyh)
+    return iv.add(t1l, t1h, t2l, t2h)
+
+
+@njit(cache=True)
+def farther(G, counters, i1, p1, i2, p2):
+    """The sign of |p_i1 - p_p1|^2 - |p_i2 - p_p2|^2 (a partner of -1 is at distance 0)."""
+    if i1 == i2 and p1 == p2:
+        return 0
+    counters[FILTERED] += 1
+    l1, h1 = _far(G, i1, p1)
+    l2, h2 = _far(G, i2, p2)
+    if h1 < l2:
+        return -1
+    if h2 < l1:
+        return 1
+    counters[EXACT] += 1
+    return _exact_farther(i1, p1, i2, p2)
+
+
+@njit(cache=True)
+def tied(counters, a, b, c):
+    """Collinear a, b, c with b between and one bisector line for both pairs (rare: always
+    decided in rationals)."""
+    counters[EXACT] += 1
+    with objmode(r='int64'):
+        r = power_exact.tied(a, b, c)
+    return r == 1
+
+
+@njit(cache=True)
+def keeps_middle(G, counters, a, b, c):
+    """On the lowest row (x_a < x_b < x_c), whether b's line 2 x_b X - x_b^2 - s_b is strictly
+    above a's where a's and c's cross: the sign of
+    -((x_b - x_a)((x_a^2 + s_a) - (x_c^2 + s_c)) - (x_a - x_c)((x_b^2 - x_a^2) + (s_b - s_a)))."""
+    counters[FILTERED] += 1
+    xa, xb, xc = G[a, _X], G[b, _X], G[c, _X]
+    t1l, t1h = iv.sub(xb, xb, xa, xa)
+    t2l, t2h = iv.sub(xa, xa, xc, xc)
+    sl, sh = iv.add(xa, xa, xc, xc)
+    t3l, t3h = iv.mul(t2l, t2h, sl, sh)                   # x_a^2 - x_c^2
+    dsl, dsh = iv.sub(G[a, _SLO], G[a, _SHI], G[c, _SLO], G[c, _SHI])
+    t3l, t3h = iv.add(t3l, t3h, dsl, dsh)
+    p1l, p1h = iv.mul(t1l, t1h, t3l, t3h)
+    sl, sh = iv.add(xb, xb, xa, xa)
+    t4l, t4h = iv.mul(t1l, t1h, sl, sh)                   # x_b^2 - x_a^2
+    dsl, dsh = iv.sub(G[b, _SLO], G[b, _SHI], G[a, _SLO], G[a, _SHI])
+    t4l, t4h = iv.add(t4l, t4h, dsl, dsh)
+    p2l, p2h = iv.mul(t2l, t2h, t4l, t4h)
+    nl, nh = iv.sub(p1l, p1h, p2l, p2h)
+    s = iv.sign(nl, nh)
+    if s != UNDECIDED:
+        return s < 0
+    counters[EXACT] += 1
+    with objmode(r='int64'):
+        r = power_exact.keeps_middle(a, b, c)
+    return r == 1

@@ -1,0 +1,569 @@
+"""Fortune's sweep for power diagrams, compiled: the probing sweep of the reference, in numba.
+
+The same events and rules as :class:`impls.fortune.power_reference.ProbingSweep` (the
+specification; docs/power.md, "The sweep for weighted sites"), in the same order, so the two
+build the same diagram: activations at y_i from the sites sorted by (y, x); probes, one per
+pending site, at the least time of T_i over the polygon Q_i where i beats its watched sites;
+circle events at power centres. Ties in time go circle, then activation, then probes (the
+farthest from its partner first), then the older event. Each decision is a predicate of
+:mod:`impls.fortune.power_predicates` (interval filter, exact stage in rationals).
+
+The beach line is the ordinary sweep's treap (:mod:`impls.fortune.beach_line`), searched here
+with the weighted breakpoint test; events sit in an indexed binary heap (cancelled when an arc
+they involve changes); a pending site's watched sites are a linked list in one pool. Vertices
+are recorded with their spec (the three sites of their power centre); vertices at one exact
+point, which the events of a co-power vertex create one per event, are merged after the sweep
+along the edges of zero length between them, and those edges dropped.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from impls.fortune import beach_line as bl
+from impls.fortune.power_predicates import (CENTRE, CONTACT, SITE, farther, keeps_middle,
+                                            power_gap, same_centre, side, spec_point, tied, time_order)
+from vorobench.core.predicates import orient2d
+
+__all__ = ["sweep", "COUNTER_NAMES", "N_COUNTERS", "OK", "ERR_STATE", "ERR_ITERATIONS"]
+
+# counters: 0-1 in power_predicates (filtered, exact), then the sweep's own
+ACTIVATIONS, CIRCLES, PROBES, IN_ARC, AT_VERTEX, HIDDEN, MAX_BEACH, MERGED = range(2, 10)
+N_COUNTERS = 10
+COUNTER_NAMES = ("weighted_filtered", "weighted_exact", "site_events", "circle_events", "probes",
+                 "contacts_in_arc", "contacts_at_vertex", "hidden_sites", "max_beach_line",
+                 "merged_vertices")
+
+OK = 0
+ERR_STATE = 1           # a probe's lower bound above the beach line, or a lost neighbour
+ERR_ITERATIONS = 2
+
+# event rows: kind, time spec (k, a, b, c), point spec (k, a, b, c), sequence number, owner
+# (the arc of a circle event, the site of a probe), partner (probes), position in the heap
+_KIND, _TK, _TA, _TB, _TC, _PK, _PA, _PB, _PC, _SEQ, _OWNER, _PARTNER, _HPOS = range(13)
+_EV_FIELDS = 13
+_CIRCLE, _PROBE = 0, 2
+
+# scalar state
+_ROOT, _SEQN, _NEDGE, _NVERT, _NARC, _HEAPN, _FREE, _NOWK, _NOWA, _NOWB, _NOWC, _HEREK, _HEREA, \
+    _HEREB, _HEREC, _WUSED, _STATUS, _NARCS = range(18)
+_S_FIELDS = 18
+
+
+@njit(cache=True)
+def _earlier(G, counters, ev, evf, e1, e2):
+    # the heap's order: time, then kind (circle first), then for probes the farther from its
+    # partner, then the older event
+    c = time_order(G, counters, ev[e1, _TK], ev[e1, _TA], ev[e1, _TB], ev[e1, _TC], evf[e1, 0], evf[e1, 1],
+                   ev[e2, _TK], ev[e2, _TA], ev[e2, _TB], ev[e2, _TC], evf[e2, 0], evf[e2, 1])
+    if c != 0:
+        return c < 0
+    if ev[e1, _KIND] != ev[e2, _KIND]:
+        return ev[e1, _KIND] < ev[e2, _KIND]
+    if ev[e1, _KIND] == _PROBE:
+        f = farther(G, counters, ev[e1, _OWNER], ev[e1, _PARTNER], ev[e2, _OWNER], ev[e2, _PARTNER])
+        if f != 0:
+            return f > 0
+    return ev[e1, _SEQ] < ev[e2, _SEQ]
+
+
+@njit(cache=True)
+def _sift_up(G, counters, ev, evf, heap, pos):
+    e = heap[pos]
+    while pos > 0:
+        parent = (pos - 1) >> 1
+        p = heap[parent]
+        if not _earlier(G, counters, ev, evf, e, p):
+            break
+        heap[pos] = p
+        ev[p, _HPOS] = pos
+        pos = parent
+    heap[pos] = e
+    ev[e, _HPOS] = pos
+
+
+@njit(cache=True)
+def _sift_down(G, counters, ev, evf, heap, n, pos):
+    e = heap[pos]
+    while True:
+        child = 2 * pos + 1
+        if child >= n:
+            break
+        if child + 1 < n and _earlier(G, counters, ev, evf, heap[child + 1], heap[child]):
+            child += 1
+        c = heap[child]
+        if not _earlier(G, counters, ev, evf, c, e):
+            break
+        heap[pos] = c
+        ev[c, _HPOS] = pos
+        pos = child
+    heap[pos] = e
+    ev[e, _HPOS] = pos
+
+
+@njit(cache=True)
+def _push(G, counters, S, ev, evf, heap, free, kind, tk, ta, tb, tc, tlo, thi, pk, pa, pb, pc, owner, partner):
+    e = free[S[_FREE] - 1]
+    S[_FREE] -= 1
+    ev[e, _KIND] = kind
+    ev[e, _TK], ev[e, _TA], ev[e, _TB], ev[e, _TC] = tk, ta, tb, tc
+    ev[e, _PK], ev[e, _PA], ev[e, _PB], ev[e, _PC] = pk, pa, pb, pc
+    S[_SEQN] += 1
+    ev[e, _SEQ] = S[_SEQN]
+    ev[e, _OWNER] = owner
+    ev[e, _PARTNER] = partner
+    evf[e, 0], evf[e, 1] = tlo, thi
+    n = S[_HEAPN]
+    heap[n] = e
+    S[_HEAPN] = n + 1
+    _sift_up(G, counters, ev, evf, heap, n)
+    return e
+
+
+@njit(cache=True)
+def _remove(G, counters, S, ev, evf, heap, free, e):
+    # take event e out of the heap and give its row back
+    pos = ev[e, _HPOS]
+    n = S[_HEAPN] - 1
+    S[_HEAPN] = n
+    if pos != n:
+        last = heap[n]
+        heap[pos] = last
+        ev[last, _HPOS] = pos
+        _sift_down(G, counters, ev, evf, heap, n, pos)
+        if heap[pos] == last:
+            _sift_up(G, counters, ev, evf, heap, pos)
+    free[S[_FREE]] = e
+    S[_FREE] += 1
+
+
+@njit(cache=True)
+def _cancel(G, counters, S, ev, evf, heap, free, arcs, k):
+    if k >= 0 and arcs[k, bl.EVENT] >= 0:
+        _remove(G, counters, S, ev, evf, heap, free, arcs[k, bl.EVENT])
+        arcs[k, bl.EVENT] = -1
+
+
+@njit(cache=True)
+def _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, k):
+    """Schedule the vanishing of arc k if its breakpoints converge (Sweep.circle_candidate)."""
+    if k < 0:
+        return
+    left, right = arcs[k, bl.PREV], arcs[k, bl.NEXT]
+    if left < 0 or right < 0:
+        return
+    sl, sk, sr = arcs[left, bl.SITE], arcs[k, bl.SITE], arcs[right, bl.SITE]
+    if sl == sr:
+        return
+    turn = orient2d(G[sl, 0], G[sl, 1], G[sk, 0], G[sk, 1], G[sr, 0], G[sr, 1])
+    if turn == 0 and S[_HEREK] >= 0 and tied(counters, sl, sk, sr):
+        # k has just met a neighbour that ties with it along a line: it closes now, here
+        arcs[k, bl.EVENT] = _push(G, counters, S, ev, evf, heap, free, _CIRCLE,
+                                  S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC], SF[0], SF[1],
+                                  S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC], k, -1)
+        return
+    if turn <= 0:
+        return
+    xl, xh, yl, yh, tl, th = spec_point(G, CENTRE, sl, sk, sr)
+    if time_order(G, counters, CENTRE, sl, sk, sr, tl, th, S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC],
+                  SF[0], SF[1]) < 0:
+        return
+    fire = False
+    if S[_HEREK] == CENTRE:
+        hxl, hxh, hyl, hyh, _, _ = spec_point(G, CENTRE, S[_HEREA], S[_HEREB], S[_HEREC])
+        if same_centre(counters, sl, sk, sr, (xl, xh, yl, yh), S[_HEREA], S[_HEREB], S[_HEREC],
+                       (hxl, hxh, hyl, hyh)) and \
+                time_order(G, counters, CENTRE, sl, sk, sr, tl, th, S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC],
+                           SF[0], SF[1]) == 0:
+            fire = True         # no width at the point of the event at hand, neighbours closing on it
+    if not fire:
+        fire = side(G, counters, sl, sk, CENTRE, sl, sk, sr, xl, xh, tl, th) == 0 and \
+            side(G, counters, sk, sr, CENTRE, sl, sk, sr, xl, xh, tl, th) == 0
+    if fire:
+        arcs[k, bl.EVENT] = _push(G, counters, S, ev, evf, heap, free, _CIRCLE, CENTRE, sl, sk, sr, tl, th,
+                                  CENTRE, sl, sk, sr, k, -1)
+
+
+@njit(cache=True)
+def _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, lo, mid, hi):
+    """The arcs lo, (mid), hi changed neighbours: their circle events and those of the arcs on
+    either side are recomputed, in the reference's order (lo..hi, then left, then right)."""
+    todo = (np.int64(lo), np.int64(mid), np.int64(hi), np.int64(arcs[lo, bl.PREV]), np.int64(arcs[hi, bl.NEXT]))
+    for k in todo:
+        _cancel(G, counters, S, ev, evf, heap, free, arcs, k)
+    for k in todo:
+        _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, k)
+
+
+@njit(cache=True)
+def _locate(G, counters, arcs, root, kind, a, b, c, xl, xh, tl, th, at):
+    """The arc over the point of a spec at its time, and in ``at`` the left arcs of the
+    breakpoints at that point, left to right (several where arcs of no width meet); returns
+    (arc, number of breakpoints)."""
+    found = -1
+    x = root
+    depth = 0
+    while x != -1 and depth < 10000:
+        depth += 1
+        nxt = arcs[x, bl.NEXT]
+        if nxt == -1 or side(G, counters, arcs[x, bl.SITE], arcs[nxt, bl.SITE], kind, a, b, c, xl, xh, tl, th) < 0:
+            found = x
+            x = arcs[x, bl.LEFT]
+        else:
+            x = arcs[x, bl.RIGHT]
+    m = 0
+    p = arcs[found, bl.PREV]
+    cur = found
+    while p != -1 and side(G, counters, arcs[p, bl.SITE], arcs[cur, bl.SITE], kind, a, b, c, xl, xh, tl, th) == 0:
+        at[m] = p
+        m += 1
+        cur = p
+        p = arcs[p, bl.PREV]
+    for j in range(m // 2):
+        at[j], at[m - 1 - j] = at[m - 1 - j], at[j]
+    return found, m
+
+
+@njit(cache=True)
+def _new_edge(edges, S, a, b, start):
+    e = S[_NEDGE]
+    edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3] = a, b, start, -1
+    S[_NEDGE] = e + 1
+    return e
+
+
+@njit(cache=True)
+def _close(edges, e, left_site, v):
+    # the breakpoint with left arc `left_site` that traced edge e stops at vertex v
+    if edges[e, 0] == left_site:
+        edges[e, 3] = v
+    else:
+        edges[e, 2] = v
+
+
+@njit(cache=True)
+def _new_vertex(vspec, S, a, b, c):
+    v = S[_NVERT]
+    vspec[v, 0], vspec[v, 1], vspec[v, 2] = a, b, c
+    S[_NVERT] = v + 1
+    return v
+
+
+@njit(cache=True)
+def _new_arc(arcs, S, site):
+    x = S[_NARCS]
+    S[_NARCS] = x + 1
+    # splitmix-like deterministic priorities: counts do not depend on the machine
+    z = np.uint64(x + 1) * np.uint64(0x9E3779B97F4A7C15)
+    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    z = z ^ (z >> np.uint64(31))
+    return bl.add_arc(arcs, x, site, np.int32(z >> np.uint64(33)))
+
+
+@njit(cache=True)
+def _lowest_point(G, counters, wsite, wnext, whead, i):
+    """The least time of T_i over Q_i (ProbingSweep.lowest_point): (kind, a, b, c, partner,
+    tlo, thi) of its spec, kind -1 if Q_i is empty."""
+    best_k, best_a, best_b, best_c, partner = -1, -1, -1, -1, -1
+    blo, bhi = 0.0, 0.0
+    j = whead[i]
+    while j != -1:
+        sj = wsite[j]
+        if G[sj, 1] < G[i, 1]:
+            xl, xh, yl, yh, tl, th = spec_point(G, CONTACT, i, sj, -1)
+            if best_k < 0 or time_order(G, counters, CONTACT, i, sj, -1, tl, th, best_k, best_a, best_b, best_c,
+                                        blo, bhi) < 0:
+                if _in_q(G, counters, wsite, wnext, whead, i, CONTACT, i, sj, -1, xl, xh, yl, yh):
+                    best_k, best_a, best_b, best_c, partner, blo, bhi = CONTACT, i, sj, -1, sj, tl, th
+        j = wnext[j]
+    ja = whead[i]
+    while ja != -1:
+        jb = wnext[ja]
+        while jb != -1:
+            sa, sb = wsite[ja], wsite[jb]
+            if orient2d(G[i, 0], G[i, 1], G[sa, 0], G[sa, 1], G[sb, 0], G[sb, 1]) != 0:
+                xl, xh, yl, yh, tl, th = spec_point(G, CENTRE, i, sa, sb)
+                if best_k < 0 or time_order(G, counters, CENTRE, i, sa, sb, tl, th, best_k, best_a, best_b,
+                                            best_c, blo, bhi) < 0:
+                    if _in_q(G, counters, wsite, wnext, whead, i, CENTRE, i, sa, sb, xl, xh, yl, yh):
+                        best_k, best_a, best_b, best_c, partner, blo, bhi = CENTRE, i, sa, sb, -1, tl, th
+            jb = wnext[jb]
+        ja = wnext[ja]
+    return best_k, best_a, best_b, best_c, partner, blo, bhi
+
+
+@njit(cache=True)
+def _in_q(G, counters, wsite, wnext, whead, i, kind, a, b, c, xl, xh, yl, yh):
+    # i has no more power than any watched site at the spec's point
+    j = whead[i]
+    while j != -1:
+        if power_gap(G, counters, wsite[j], i, kind, a, b, c, xl, xh, yl, yh) < 0:
+            return False
+        j = wnext[j]
+    return True
+
+
+@njit(cache=True)
+def sweep(G, order, row, counters):
+    """Run the weighted sweep. ``G`` is the site table of :mod:`power_predicates`, ``order``
+    the sites sorted by (y, x), ``row`` the number of them on the lowest y.
+
+    Returns (status, edges (a, b, start, end), vertex specs (a, b, c)); vertices at one point
+    are merged and edges of no length dropped."""
+    n = G.shape[0]
+    arcs = bl.new_arcs(2 * n + 4)
+    cap_ev = 3 * n + 16
+    ev = np.empty((cap_ev, _EV_FIELDS), dtype=np.int64)
+    evf = np.empty((cap_ev, 2), dtype=np.float64)
+    heap = np.empty(cap_ev, dtype=np.int64)
+    free = np.arange(cap_ev - 1, -1, -1).astype(np.int64)
+    edges = np.empty((5 * n + 16, 4), dtype=np.int64)
+    vspec = np.empty((3 * n + 16, 3), dtype=np.int64)
+    wcap = 4 * n + 16
+    wsite = np.empty(wcap, dtype=np.int64)
+    wnext = np.empty(wcap, dtype=np.int64)
+    whead = np.full(n, -1, dtype=np.int64)
+    wtail = np.full(n, -1, dtype=np.int64)
+    state = np.zeros(n, dtype=np.int8)          # 0 waiting, 1 pending, 2 present, 3 hidden
+    at = np.empty(2 * n + 4, dtype=np.int64)
+    S = np.zeros(_S_FIELDS, dtype=np.int64)
+    SF = np.zeros(2, dtype=np.float64)
+    S[_FREE] = cap_ev
+    S[_ROOT] = -1
+    S[_HEREK] = -1
+    S[_STATUS] = OK
+
+    # the lowest row: the upper envelope of the lines 2 x_i X - x_i^2 - s_i (slopes increasing
+    # along the row) starts the beach line; the others there are hidden for good
+    hull = np.empty(row, dtype=np.int64)
+    m = 0
+    for r in range(row):
+        i = order[r]
+        while m >= 2 and not keeps_middle(G, counters, hull[m - 2], hull[m - 1], i):
+            m -= 1
+        hull[m] = i
+        m += 1
+    previous = -1
+    for r in range(row):
+        state[order[r]] = 3
+    for h in range(m):
+        i = hull[h]
+        state[i] = 2
+        x = _new_arc(arcs, S, i)
+        S[_ROOT] = bl.insert_after(arcs, S[_ROOT], previous, x)
+        if previous >= 0:
+            arcs[previous, bl.EDGE] = _new_edge(edges, S, arcs[previous, bl.SITE], i, -1)
+        previous = x
+    counters[HIDDEN] += row - m
+    head = 0                                    # the leftmost arc never changes
+    beach = m
+    counters[MAX_BEACH] = m
+
+    nxt_act = row
+    guard = 0
+    limit = 40 * n + 1000
+    while guard < limit:
+        guard += 1
+        use_heap = False
+        if S[_HEAPN] > 0:
+            if nxt_act >= n:
+                use_heap = True
+            else:
+                top = heap[0]
+                i = order[nxt_act]
+                c = time_order(G, counters, ev[top, _TK], ev[top, _TA], ev[top, _TB], ev[top, _TC],
+                               evf[top, 0], evf[top, 1], SITE, i, -1, -1, G[i, 1], G[i, 1])
+                use_heap = c < 0 or (c == 0 and ev[top, _KIND] == _CIRCLE)
+        elif nxt_act >= n:
+            break
+        if not use_heap:
+            # activation of site i: it watches the arc over it (and the leftmost, of the lowest
+            # row, if that arc's site is not lower: a bound needs a lower site)
+            i = order[nxt_act]
+            nxt_act += 1
+            counters[ACTIVATIONS] += 1
+            S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC] = SITE, i, -1, -1
+            SF[0], SF[1] = G[i, 1], G[i, 1]
+            state[i] = 1
+            arc, _ = _locate(G, counters, arcs, S[_ROOT], SITE, i, -1, -1, G[i, 0], G[i, 0], G[i, 1], G[i, 1], at)
+            first = arcs[arc, bl.SITE]
+            for t in range(2):
+                if t == 1 and G[first, 1] < G[i, 1]:
+                    break
+                s = first if t == 0 else arcs[head, bl.SITE]
+                w = S[_WUSED]
+                if w >= wcap:
+                    wcap *= 2
+                    wsite2 = np.empty(wcap, dtype=np.int64)
+                    wnext2 = np.empty(wcap, dtype=np.int64)
+                    wsite2[:w] = wsite[:w]
+                    wnext2[:w] = wnext[:w]
+                    wsite, wnext = wsite2, wnext2
+                S[_WUSED] = w + 1
+                wsite[w], wnext[w] = s, -1
+                if whead[i] < 0:
+                    whead[i] = w
+                else:
+                    wnext[wtail[i]] = w
+                wtail[i] = w
+            schedule = i
+        else:
+            e = heap[0]
+            _remove(G, counters, S, ev, evf, heap, free, e)
+            S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC] = ev[e, _TK], ev[e, _TA], ev[e, _TB], ev[e, _TC]
+            SF[0], SF[1] = evf[e, 0], evf[e, 1]
+            schedule = -1
+            if ev[e, _KIND] == _CIRCLE:
+                k = ev[e, _OWNER]
+                arcs[k, bl.EVENT] = -1
+                left, right = arcs[k, bl.PREV], arcs[k, bl.NEXT]
+                if left < 0 or right < 0:
+                    S[_STATUS] = ERR_STATE
+                    break
+                counters[CIRCLES] += 1
+                S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC] = ev[e, _PK], ev[e, _PA], ev[e, _PB], ev[e, _PC]
+                v = _new_vertex(vspec, S, ev[e, _PA], ev[e, _PB], ev[e, _PC])
+                _close(edges, arcs[left, bl.EDGE], arcs[left, bl.SITE], v)
+                _close(edges, arcs[k, bl.EDGE], arcs[k, bl.SITE], v)
+                arcs[left, bl.EDGE] = _new_edge(edges, S, arcs[left, bl.SITE], arcs[right, bl.SITE], v)
+                S[_ROOT] = bl.remove(arcs, S[_ROOT], k)
+                beach -= 1
+                # refresh(left, right): lo..hi is left, right; then left's left, right's right
+                todo = (np.int64(left), np.int64(right), np.int64(arcs[left, bl.PREV]), np.int64(arcs[right, bl.NEXT]))
+                for q in todo:
+                    _cancel(G, counters, S, ev, evf, heap, free, arcs, q)
+                for q in todo:
+                    _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, q)
+            else:
+                # a probe of site i at the point q of its lower bound: the arc over q decides
+                i = ev[e, _OWNER]
+                pk, pa, pb, pc = ev[e, _PK], ev[e, _PA], ev[e, _PB], ev[e, _PC]
+                counters[PROBES] += 1
+                xl, xh, yl, yh, tl, th = spec_point(G, pk, pa, pb, pc)
+                arc, nat = _locate(G, counters, arcs, S[_ROOT], pk, pa, pb, pc, xl, xh, tl, th, at)
+                above = arcs[arc, bl.SITE]
+                gap = power_gap(G, counters, above, i, pk, pa, pb, pc, xl, xh, yl, yh)
+                if gap < 0:
+                    # q is below the beach line: the arc's site joins the watch, the bound moves on
+                    w = S[_WUSED]
+                    if w >= wcap:
+                        wcap *= 2
+                        wsite2 = np.empty(wcap, dtype=np.int64)
+                        wnext2 = np.empty(wcap, dtype=np.int64)
+                        wsite2[:w] = wsite[:w]
+                        wnext2[:w] = wnext[:w]
+                        wsite, wnext = wsite2, wnext2
+                    S[_WUSED] = w + 1
+                    wsite[w], wnext[w] = above, -1
+                    wnext[wtail[i]] = w
+                    wtail[i] = w
+                    schedule = i
+                elif gap > 0:
+                    S[_STATUS] = ERR_STATE
+                    break
+                elif nat == 0:
+                    # inside the arc: it splits around i, one edge starts both ways
+                    S[_HEREK] = -1
+                    counters[IN_ARC] += 1
+                    state[i] = 2
+                    k_site = arcs[arc, bl.SITE]
+                    x = _new_arc(arcs, S, i)
+                    twin = _new_arc(arcs, S, k_site)
+                    arcs[twin, bl.EDGE] = arcs[arc, bl.EDGE]
+                    arcs[arc, bl.EDGE] = _new_edge(edges, S, k_site, i, -1)
+                    arcs[x, bl.EDGE] = arcs[arc, bl.EDGE]
+                    S[_ROOT] = bl.insert_after(arcs, S[_ROOT], arc, x)
+                    S[_ROOT] = bl.insert_after(arcs, S[_ROOT], x, twin)
+                    beach += 2
+                    _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, arc, x, twin)
+                else:
+                    entered = False
+                    for j in range(nat):
+                        la = at[j]
+                        ra = arcs[la, bl.NEXT]
+                        sa, sb = arcs[la, bl.SITE], arcs[ra, bl.SITE]
+                        if orient2d(G[sa, 0], G[sa, 1], G[i, 0], G[i, 1], G[sb, 0], G[sb, 1]) < 0:
+                            # at the breakpoint (a, b): a vertex; (a, b) ends, (a, i), (i, b) start
+                            S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC] = CENTRE, sa, i, sb
+                            counters[AT_VERTEX] += 1
+                            state[i] = 2
+                            v = _new_vertex(vspec, S, sa, i, sb)
+                            _close(edges, arcs[la, bl.EDGE], sa, v)
+                            x = _new_arc(arcs, S, i)
+                            arcs[la, bl.EDGE] = _new_edge(edges, S, sa, i, v)
+                            arcs[x, bl.EDGE] = _new_edge(edges, S, i, sb, v)
+                            S[_ROOT] = bl.insert_after(arcs, S[_ROOT], la, x)
+                            beach += 1
+                            _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, la, x, ra)
+                            entered = True
+                            break
+                    if not entered:
+                        state[i] = 3            # squeezed out at once: a cell of no area
+                        counters[HIDDEN] += 1
+            if beach > counters[MAX_BEACH]:
+                counters[MAX_BEACH] = beach
+        if schedule >= 0:
+            i = schedule
+            bk, ba, bb, bc, partner, blo, bhi = _lowest_point(G, counters, wsite, wnext, whead, i)
+            if bk < 0:
+                state[i] = 3                    # Q_i is empty: hidden
+                counters[HIDDEN] += 1
+            else:
+                _push(G, counters, S, ev, evf, heap, free, _PROBE, bk, ba, bb, bc, blo, bhi,
+                      bk, ba, bb, bc, i, partner)
+    if guard >= limit:
+        S[_STATUS] = ERR_ITERATIONS
+    return S[_STATUS], edges[:S[_NEDGE]], vspec[:S[_NVERT]]
+
+
+@njit(cache=True)
+def merge_vertices(G, counters, edges, vspec):
+    """Vertices at one exact point, joined by edges between them, become one, and the edges
+    of no length go: returns (edges with renumbered ends, the spec of each vertex kept)."""
+    nv = vspec.shape[0]
+    box = np.empty((nv, 4), dtype=np.float64)
+    for v in range(nv):
+        xl, xh, yl, yh, _, _ = spec_point(G, CENTRE, vspec[v, 0], vspec[v, 1], vspec[v, 2])
+        box[v, 0], box[v, 1], box[v, 2], box[v, 3] = xl, xh, yl, yh
+    parent = np.arange(nv)
+    for e in range(edges.shape[0]):
+        a, b = edges[e, 2], edges[e, 3]
+        if a < 0 or b < 0:
+            continue
+        while parent[a] != a:
+            a = parent[a]
+        while parent[b] != b:
+            b = parent[b]
+        if a == b:
+            continue
+        if same_centre(counters, vspec[a, 0], vspec[a, 1], vspec[a, 2],
+                       (box[a, 0], box[a, 1], box[a, 2], box[a, 3]),
+                       vspec[b, 0], vspec[b, 1], vspec[b, 2], (box[b, 0], box[b, 1], box[b, 2], box[b, 3])):
+            parent[max(a, b)] = min(a, b)
+            counters[MERGED] += 1
+    new_id = np.full(nv, -1, dtype=np.int64)
+    kept = 0
+    for v in range(nv):
+        r = v
+        while parent[r] != r:
+            r = parent[r]
+        if r == v:
+            new_id[v] = kept
+            kept += 1
+        else:
+            new_id[v] = new_id[r]           # r < v: already numbered
+    specs = np.empty((kept, 3), dtype=np.int64)
+    for v in range(nv):
+        specs[new_id[v]] = vspec[v]
+    out = np.empty_like(edges)
+    m = 0
+    for e in range(edges.shape[0]):
+        a, b = edges[e, 2], edges[e, 3]
+        a = new_id[a] if a >= 0 else -1
+        b = new_id[b] if b >= 0 else -1
+        if a >= 0 and a == b:
+            continue                        # no length: the sites of a co-power vertex
+        out[m, 0], out[m, 1], out[m, 2], out[m, 3] = edges[e, 0], edges[e, 1], a, b
+        m += 1
+    return out[:m], specs
