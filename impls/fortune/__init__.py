@@ -169,7 +169,7 @@ def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64], sta
     if n <= 1 or np.all(weights == weights[0]):
         d = build(sites, stats)
         if stats is not None:
-            stats.update(hidden_sites=0)
+            stats["hidden_sites"] = 0
         return Diagram(sites, d.vertices, d.origin, d.twin, d.next, d.site, weights=weights)
     order = _event_order(sites)
     row = int(np.searchsorted(sites[order, 1], sites[order[0], 1], side="right"))
@@ -184,7 +184,10 @@ def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64], sta
     if stats is not None:
         stats.update(dict(zip(power_sweep.COUNTER_NAMES, counters.tolist())))
     vertices = _vertex_points(sites, weights, specs)
-    return assemble(sites, vertices, edges[:, :2], edges[:, 2:], weights=weights)
+    diagram = assemble(sites, vertices, edges[:, :2], edges[:, 2:], weights=weights)
+    if stats is not None:
+        stats["hidden_sites"] = int(diagram.hidden.size)
+    return diagram
 
 
 def warmup() -> None:

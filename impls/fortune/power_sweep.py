@@ -29,11 +29,14 @@ from vorobench.core.predicates import orient2d
 __all__ = ["sweep", "COUNTER_NAMES", "N_COUNTERS", "OK", "ERR_STATE", "ERR_ITERATIONS"]
 
 # counters: 0-1 in power_predicates (filtered, exact), then the sweep's own
-ACTIVATIONS, CIRCLES, PROBES, IN_ARC, AT_VERTEX, HIDDEN, MAX_BEACH, MERGED = range(2, 10)
-N_COUNTERS = 10
+ACTIVATIONS, CIRCLES, PROBES, IN_ARC, AT_VERTEX, NEVER_ENTERED, MAX_BEACH, MERGED, FIRST_ROW = range(2, 11)
+N_COUNTERS = 11
+#: first_row + contacts_in_arc + contacts_at_vertex + never_entered = n: every site starts the
+#: beach line, enters it once, or is found hidden without entering (a site that enters and is
+#: closed at once, a cell that is one point, is hidden too, but counted as a contact).
 COUNTER_NAMES = ("weighted_filtered", "weighted_exact", "site_events", "circle_events", "probes",
-                 "contacts_in_arc", "contacts_at_vertex", "hidden_sites", "max_beach_line",
-                 "merged_vertices")
+                 "contacts_in_arc", "contacts_at_vertex", "never_entered", "max_beach_line",
+                 "merged_vertices", "first_row")
 
 OK = 0
 ERR_STATE = 1           # a probe's lower bound above the beach line, or a lost neighbour
@@ -355,7 +358,8 @@ def sweep(G, order, row, counters):
         if previous >= 0:
             arcs[previous, bl.EDGE] = _new_edge(edges, S, arcs[previous, bl.SITE], i, -1)
         previous = x
-    counters[HIDDEN] += row - m
+    counters[NEVER_ENTERED] += row - m
+    counters[FIRST_ROW] = m
     head = 0                                    # the leftmost arc never changes
     beach = m
     counters[MAX_BEACH] = m
@@ -500,7 +504,7 @@ def sweep(G, order, row, counters):
                             break
                     if not entered:
                         state[i] = 3            # squeezed out at once: a cell of no area
-                        counters[HIDDEN] += 1
+                        counters[NEVER_ENTERED] += 1
             if beach > counters[MAX_BEACH]:
                 counters[MAX_BEACH] = beach
         if schedule >= 0:
@@ -508,7 +512,7 @@ def sweep(G, order, row, counters):
             bk, ba, bb, bc, partner, blo, bhi = _lowest_point(G, counters, wsite, wnext, whead, i)
             if bk < 0:
                 state[i] = 3                    # Q_i is empty: hidden
-                counters[HIDDEN] += 1
+                counters[NEVER_ENTERED] += 1
             else:
                 _push(G, counters, S, ev, evf, heap, free, _PROBE, bk, ba, bb, bc, blo, bhi,
                       bk, ba, bb, bc, i, partner)

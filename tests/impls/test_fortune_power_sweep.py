@@ -1,0 +1,178 @@
+"""The compiled weighted sweep (impls/fortune/power_sweep.py and power_predicates.py): its
+interval filters enclose the exact values and agree with the exact stage wherever they decide,
+the exact stage is what decides degenerate input (a wrong exact stage is caught), equal weights
+give the ordinary sweep's diagram bit for bit, and its counters tell the truth. Its diagrams
+are checked exactly against the oracles in test_fortune_power.py (``Way.COMPILED``) and in
+tests/test_cross_validation_weighted.py."""
+
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+import datasets_gen
+import impls
+from impls import fortune
+from impls.fortune import power_exact, power_predicates
+from impls.fortune.power_exact import CENTRE, CONTACT, SITE, exact_context
+from vorobench.core.prepare import prepare_weighted
+from vorobench.judge.comparison import Verdict, compare
+
+
+def _case(dataset: str, family: str, n: int):
+    points = datasets_gen.generate(dataset, n, seed=0)
+    sites, weights, _ = prepare_weighted(points, datasets_gen.weights(family, points, seed=0))
+    return sites, weights
+
+
+def _exact_against(oracle: str, sites, weights) -> Verdict:
+    return compare(fortune.build_weighted(sites, weights), impls.get(oracle).build_weighted(sites, weights)).verdict
+
+
+# small sets of sites: integers (ties everywhere) or floats, with integer or float weights
+# (nonzero magnitudes above 1e-6: inside the project's input range, see vorobench.core.scaling)
+def _floats(lo, hi):
+    return st.floats(lo, hi, allow_nan=False, allow_infinity=False).filter(lambda v: v == 0 or abs(v) > 1e-6)
+
+
+coordinate = st.one_of(st.integers(-6, 6).map(float), _floats(-8, 8))
+site_sets = st.lists(st.tuples(coordinate, coordinate, st.one_of(st.integers(0, 9).map(float), _floats(0, 20))),
+                     min_size=3, max_size=5, unique_by=lambda t: t[:2])
+
+
+def _table(rows):
+    sites = np.array([r[:2] for r in rows], dtype=np.float64)
+    weights = np.array([r[2] for r in rows], dtype=np.float64)
+    return sites, weights, fortune._shift_table(sites, weights)
+
+
+def _specs(n):
+    """Every spec of a few sites: sites, power centres, contacts with a lower site."""
+    out = [(SITE, a, -1, -1) for a in range(n)]
+    out += [(CENTRE, a, b, c) for a in range(n) for b in range(n) for c in range(n) if len({a, b, c}) == 3]
+    out += [(CONTACT, a, b, -1) for a in range(n) for b in range(n) if a != b]
+    return out
+
+
+def _exact_spec(g, kind, a, b, c):
+    """(x, y, t) of a spec as floats of the reference's exact numbers; None if undefined."""
+    if kind == CENTRE and g.power_centre(a, b, c) is None:
+        return None
+    if kind == CONTACT and not g.y[b] < g.y[a]:
+        return None
+    cx, cy, t, h = power_exact._point(kind, a, b, c)
+    root = Fraction(h) ** 0.5 if h else 0.0
+
+    def value(part):
+        return float(part[0]) + float(part[1]) * float(root)
+    return value(cx), value(cy), float(t)
+
+
+@settings(max_examples=60, deadline=None)
+@given(site_sets)
+def test_the_intervals_of_points_and_times_hold_the_exact_values(rows):
+    sites, weights, table = _table(rows)
+    with exact_context(sites, weights):
+        g = power_exact._sweep()
+        for spec in _specs(len(rows)):
+            exact = _exact_spec(g, *spec)
+            if exact is None:
+                continue
+            xl, xh, yl, yh, tl, th = power_predicates.spec_point(table, *spec)
+            for (lo, hi), v in zip(((xl, xh), (yl, yh), (tl, th)), exact):
+                # v is the exact value rounded once or twice: within a few ulps of the interval
+                slack = 4 * np.spacing(abs(v)) + 1e-300
+                assert lo - slack <= v <= hi + slack, (spec, lo, v, hi)
+
+
+@settings(max_examples=25, deadline=None)
+@given(site_sets)
+def test_where_the_filters_decide_they_agree_with_the_exact_stage(rows):
+    sites, weights, table = _table(rows)
+    n = len(rows)
+    counters = np.zeros(2, dtype=np.int64)
+    with exact_context(sites, weights):
+        g = power_exact._sweep()
+        specs = [s for s in _specs(n) if _exact_spec(g, *s) is not None]
+        for spec in specs:
+            xl, xh, yl, yh, tl, th = power_predicates.spec_point(table, *spec)
+            for l in range(n):
+                for r in range(n):
+                    if l == r:
+                        continue
+                    assert power_predicates.side(table, counters, l, r, *spec, xl, xh, tl, th) == \
+                        power_exact.side(l, r, *spec), ("side", l, r, spec)
+                    if spec[0] != SITE:
+                        assert power_predicates.power_gap(table, counters, l, r, *spec, xl, xh, yl, yh) == \
+                            power_exact.power_gap(l, r, *spec), ("gap", l, r, spec)
+        for s1 in specs[:12]:
+            for s2 in specs[:12]:
+                lo1, hi1 = power_predicates.spec_point(table, *s1)[4:]
+                lo2, hi2 = power_predicates.spec_point(table, *s2)[4:]
+                assert power_predicates.time_order(table, counters, *s1, lo1, hi1, *s2, lo2, hi2) == \
+                    power_exact.time_order(*s1, *s2)
+    assert counters[power_predicates.FILTERED] > 0
+
+
+def test_random_input_needs_no_exact_stage():
+    stats = {}
+    fortune.build_weighted(*_case("uniform", "radii", 400), stats)
+    assert stats["weighted_exact"] == 0 and stats["weighted_filtered"] > 1000
+
+
+@pytest.mark.parametrize("decision", ["side", "time_order", "power_gap"])
+def test_a_wrong_exact_stage_is_caught(monkeypatch, decision):
+    # a lattice with integer weights is decided partly in rationals; an exact stage that gives
+    # the opposite answer must spoil the diagram (or stop the sweep), not pass unnoticed
+    sites, weights = _case("grid", "integer", 100)
+    assert _exact_against("incremental", sites, weights) == Verdict.EXACT
+    honest = getattr(power_exact, decision)
+    # ties (0) become orders and orders flip
+    monkeypatch.setattr(power_exact, decision, lambda *args: -honest(*args) or 1)
+    try:
+        verdict = _exact_against("incremental", sites, weights)
+    except RuntimeError:
+        return
+    assert verdict != Verdict.EXACT
+
+
+@pytest.mark.parametrize("dataset", ["uniform", "grid", "cocircular", "duplicates"])
+def test_equal_weights_give_the_ordinary_sweep_bit_for_bit(dataset):
+    sites, _ = _case(dataset, "equal", 60)
+    for value in (0.0, -3.5):
+        weights = np.full(sites.shape[0], value)
+        d, ordinary = fortune.build_weighted(sites, weights), fortune.build(sites)
+        for field in ("vertices", "origin", "twin", "next", "site"):
+            assert np.array_equal(getattr(d, field), getattr(ordinary, field)), field
+        assert np.array_equal(d.weights, weights)
+
+
+@pytest.mark.parametrize("dataset, family", [("uniform", "hidden"), ("grid", "integer"), ("clusters", "radii")])
+def test_the_counters_tell_the_truth(dataset, family):
+    sites, weights = _case(dataset, family, 200)
+    stats = {}
+    d = fortune.build_weighted(sites, weights, stats)
+    assert stats["hidden_sites"] == d.hidden.size
+    row = int(np.sum(sites[:, 1] == sites[:, 1].min()))
+    assert stats["site_events"] == sites.shape[0] - row
+    entered = stats["contacts_in_arc"] + stats["contacts_at_vertex"]
+    assert stats["first_row"] + entered + stats["never_entered"] == sites.shape[0]
+    assert stats["never_entered"] <= stats["hidden_sites"]
+    assert stats["probes"] >= stats["contacts_in_arc"] + stats["contacts_at_vertex"]
+
+
+def test_the_exact_stage_outside_a_build_is_a_clear_error():
+    with pytest.raises(RuntimeError, match="outside exact_context"):
+        power_exact.time_order(SITE, 0, -1, -1, SITE, 1, -1, -1)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 5), st.integers(0, 5), st.integers(0, 3)), min_size=3, max_size=14,
+                unique_by=lambda t: t[:2]))
+def test_integer_lattices_with_integer_weights_agree_with_the_regular_triangulation(rows):
+    sites = np.array([r[:2] for r in rows], dtype=np.float64)
+    weights = np.array([r[2] for r in rows], dtype=np.float64)
+    assume(np.linalg.matrix_rank(sites - sites[0]) == 2)
+    assert _exact_against("incremental", sites, weights) == Verdict.EXACT
