@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 from impls.fortune.power_reference import Sweep, Time
 
 __all__ = ["SITE", "CENTRE", "CONTACT", "exact_context", "time_order", "side", "power_gap",
-           "same_point", "farther", "tied", "keeps_middle"]
+           "same_point", "farther", "tied", "keeps_middle", "line_inside"]
 
 SITE, CENTRE, CONTACT = 0, 1, 2
 
@@ -114,3 +114,16 @@ def tied(a: int, b: int, c: int) -> int:
 def keeps_middle(a: int, b: int, c: int) -> int:
     """1 if, on the lowest row, b's line is strictly on the upper envelope of a's and c's."""
     return int(_sweep()._keeps_middle(a, b, c))
+
+
+def line_inside(i: int, k: int, j: int) -> int:
+    """For j collinear with i and k: 1 if the bisector line of i and k lies where i has no more
+    power than j, else 0 (the two bisector lines are parallel: all of it or none)."""
+    g = _sweep()
+    # a point of the bisector of i and k: the foot of p_k on it, f = p_k + lam (p_k - p_i)
+    nx, ny = g.x[k] - g.x[i], g.y[k] - g.y[i]
+    nn = nx * nx + ny * ny
+    lam = (g.s[k] - g.s[i] - nn) / (2 * nn)
+    fx, fy = g.x[k] + lam * nx, g.y[k] + lam * ny
+    zero = Fraction(0)
+    return int(g.power_gap(j, i, (fx, zero), (fy, zero), zero) >= 0)

@@ -22,7 +22,7 @@ from vorobench.core.predicates import interval as iv
 from vorobench.core.predicates.interval import UNDECIDED
 
 __all__ = ["SITE", "CENTRE", "CONTACT", "FILTERED", "EXACT", "spec_point", "time_order", "side",
-           "power_gap", "same_centre", "farther", "tied", "keeps_middle"]
+           "power_gap", "same_centre", "farther", "tied", "keeps_middle", "line_inside"]
 
 #: Indices into the counters array: weighted decisions filtered, and decided in rationals.
 FILTERED = 0
@@ -333,4 +333,14 @@ def keeps_middle(G, counters, a, b, c):
     counters[EXACT] += 1
     with objmode(r='int64'):
         r = power_exact.keeps_middle(a, b, c)
+    return r == 1
+
+
+@njit(cache=True)
+def line_inside(counters, i, k, j):
+    """For j collinear with i and k, whether the bisector line of i and k lies where i has no
+    more power than j (rare: always decided in rationals)."""
+    counters[EXACT] += 1
+    with objmode(r='int64'):
+        r = power_exact.line_inside(i, k, j)
     return r == 1

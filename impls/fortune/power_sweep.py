@@ -22,7 +22,7 @@ import numpy as np
 from numba import njit
 
 from impls.fortune import beach_line as bl
-from impls.fortune.power_predicates import (CENTRE, CONTACT, SITE, farther, keeps_middle,
+from impls.fortune.power_predicates import (CENTRE, CONTACT, SITE, farther, keeps_middle, line_inside,
                                             power_gap, same_centre, side, spec_point, tied, time_order)
 from vorobench.core.predicates import orient2d
 
@@ -297,6 +297,64 @@ def _lowest_point(G, counters, wsite, wnext, whead, i):
 
 
 @njit(cache=True)
+def _lowest_on_line(G, counters, wsite, wnext, whead, i, k):
+    """The least time of T_i over Q_i after site k joined S_i because the old least point
+    broke k's constraint: as in Seidel's linear programming, the new least point is on k's
+    bisector line L_k, within the interval the other sites leave of it, so one pass over S_i
+    finds it (instead of every corner of Q_i). Returns what :func:`_lowest_point` returns;
+    ``found`` is False (and the rest to be ignored) when the pass cannot tell, and the caller
+    falls back to :func:`_lowest_point`."""
+    lo, hi = -1, -1         # the sites whose lines end L_k on either side (along perp(p_k - p_i))
+    j = whead[i]
+    while j != -1:
+        sj = wsite[j]
+        j = wnext[j]
+        if sj == k:
+            continue
+        o = orient2d(G[i, 0], G[i, 1], G[k, 0], G[k, 1], G[sj, 0], G[sj, 1])
+        if o == 0:
+            # j's line is parallel to L_k: all of L_k is allowed by j, or none of it
+            if not line_inside(counters, i, k, sj):
+                return True, -1, -1, -1, -1, -1, 0.0, 0.0
+            continue
+        # the end of L_k that j sets is the power centre of i, k, j; of two ends on one side,
+        # the one inside the other's constraint is the nearer
+        end = hi if o > 0 else lo
+        if end >= 0:
+            xl, xh, yl, yh, _, _ = spec_point(G, CENTRE, i, k, end)
+            if power_gap(G, counters, sj, i, CENTRE, i, k, end, xl, xh, yl, yh) >= 0:
+                continue
+        if o > 0:
+            hi = sj
+        else:
+            lo = sj
+    if lo >= 0 and hi >= 0:
+        xl, xh, yl, yh, _, _ = spec_point(G, CENTRE, i, k, lo)
+        if power_gap(G, counters, hi, i, CENTRE, i, k, lo, xl, xh, yl, yh) < 0:
+            return True, -1, -1, -1, -1, -1, 0.0, 0.0          # the ends cross: Q_i is empty
+    if G[k, 1] < G[i, 1]:
+        # T_i along L_k is least at c_ik: the answer if it lies between the ends
+        xl, xh, yl, yh, tl, th = spec_point(G, CONTACT, i, k, -1)
+        inside = True
+        for end in (lo, hi):
+            if end >= 0 and power_gap(G, counters, end, i, CONTACT, i, k, -1, xl, xh, yl, yh) < 0:
+                inside = False
+        if inside:
+            return True, CONTACT, i, k, -1, k, tl, th
+    # T_i is monotone between the ends: the least is at one of them
+    best, blo, bhi = -1, 0.0, 0.0
+    for end in (lo, hi):
+        if end < 0:
+            continue
+        _, _, _, _, tl, th = spec_point(G, CENTRE, i, k, end)
+        if best < 0 or time_order(G, counters, CENTRE, i, k, end, tl, th, CENTRE, i, k, best, blo, bhi) < 0:
+            best, blo, bhi = end, tl, th
+    if best < 0:
+        return False, -1, -1, -1, -1, -1, 0.0, 0.0
+    return True, CENTRE, i, k, best, -1, blo, bhi
+
+
+@njit(cache=True)
 def _in_q(G, counters, wsite, wnext, whead, i, kind, a, b, c, xl, xh, yl, yh):
     # i has no more power than any watched site at the spec's point
     j = whead[i]
@@ -412,12 +470,14 @@ def sweep(G, order, row, counters):
                     wnext[wtail[i]] = w
                 wtail[i] = w
             schedule = i
+            line = -1
         else:
             e = heap[0]
             _remove(G, counters, S, ev, evf, heap, free, e)
             S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC] = ev[e, _TK], ev[e, _TA], ev[e, _TB], ev[e, _TC]
             SF[0], SF[1] = evf[e, 0], evf[e, 1]
             schedule = -1
+            line = -1
             if ev[e, _KIND] == _CIRCLE:
                 k = ev[e, _OWNER]
                 arcs[k, bl.EVENT] = -1
@@ -463,6 +523,7 @@ def sweep(G, order, row, counters):
                     wnext[wtail[i]] = w
                     wtail[i] = w
                     schedule = i
+                    line = above
                 elif gap > 0:
                     S[_STATUS] = ERR_STATE
                     break
@@ -509,7 +570,11 @@ def sweep(G, order, row, counters):
                 counters[MAX_BEACH] = beach
         if schedule >= 0:
             i = schedule
-            bk, ba, bb, bc, partner, blo, bhi = _lowest_point(G, counters, wsite, wnext, whead, i)
+            found = False
+            if line >= 0:
+                found, bk, ba, bb, bc, partner, blo, bhi = _lowest_on_line(G, counters, wsite, wnext, whead, i, line)
+            if not found:
+                bk, ba, bb, bc, partner, blo, bhi = _lowest_point(G, counters, wsite, wnext, whead, i)
             if bk < 0:
                 state[i] = 3                    # Q_i is empty: hidden
                 counters[NEVER_ENTERED] += 1

@@ -1,7 +1,7 @@
 """Interval arithmetic in floats: a filter whose error bound is computed along with the value.
 
 Each quantity is a pair (lo, hi) of floats with the exact real value inside. Every operation
-rounds to nearest and then steps each end one float outward (``nextafter``), which covers the
+rounds to nearest and then moves each end outward by at least one ulp, which covers the
 half-ulp rounding error of the operation, so the interval stays a certified enclosure whatever
 the expression (CGAL's ``Interval_nt`` filter does the same with directed rounding). A sign is
 decided when the interval excludes 0; otherwise the caller runs its exact stage. Used where a
@@ -25,12 +25,21 @@ UNDECIDED = 2
 _INF = np.inf
 
 
+#: Relative widening: at least one ulp of any float (ulp(x) <= 2**-52 |x|), so rounding the
+#: widened end to nearest still leaves it a float beyond the exact value.
+_REL = 2.0 ** -52
+#: Absolute widening for results in the subnormal range, where an ulp is 2**-1074.
+_TINY = 2.0 ** -1074
+
+
 @njit(cache=True, inline='always')
 def _out(lo, hi):
-    # one float outward on each side; NaN (0 * inf) widens to the whole line
+    # each end moved outward by at least one ulp, which covers the half-ulp rounding of the
+    # operation that made it (a multiply and an add, cheaper than nextafter); NaN (0 * inf)
+    # widens to the whole line
     if lo != lo or hi != hi:
         return -_INF, _INF
-    return np.nextafter(lo, -_INF), np.nextafter(hi, _INF)
+    return lo - (abs(lo) * _REL + _TINY), hi + (abs(hi) * _REL + _TINY)
 
 
 @njit(cache=True, inline='always')
