@@ -135,9 +135,9 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
 
 
 def _shift_table(sites: NDArray[np.float64], weights: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The weighted sweep's site table: x, y and the shift s_i = max(w) - w_i >= 0 as an
-    interval [s_lo, s_hi] (one point when the float subtraction is exact, as it is for weights
-    of similar size)."""
+    """The weighted sweep's site table: x, y, the shift s_i = max(w) - w_i >= 0 as an interval
+    [s_lo, s_hi] (one point when the float subtraction is exact, as it is for weights of
+    similar size), and w."""
     top = weights.max()
     s = top - weights
     # the rounding error of top - w, exactly (Knuth's two-difference)
@@ -146,7 +146,7 @@ def _shift_table(sites: NDArray[np.float64], weights: NDArray[np.float64]) -> ND
     exact = tail == 0
     lo = np.where(exact, s, np.maximum(np.nextafter(s, -np.inf), 0.0))
     hi = np.where(exact, s, np.nextafter(s, np.inf))
-    return np.column_stack([sites[:, 0], sites[:, 1], lo, hi])
+    return np.column_stack([sites[:, 0], sites[:, 1], lo, hi, weights])
 
 
 @njit(cache=True)

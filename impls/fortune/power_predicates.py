@@ -8,8 +8,9 @@ from numba's object mode. Signs known to be 0 by construction are not filtered: 
 of two sites at a point that defines them (their power centre, their contact point), and the
 difference of two wavefronts at such a point, where only the branch is left to decide.
 
-``G`` is the per-site table (x, y, s_lo, s_hi): coordinates and the shifted weight
-s_i = max(w) - w_i as an interval. ``counters`` counts filter calls and exact decisions.
+``G`` is the per-site table (x, y, s_lo, s_hi, w): coordinates, the shifted weight
+s_i = max(w) - w_i as an interval, and the weight itself, from which differences of shifts
+are taken (s_i - s_j = w_j - w_i, one rounding instead of two). ``counters`` counts filter calls and exact decisions.
 """
 
 from __future__ import annotations
@@ -28,7 +29,13 @@ __all__ = ["SITE", "CENTRE", "CONTACT", "FILTERED", "EXACT", "spec_point", "time
 FILTERED = 0
 EXACT = 1
 
-_X, _Y, _SLO, _SHI = 0, 1, 2, 3
+_X, _Y, _SLO, _SHI, _W = 0, 1, 2, 3, 4
+
+
+@njit(cache=True, inline='always')
+def _ds(G, a, b):
+    # s_a - s_b = w_b - w_a
+    return iv.sub(G[b, _W], G[b, _W], G[a, _W], G[a, _W])
 
 
 @njit(cache=True)
@@ -44,8 +51,8 @@ def spec_point(G, kind, a, b, c):
         byl, byh = iv.sub(G[b, _Y], G[b, _Y], G[a, _Y], G[a, _Y])
         cxl, cxh = iv.sub(G[c, _X], G[c, _X], G[a, _X], G[a, _X])
         cyl, cyh = iv.sub(G[c, _Y], G[c, _Y], G[a, _Y], G[a, _Y])
-        dbl, dbh = iv.sub(G[b, _SLO], G[b, _SHI], G[a, _SLO], G[a, _SHI])
-        dcl, dch = iv.sub(G[c, _SLO], G[c, _SHI], G[a, _SLO], G[a, _SHI])
+        dbl, dbh = _ds(G, b, a)
+        dcl, dch = _ds(G, c, a)
         t1l, t1h = iv.sqr(bxl, bxh)
         t2l, t2h = iv.sqr(byl, byh)
         rbl, rbh = iv.add(t1l, t1h, t2l, t2h)
@@ -85,7 +92,7 @@ def spec_point(G, kind, a, b, c):
     t1l, t1h = iv.sqr(nxl, nxh)
     t2l, t2h = iv.sqr(nyl, nyh)
     nnl, nnh = iv.add(t1l, t1h, t2l, t2h)
-    dsl, dsh = iv.sub(G[k, _SLO], G[k, _SHI], G[i, _SLO], G[i, _SHI])
+    dsl, dsh = _ds(G, k, i)
     ql, qh = iv.div(dsl, dsh, nnl, nnh)
     ql, qh = iv.half(ql, qh)                             # (s_k - s_i) / (2 |n|^2)
     mxl, mxh = iv.add(G[i, _X], G[i, _X], G[k, _X], G[k, _X])
@@ -170,17 +177,22 @@ def side(G, counters, left, right, kind, a, b, c, xl, xh, tl, th):
     if _defines(kind, a, b, c, left) and _defines(kind, a, b, c, right):
         g = 0                                   # the point is on both wavefronts
     else:
+        # with A = B + (y_r - y_l): G = (y_l - y_r) (A B - s_r - (x - x_r)^2)
+        #                              + B ((s_r - s_l) + (x_l - x_r) (2 x - x_l - x_r)),
+        # which leaves t in one place per product (its interval is not counted twice)
         t1l, t1h = iv.mul(al, ah, bl, bh)
+        t1l, t1h = iv.sub(t1l, t1h, G[right, _SLO], G[right, _SHI])
+        t2l, t2h = iv.sqr(drl, drh)
+        t1l, t1h = iv.sub(t1l, t1h, t2l, t2h)
         dyl, dyh = iv.sub(yl_, yl_, yr_, yr_)
         t1l, t1h = iv.mul(t1l, t1h, dyl, dyh)
-        t2l, t2h = iv.sqr(drl, drh)
-        t2l, t2h = iv.add(t2l, t2h, G[right, _SLO], G[right, _SHI])
-        t2l, t2h = iv.mul(t2l, t2h, al, ah)
-        t3l, t3h = iv.sqr(dll, dlh)
-        t3l, t3h = iv.add(t3l, t3h, G[left, _SLO], G[left, _SHI])
-        t3l, t3h = iv.mul(t3l, t3h, bl, bh)
+        sxl, sxh = iv.add(dll, dlh, drl, drh)            # 2 x - x_l - x_r
+        dxl_, dxh_ = iv.sub(G[left, _X], G[left, _X], G[right, _X], G[right, _X])
+        t2l, t2h = iv.mul(dxl_, dxh_, sxl, sxh)
+        dsl, dsh = _ds(G, right, left)
+        t2l, t2h = iv.add(t2l, t2h, dsl, dsh)
+        t2l, t2h = iv.mul(t2l, t2h, bl, bh)
         gl, gh = iv.add(t1l, t1h, t2l, t2h)
-        gl, gh = iv.sub(gl, gh, t3l, t3h)
         g = iv.sign(gl, gh)
     if g != UNDECIDED:
         if yl_ == yr_:
@@ -236,7 +248,7 @@ def power_gap(G, counters, j, k, kind, a, b, c, xl, xh, yl, yh):
     t1l, t1h = iv.mul(ux_l, ux_h, sxl, sxh)
     t2l, t2h = iv.mul(uy_l, uy_h, syl, syh)
     vl, vh = iv.add(t1l, t1h, t2l, t2h)
-    dsl, dsh = iv.sub(G[j, _SLO], G[j, _SHI], G[k, _SLO], G[k, _SHI])
+    dsl, dsh = _ds(G, j, k)
     vl, vh = iv.add(vl, vh, dsl, dsh)
     s = iv.sign(vl, vh)
     if s != UNDECIDED:
@@ -318,12 +330,12 @@ def keeps_middle(G, counters, a, b, c):
     t2l, t2h = iv.sub(xa, xa, xc, xc)
     sl, sh = iv.add(xa, xa, xc, xc)
     t3l, t3h = iv.mul(t2l, t2h, sl, sh)                   # x_a^2 - x_c^2
-    dsl, dsh = iv.sub(G[a, _SLO], G[a, _SHI], G[c, _SLO], G[c, _SHI])
+    dsl, dsh = _ds(G, a, c)
     t3l, t3h = iv.add(t3l, t3h, dsl, dsh)
     p1l, p1h = iv.mul(t1l, t1h, t3l, t3h)
     sl, sh = iv.add(xb, xb, xa, xa)
     t4l, t4h = iv.mul(t1l, t1h, sl, sh)                   # x_b^2 - x_a^2
-    dsl, dsh = iv.sub(G[b, _SLO], G[b, _SHI], G[a, _SLO], G[a, _SHI])
+    dsl, dsh = _ds(G, b, a)
     t4l, t4h = iv.add(t4l, t4h, dsl, dsh)
     p2l, p2h = iv.mul(t2l, t2h, t4l, t4h)
     nl, nh = iv.sub(p1l, p1h, p2l, p2h)
