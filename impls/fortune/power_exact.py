@@ -45,12 +45,35 @@ def exact_context(sites: NDArray[np.float64], weights: NDArray[np.float64]) -> I
         _inputs, _geometry = None, None
 
 
+class _Rationals:
+    """x[i] as a Fraction, made when first asked for (a build that needs a few exact decisions
+    converts a few sites, not all n)."""
+
+    def __init__(self, value) -> None:
+        self.value, self.made = value, {}
+
+    def __getitem__(self, i: int) -> Fraction:
+        got = self.made.get(i)
+        if got is None:
+            got = self.made[i] = self.value(i)
+        return got
+
+
 def _sweep() -> Sweep:
+    """The reference's geometry over the current input, with its per-site numbers lazy."""
     global _geometry
     if _geometry is None:
         if _inputs is None:
             raise RuntimeError("the weighted sweep's exact stage was called outside exact_context")
-        _geometry = Sweep(*_inputs)
+        sites, weights = _inputs
+        top = Fraction(float(weights.max()))
+        g = Sweep.__new__(Sweep)
+        g.n = sites.shape[0]
+        g.x = _Rationals(lambda i: Fraction(float(sites[i, 0])))
+        g.y = _Rationals(lambda i: Fraction(float(sites[i, 1])))
+        g.s = _Rationals(lambda i: top - Fraction(float(weights[i])))
+        g.q = _Rationals(lambda i: g.x[i] ** 2 + g.y[i] ** 2 + g.s[i])
+        _geometry = g
     return _geometry
 
 
