@@ -57,7 +57,11 @@ _S_FIELDS = 18
 @njit(cache=True)
 def _earlier(G, counters, ev, evf, e1, e2):
     # the heap's order: time, then kind (circle first), then for probes the farther from its
-    # partner, then the older event
+    # partner, then the older event; disjoint time intervals decide without a call
+    if evf[e1, 1] < evf[e2, 0]:
+        return True
+    if evf[e2, 1] < evf[e1, 0]:
+        return False
     c = time_order(G, counters, ev[e1, _TK], ev[e1, _TA], ev[e1, _TB], ev[e1, _TC], evf[e1, 0], evf[e1, 1],
                    ev[e2, _TK], ev[e2, _TA], ev[e2, _TB], ev[e2, _TC], evf[e2, 0], evf[e2, 1])
     if c != 0:
