@@ -62,6 +62,14 @@ vertices, max_beach_line, breakpoint_tests / breakpoint_exact, event_comparisons
 event_comparisons_exact, exact_keys (events refined in exact arithmetic), orient2d_calls /
 orient2d_exact.
 
+Weighted sites (``build_weighted``, power diagrams): the weighted sweep of docs/power.md, in
+``power_sweep.py`` (events: activations, probes for each pending site's first contact, circle
+events at power centres), deciding through ``power_predicates.py`` (interval filters) and
+``power_exact.py`` (the exact stage, in the rationals of ``power_reference.py``, the
+specification). Equal weights go to the ordinary sweep (its diagram bit for bit). Stats add
+weighted_filtered / weighted_exact, probes, contacts_in_arc / contacts_at_vertex,
+never_entered, first_row, merged_vertices and hidden_sites.
+
 Speed notes: the sweep runs on a copy of the sites in event order (memory locality; ids are
 mapped back after the DCEL is built), removed arcs' and events' rows are reused, and the
 heap and treap kernels are inlined into the sweep (numba reference-counts arrays passed to
@@ -203,7 +211,8 @@ def warmup() -> None:
 
 IMPLEMENTATION = Implementation(
     name="fortune",
-    description="Fortune's sweep line with exact predicates (numba): treap beach line, indexed event heap",
+    description="Fortune's sweep line with exact predicates (numba): treap beach line, indexed event heap; "
+                "power diagrams by its own weighted sweep",
     complexity="O(n log n)",
     build=build,
     build_weighted=build_weighted,

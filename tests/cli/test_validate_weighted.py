@@ -104,14 +104,14 @@ def test_a_reference_without_weights_is_refused(tmp_path, capsys, doubles):
     assert f"reference {ORDINARY_ONLY} does not take weights" in capsys.readouterr().err
 
 
-def test_a_gate_with_nothing_judged_fails(tmp_path, capsys):
-    """`--weights radii --impls fortune`: fortune takes no weights, so only the reference would be
-    judged; that is no gate of fortune, and it must not say "all passed"."""
+def test_a_gate_with_nothing_judged_fails(tmp_path, capsys, doubles):
+    """`--weights radii --impls X` with an X that takes no weights: only the reference would be
+    judged; that is no gate of X, and it must not say "all passed"."""
     junit = tmp_path / "j.xml"
-    code, summary = _validate(tmp_path, "--impls", "fortune", "--weights", "radii", "--datasets", "uniform",
+    code, summary = _validate(tmp_path, "--impls", ORDINARY_ONLY, "--weights", "radii", "--datasets", "uniform",
                               "--sizes", "20", "--junit", str(junit))
     out = capsys.readouterr().out
     assert code == 1 and summary["passed"] is False
-    assert summary["nothing_judged"] == ["fortune"] and summary["unweighted"] == ["fortune"]
+    assert summary["nothing_judged"] == [ORDINARY_ONLY] and summary["unweighted"] == [ORDINARY_ONLY]
     assert "NOTHING JUDGED" in out and "all passed" not in out
     assert 'type="nothing_judged"' in junit.read_text()
