@@ -269,6 +269,27 @@ def _new_arc(arcs, S, site):
 
 
 @njit(cache=True)
+def _watch(wsite, wnext, whead, wtail, S, i, s):
+    """Site s joins the end of pending site i's watch list (the pool doubles when full);
+    returns the pool's arrays."""
+    w = S[_WUSED]
+    if w >= wsite.shape[0]:
+        grown_site = np.empty(2 * wsite.shape[0], dtype=np.int64)
+        grown_next = np.empty(2 * wsite.shape[0], dtype=np.int64)
+        grown_site[:w] = wsite[:w]
+        grown_next[:w] = wnext[:w]
+        wsite, wnext = grown_site, grown_next
+    S[_WUSED] = w + 1
+    wsite[w], wnext[w] = s, -1
+    if whead[i] < 0:
+        whead[i] = w
+    else:
+        wnext[wtail[i]] = w
+    wtail[i] = w
+    return wsite, wnext
+
+
+@njit(cache=True)
 def _lowest_point(G, counters, wsite, wnext, whead, i):
     """The least time of T_i over Q_i (ProbingSweep.lowest_point): (kind, a, b, c, partner,
     tlo, thi) of its spec, kind -1 if Q_i is empty."""
@@ -385,9 +406,8 @@ def sweep(G, order, row, counters):
     free = np.arange(cap_ev - 1, -1, -1).astype(np.int64)
     edges = np.empty((5 * n + 16, 4), dtype=np.int64)
     vspec = np.empty((3 * n + 16, 3), dtype=np.int64)
-    wcap = 4 * n + 16
-    wsite = np.empty(wcap, dtype=np.int64)
-    wnext = np.empty(wcap, dtype=np.int64)
+    wsite = np.empty(4 * n + 16, dtype=np.int64)
+    wnext = np.empty(4 * n + 16, dtype=np.int64)
     whead = np.full(n, -1, dtype=np.int64)
     wtail = np.full(n, -1, dtype=np.int64)
     state = np.zeros(n, dtype=np.int8)          # 0 waiting, 1 pending, 2 present, 3 hidden
@@ -458,21 +478,7 @@ def sweep(G, order, row, counters):
                 if t == 1 and G[first, 1] < G[i, 1]:
                     break
                 s = first if t == 0 else arcs[head, bl.SITE]
-                w = S[_WUSED]
-                if w >= wcap:
-                    wcap *= 2
-                    wsite2 = np.empty(wcap, dtype=np.int64)
-                    wnext2 = np.empty(wcap, dtype=np.int64)
-                    wsite2[:w] = wsite[:w]
-                    wnext2[:w] = wnext[:w]
-                    wsite, wnext = wsite2, wnext2
-                S[_WUSED] = w + 1
-                wsite[w], wnext[w] = s, -1
-                if whead[i] < 0:
-                    whead[i] = w
-                else:
-                    wnext[wtail[i]] = w
-                wtail[i] = w
+                wsite, wnext = _watch(wsite, wnext, whead, wtail, S, i, s)
             schedule = i
             line = -1
         else:
@@ -514,18 +520,7 @@ def sweep(G, order, row, counters):
                 gap = power_gap(G, counters, above, i, pk, pa, pb, pc, xl, xh, yl, yh)
                 if gap < 0:
                     # q is below the beach line: the arc's site joins the watch, the bound moves on
-                    w = S[_WUSED]
-                    if w >= wcap:
-                        wcap *= 2
-                        wsite2 = np.empty(wcap, dtype=np.int64)
-                        wnext2 = np.empty(wcap, dtype=np.int64)
-                        wsite2[:w] = wsite[:w]
-                        wnext2[:w] = wnext[:w]
-                        wsite, wnext = wsite2, wnext2
-                    S[_WUSED] = w + 1
-                    wsite[w], wnext[w] = above, -1
-                    wnext[wtail[i]] = w
-                    wtail[i] = w
+                    wsite, wnext = _watch(wsite, wnext, whead, wtail, S, i, above)
                     schedule = i
                     line = above
                 elif gap > 0:
