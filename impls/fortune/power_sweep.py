@@ -39,7 +39,7 @@ COUNTER_NAMES = ("weighted_filtered", "weighted_exact", "site_events", "circle_e
                  "merged_vertices", "first_row")
 
 OK = 0
-ERR_STATE = 1           # a probe's lower bound above the beach line, or a lost neighbour
+ERR_STATE = 1           # a probe's bound above the beach line or watched twice, or a lost neighbour
 ERR_ITERATIONS = 2
 
 # event rows: kind, time spec (k, a, b, c), point spec (k, a, b, c), sequence number, owner
@@ -335,6 +335,10 @@ def _lowest_on_line(G, counters, wsite, wnext, whead, i, k):
         sj = wsite[j]
         j = wnext[j]
         if sj == k:
+            if j != -1:
+                # k was watched already, so the old least point was inside k's constraint and
+                # yet below k's arc: a bug, which would probe the same point forever
+                return True, -2, -1, -1, -1, -1, 0.0, 0.0
             continue
         o = orient2d(G[i, 0], G[i, 1], G[k, 0], G[k, 1], G[sj, 0], G[sj, 1])
         if o == 0:
@@ -448,7 +452,9 @@ def sweep(G, order, row, counters):
 
     nxt_act = row
     guard = 0
-    limit = 40 * n + 1000
+    # activations (n), circle events (one per arc removed, at most 2n) and probes (each adds a
+    # new site to a pending site's watch, so at most n per site; a repeat stops the sweep)
+    limit = 4 * n + n * n + 1000
     while guard < limit:
         guard += 1
         use_heap = False
@@ -574,6 +580,9 @@ def sweep(G, order, row, counters):
                 found, bk, ba, bb, bc, partner, blo, bhi = _lowest_on_line(G, counters, wsite, wnext, whead, i, line)
             if not found:
                 bk, ba, bb, bc, partner, blo, bhi = _lowest_point(G, counters, wsite, wnext, whead, i)
+            if bk == -2:
+                S[_STATUS] = ERR_STATE
+                break
             if bk < 0:
                 state[i] = 3                    # Q_i is empty: hidden
                 counters[NEVER_ENTERED] += 1
