@@ -219,6 +219,8 @@ def _locate(G, counters, arcs, root, kind, a, b, c, xl, xh, tl, th, at):
             x = arcs[x, bl.LEFT]
         else:
             x = arcs[x, bl.RIGHT]
+    if found < 0:
+        return -1, 0                            # no arc: the tree is broken (a bug)
     m = 0
     p = arcs[found, bl.PREV]
     cur = found
@@ -479,6 +481,9 @@ def sweep(G, order, row, counters):
             SF[0], SF[1] = G[i, 1], G[i, 1]
             state[i] = 1
             arc, _ = _locate(G, counters, arcs, S[_ROOT], SITE, i, -1, -1, G[i, 0], G[i, 0], G[i, 1], G[i, 1], at)
+            if arc < 0:
+                S[_STATUS] = ERR_STATE
+                break
             first = arcs[arc, bl.SITE]
             for t in range(2):
                 if t == 1 and G[first, 1] < G[i, 1]:
@@ -522,6 +527,9 @@ def sweep(G, order, row, counters):
                 counters[PROBES] += 1
                 xl, xh, yl, yh, tl, th = spec_point(G, pk, pa, pb, pc)
                 arc, nat = _locate(G, counters, arcs, S[_ROOT], pk, pa, pb, pc, xl, xh, tl, th, at)
+                if arc < 0:
+                    S[_STATUS] = ERR_STATE
+                    break
                 above = arcs[arc, bl.SITE]
                 gap = power_gap(G, counters, above, i, pk, pa, pb, pc, xl, xh, yl, yh)
                 if gap < 0:

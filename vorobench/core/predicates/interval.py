@@ -23,6 +23,7 @@ __all__ = ["UNDECIDED", "add", "sub", "mul", "sqr", "div", "sqrt", "sign", "exac
 UNDECIDED = 2
 
 _INF = np.inf
+_MAX = np.finfo(np.float64).max
 
 
 #: Relative widening: at least one ulp of any float (ulp(x) <= 2**-52 |x|), so rounding the
@@ -39,7 +40,14 @@ def _out(lo, hi):
     # widens to the whole line
     if lo != lo or hi != hi:
         return -_INF, _INF
-    return lo - (abs(lo) * _REL + _TINY), hi + (abs(hi) * _REL + _TINY)
+    # an end that overflowed to the far side (a lower end of +inf, an upper end of -inf)
+    # stands for a finite value beyond the largest float, which that float bounds; this also
+    # keeps inf - inf, a NaN, out of the next operation
+    lo = min(lo, _MAX)
+    hi = max(hi, -_MAX)
+    lo = lo - (abs(lo) * _REL + _TINY)
+    hi = hi + (abs(hi) * _REL + _TINY)
+    return lo, hi
 
 
 @njit(cache=True, inline='always')
@@ -67,6 +75,8 @@ def mul(alo, ahi, blo, bhi):
     p2 = alo * bhi
     p3 = ahi * blo
     p4 = ahi * bhi
+    if p1 != p1 or p2 != p2 or p3 != p3 or p4 != p4:
+        return -_INF, _INF                      # 0 * inf: min and max would drop the NaN
     return _out(min(min(p1, p2), min(p3, p4)), max(max(p1, p2), max(p3, p4)))
 
 
@@ -97,6 +107,8 @@ def div(alo, ahi, blo, bhi):
     q2 = alo / bhi
     q3 = ahi / blo
     q4 = ahi / bhi
+    if q1 != q1 or q2 != q2 or q3 != q3 or q4 != q4:
+        return -_INF, _INF                      # inf / inf
     return _out(min(min(q1, q2), min(q3, q4)), max(max(q1, q2), max(q3, q4)))
 
 
