@@ -38,7 +38,9 @@ def _ds(G, a, b):
     return iv.sub(G[b, _W], G[b, _W], G[a, _W], G[a, _W])
 
 
-@njit(cache=True)
+# Explicit signatures: the callers pass kinds and sites as constants, literals and array
+# items, and each mix would otherwise be a compilation of its own (ten seconds each here).
+@njit("UniTuple(float64, 6)(float64[:, :], int64, int64, int64, int64)", cache=True)
 def spec_point(G, kind, a, b, c):
     """Intervals (xlo, xhi, ylo, yhi, tlo, thi) of the point and time of a spec."""
     if kind == SITE:
@@ -159,7 +161,8 @@ def _exact_side(left, right, kind, a, b, c):
     return r
 
 
-@njit(cache=True)
+@njit("int64(float64[:, :], int64[:], int64, int64, int64, int64, int64, int64, float64, float64, float64, float64)",
+      cache=True)
 def side(G, counters, left, right, kind, a, b, c, xl, xh, tl, th):
     """Where the point of a spec (x in [xl, xh] at a time in [tl, th]) lies against the
     breakpoint (left, right): -1 left of it, 0 at it, 1 right of it.
@@ -229,7 +232,8 @@ def _exact_power_gap(j, k, kind, a, b, c):
     return r
 
 
-@njit(cache=True)
+@njit("int64(float64[:, :], int64[:], int64, int64, int64, int64, int64, int64, float64, float64, float64, float64)",
+      cache=True)
 def power_gap(G, counters, j, k, kind, a, b, c, xl, xh, yl, yh):
     """The sign of l_j - l_k at the point of a spec, in the box [xl, xh] x [yl, yh]: positive
     where k has the smaller power. l_j - l_k = (p_j - p_k) . ((p_j - c) + (p_k - c)) + s_j - s_k
