@@ -179,16 +179,21 @@ def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64], sta
         if stats is not None:
             stats["hidden_sites"] = 0
         return Diagram(sites, d.vertices, d.origin, d.twin, d.next, d.site, weights=weights)
+    # as in the ordinary sweep, site i of the sweep is the i-th in event order (local memory
+    # accesses); the sites of edges and vertices are mapped back after the sweep
     order = _event_order(sites)
-    row = int(np.searchsorted(sites[order, 1], sites[order[0], 1], side="right"))
-    table = _shift_table(sites, weights)
+    swept, swept_weights = np.ascontiguousarray(sites[order]), weights[order]
+    row = int(np.searchsorted(swept[:, 1], swept[0, 1], side="right"))
+    table = _shift_table(swept, swept_weights)
     counters = np.zeros(power_sweep.N_COUNTERS, dtype=np.int64)
-    with exact_context(sites, weights):
-        status, edges, specs = power_sweep.sweep(table, order, row, counters)
+    with exact_context(swept, swept_weights):
+        status, edges, specs = power_sweep.sweep(table, np.arange(n, dtype=np.int64), row, counters)
         if status != power_sweep.OK:
             raise RuntimeError(f"fortune (weighted): {_WEIGHTED_ERRORS.get(status, 'unknown error')} (n = {n}); "
                                "this is a bug")
         edges, specs = power_sweep.merge_vertices(table, counters, edges, specs)
+    edges[:, :2] = order[edges[:, :2]]
+    specs = order[specs]
     if stats is not None:
         stats.update(dict(zip(power_sweep.COUNTER_NAMES, counters.tolist())))
     vertices = _vertex_points(sites, weights, specs)

@@ -40,7 +40,10 @@ def _ds(G, a, b):
 
 # Explicit signatures: the callers pass kinds and sites as constants, literals and array
 # items, and each mix would otherwise be a compilation of its own (ten seconds each here).
-@njit("UniTuple(float64, 6)(float64[:, :], int64, int64, int64, int64)", cache=True)
+# ``_nrt=False``: no reference counting of the array arguments, which costs two atomic
+# instructions per array per call (see impls.fortune.power_sweep); these functions allocate
+# nothing.
+@njit("UniTuple(float64, 6)(float64[:, :], int64, int64, int64, int64)", cache=True, _nrt=False)
 def spec_point(G, kind, a, b, c):
     """Intervals (xlo, xhi, ylo, yhi, tlo, thi) of the point and time of a spec."""
     if kind == SITE:
@@ -139,7 +142,7 @@ def _exact_time_order(k1, a1, b1, c1, k2, a2, b2, c2):
     return r
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def time_order(G, counters, k1, a1, b1, c1, lo1, hi1, k2, a2, b2, c2, lo2, hi2):
     """-1, 0 or 1 as the time of spec 1 (enclosed in [lo1, hi1]) is before, at or after that
     of spec 2."""
@@ -162,7 +165,7 @@ def _exact_side(left, right, kind, a, b, c):
 
 
 @njit("int64(float64[:, :], int64[:], int64, int64, int64, int64, int64, int64, float64, float64, float64, float64)",
-      cache=True)
+      cache=True, _nrt=False)
 def side(G, counters, left, right, kind, a, b, c, xl, xh, tl, th):
     """Where the point of a spec (x in [xl, xh] at a time in [tl, th]) lies against the
     breakpoint (left, right): -1 left of it, 0 at it, 1 right of it.
@@ -233,7 +236,7 @@ def _exact_power_gap(j, k, kind, a, b, c):
 
 
 @njit("int64(float64[:, :], int64[:], int64, int64, int64, int64, int64, int64, float64, float64, float64, float64)",
-      cache=True)
+      cache=True, _nrt=False)
 def power_gap(G, counters, j, k, kind, a, b, c, xl, xh, yl, yh):
     """The sign of l_j - l_k at the point of a spec, in the box [xl, xh] x [yl, yh]: positive
     where k has the smaller power. l_j - l_k = (p_j - p_k) . ((p_j - c) + (p_k - c)) + s_j - s_k
@@ -268,7 +271,7 @@ def _exact_same_centre(a1, b1, c1, a2, b2, c2):
     return r
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def same_centre(counters, a1, b1, c1, box1, a2, b2, c2, box2):
     """Whether the power centres of (a1, b1, c1) and (a2, b2, c2), enclosed in the boxes
     (xlo, xhi, ylo, yhi), are one point."""
@@ -286,7 +289,7 @@ def _exact_farther(i1, p1, i2, p2):
     return r
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _far(G, i, p):
     if p < 0:
         return 0.0, 0.0
@@ -297,7 +300,7 @@ def _far(G, i, p):
     return iv.add(t1l, t1h, t2l, t2h)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def farther(G, counters, i1, p1, i2, p2):
     """The sign of |p_i1 - p_p1|^2 - |p_i2 - p_p2|^2 (a partner of -1 is at distance 0)."""
     if i1 == i2 and p1 == p2:
@@ -323,7 +326,7 @@ def tied(counters, a, b, c):
     return r == 1
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def keeps_middle(G, counters, a, b, c):
     """On the lowest row (x_a < x_b < x_c), whether b's line 2 x_b X - x_b^2 - s_b is strictly
     above a's where a's and c's cross: the sign of

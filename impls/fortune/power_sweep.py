@@ -14,6 +14,11 @@ they involve changes); a pending site's watched sites are a linked list in one p
 are recorded with their spec (the three sites of their power centre); vertices at one exact
 point, which the events of a co-power vertex create one per event, are merged after the sweep
 along the edges of zero length between them, and those edges dropped.
+
+The helpers (and the predicates) only index the arrays they are given, and are compiled with
+numba's ``_nrt=False``: otherwise every call increments and decrements the reference count of
+each array argument with an atomic instruction, which was half of the sweep's time (1.75 s of
+sweep at 10^5 sites became 0.88 s). Only :func:`sweep`, which allocates, counts references.
 """
 
 from __future__ import annotations
@@ -50,11 +55,14 @@ _CIRCLE, _PROBE = 0, 2
 
 # scalar state
 _ROOT, _SEQN, _NEDGE, _NVERT, _NARC, _HEAPN, _FREE, _NOWK, _NOWA, _NOWB, _NOWC, _HEREK, _HEREA, \
-    _HEREB, _HEREC, _WUSED, _STATUS, _NARCS = range(18)
-_S_FIELDS = 18
+    _HEREB, _HEREC, _WUSED, _STATUS, _NARCS, _HEREBOX = range(19)
+_S_FIELDS = 19
+# float state: the interval of the time now (0, 1), the box of the point here (2..5) once
+# computed (S[_HEREBOX] = 1)
+_SF_FIELDS = 6
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _earlier(G, counters, ev, evf, e1, e2):
     # the heap's order: time, then kind (circle first), then for probes the farther from its
     # partner, then the older event; disjoint time intervals decide without a call
@@ -75,7 +83,7 @@ def _earlier(G, counters, ev, evf, e1, e2):
     return ev[e1, _SEQ] < ev[e2, _SEQ]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _sift_up(G, counters, ev, evf, heap, pos):
     e = heap[pos]
     while pos > 0:
@@ -90,7 +98,7 @@ def _sift_up(G, counters, ev, evf, heap, pos):
     ev[e, _HPOS] = pos
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _sift_down(G, counters, ev, evf, heap, n, pos):
     e = heap[pos]
     while True:
@@ -109,7 +117,7 @@ def _sift_down(G, counters, ev, evf, heap, n, pos):
     ev[e, _HPOS] = pos
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _push(G, counters, S, ev, evf, heap, free, kind, tk, ta, tb, tc, tlo, thi, pk, pa, pb, pc, owner, partner):
     e = free[S[_FREE] - 1]
     S[_FREE] -= 1
@@ -128,7 +136,7 @@ def _push(G, counters, S, ev, evf, heap, free, kind, tk, ta, tb, tc, tlo, thi, p
     return e
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _remove(G, counters, S, ev, evf, heap, free, e):
     # take event e out of the heap and give its row back
     pos = ev[e, _HPOS]
@@ -145,16 +153,21 @@ def _remove(G, counters, S, ev, evf, heap, free, e):
     S[_FREE] += 1
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _cancel(G, counters, S, ev, evf, heap, free, arcs, k):
     if k >= 0 and arcs[k, bl.EVENT] >= 0:
         _remove(G, counters, S, ev, evf, heap, free, arcs[k, bl.EVENT])
         arcs[k, bl.EVENT] = -1
 
 
-@njit(cache=True)
-def _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, k):
-    """Schedule the vanishing of arc k if its breakpoints converge (Sweep.circle_candidate)."""
+@njit(cache=True, _nrt=False)
+def _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, k):
+    """Schedule the vanishing of arc k if its breakpoints converge (Sweep.circle_candidate).
+
+    What depends only on k's three sites, the box of their power centre and whether both
+    breakpoints pass through it, is kept in row k of ``cand`` (left site, right site, verdict)
+    and ``candf`` (the box): an arc whose neighbours' sites are unchanged is asked again at
+    every refresh around it, and its answer only depends on now and here."""
     if k < 0:
         return
     left, right = arcs[k, bl.PREV], arcs[k, bl.NEXT]
@@ -172,38 +185,49 @@ def _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, k):
         return
     if turn <= 0:
         return
-    xl, xh, yl, yh, tl, th = spec_point(G, CENTRE, sl, sk, sr)
+    if cand[k, 0] == sl and cand[k, 1] == sr:
+        xl, xh, yl, yh, tl, th = candf[k, 0], candf[k, 1], candf[k, 2], candf[k, 3], candf[k, 4], candf[k, 5]
+    else:
+        xl, xh, yl, yh, tl, th = spec_point(G, CENTRE, sl, sk, sr)
+        cand[k, 0], cand[k, 1], cand[k, 2] = sl, sr, -1
+        candf[k, 0], candf[k, 1], candf[k, 2], candf[k, 3], candf[k, 4], candf[k, 5] = xl, xh, yl, yh, tl, th
     if time_order(G, counters, CENTRE, sl, sk, sr, tl, th, S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC],
                   SF[0], SF[1]) < 0:
         return
     fire = False
     if S[_HEREK] == CENTRE:
-        hxl, hxh, hyl, hyh, _, _ = spec_point(G, CENTRE, S[_HEREA], S[_HEREB], S[_HEREC])
+        if S[_HEREBOX] == 0:
+            SF[2], SF[3], SF[4], SF[5], _, _ = spec_point(G, CENTRE, S[_HEREA], S[_HEREB], S[_HEREC])
+            S[_HEREBOX] = 1
         if same_centre(counters, sl, sk, sr, (xl, xh, yl, yh), S[_HEREA], S[_HEREB], S[_HEREC],
-                       (hxl, hxh, hyl, hyh)) and \
+                       (SF[2], SF[3], SF[4], SF[5])) and \
                 time_order(G, counters, CENTRE, sl, sk, sr, tl, th, S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC],
                            SF[0], SF[1]) == 0:
             fire = True         # no width at the point of the event at hand, neighbours closing on it
     if not fire:
-        fire = side(G, counters, sl, sk, CENTRE, sl, sk, sr, xl, xh, tl, th) == 0 and \
-            side(G, counters, sk, sr, CENTRE, sl, sk, sr, xl, xh, tl, th) == 0
+        if cand[k, 2] < 0:
+            # both breakpoints pass through the centre: they meet there
+            meet = side(G, counters, sl, sk, CENTRE, sl, sk, sr, xl, xh, tl, th) == 0 and \
+                side(G, counters, sk, sr, CENTRE, sl, sk, sr, xl, xh, tl, th) == 0
+            cand[k, 2] = 1 if meet else 0
+        fire = cand[k, 2] == 1
     if fire:
         arcs[k, bl.EVENT] = _push(G, counters, S, ev, evf, heap, free, _CIRCLE, CENTRE, sl, sk, sr, tl, th,
                                   CENTRE, sl, sk, sr, k, -1)
 
 
-@njit(cache=True)
-def _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, lo, mid, hi):
+@njit(cache=True, _nrt=False)
+def _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, lo, mid, hi):
     """The arcs lo, (mid), hi changed neighbours: their circle events and those of the arcs on
     either side are recomputed, in the reference's order (lo..hi, then left, then right)."""
     todo = (np.int64(lo), np.int64(mid), np.int64(hi), np.int64(arcs[lo, bl.PREV]), np.int64(arcs[hi, bl.NEXT]))
     for k in todo:
         _cancel(G, counters, S, ev, evf, heap, free, arcs, k)
     for k in todo:
-        _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, k)
+        _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, k)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _locate(G, counters, arcs, root, kind, a, b, c, xl, xh, tl, th, at):
     """The arc over the point of a spec at its time, and in ``at`` the left arcs of the
     breakpoints at that point, left to right (several where arcs of no width meet); returns
@@ -234,7 +258,20 @@ def _locate(G, counters, arcs, root, kind, a, b, c, xl, xh, tl, th, at):
     return found, m
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
+def _in_arc(G, counters, arcs, gone, x, kind, a, b, c, xl, xh, tl, th):
+    """Whether the point of a spec lies strictly inside arc x (between its two breakpoints), so
+    that :func:`_locate` would return (x, 0): a search from a likely arc that costs two
+    breakpoint tests instead of a descent from the root."""
+    if x < 0 or gone[x]:
+        return False
+    p, q = arcs[x, bl.PREV], arcs[x, bl.NEXT]
+    if p != -1 and side(G, counters, arcs[p, bl.SITE], arcs[x, bl.SITE], kind, a, b, c, xl, xh, tl, th) <= 0:
+        return False
+    return q == -1 or side(G, counters, arcs[x, bl.SITE], arcs[q, bl.SITE], kind, a, b, c, xl, xh, tl, th) < 0
+
+
+@njit(cache=True, _nrt=False)
 def _new_edge(edges, S, a, b, start):
     e = S[_NEDGE]
     edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3] = a, b, start, -1
@@ -242,7 +279,7 @@ def _new_edge(edges, S, a, b, start):
     return e
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _close(edges, e, left_site, v):
     # the breakpoint with left arc `left_site` that traced edge e stops at vertex v
     if edges[e, 0] == left_site:
@@ -251,7 +288,7 @@ def _close(edges, e, left_site, v):
         edges[e, 2] = v
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _new_vertex(vspec, S, a, b, c):
     v = S[_NVERT]
     vspec[v, 0], vspec[v, 1], vspec[v, 2] = a, b, c
@@ -259,10 +296,11 @@ def _new_vertex(vspec, S, a, b, c):
     return v
 
 
-@njit(cache=True)
-def _new_arc(arcs, S, site):
+@njit(cache=True, _nrt=False)
+def _new_arc(arcs, S, latest, site):
     x = S[_NARCS]
     S[_NARCS] = x + 1
+    latest[site] = x
     # splitmix-like deterministic priorities: counts do not depend on the machine
     z = np.uint64(x + 1) * np.uint64(0x9E3779B97F4A7C15)
     z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
@@ -291,7 +329,7 @@ def _watch(wsite, wnext, whead, wtail, S, i, s):
     return wsite, wnext
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _lowest_point(G, counters, wsite, wnext, whead, i):
     """The least time of T_i over Q_i (ProbingSweep.lowest_point): (kind, a, b, c, partner,
     tlo, thi) of its spec, kind -1 if Q_i is empty."""
@@ -323,7 +361,7 @@ def _lowest_point(G, counters, wsite, wnext, whead, i):
     return best_k, best_a, best_b, best_c, partner, blo, bhi
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _lowest_on_line(G, counters, wsite, wnext, whead, i, k):
     """The least time of T_i over Q_i after site k joined S_i because the old least point
     broke k's constraint: as in Seidel's linear programming, the new least point is on k's
@@ -385,7 +423,7 @@ def _lowest_on_line(G, counters, wsite, wnext, whead, i, k):
     return True, CENTRE, i, k, best, -1, blo, bhi
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _in_q(G, counters, wsite, wnext, whead, i, kind, a, b, c, xl, xh, yl, yh):
     # i has no more power than any watched site at the spec's point
     j = whead[i]
@@ -417,9 +455,13 @@ def sweep(G, order, row, counters):
     whead = np.full(n, -1, dtype=np.int64)
     wtail = np.full(n, -1, dtype=np.int64)
     state = np.zeros(n, dtype=np.int8)          # 0 waiting, 1 pending, 2 present, 3 hidden
+    latest = np.full(n, -1, dtype=np.int64)     # each site's newest arc (a probe's first guess)
+    gone = np.zeros(arcs.shape[0], dtype=np.bool_)
+    cand = np.full((arcs.shape[0], 3), -1, dtype=np.int64)     # see _circle_candidate
+    candf = np.empty((arcs.shape[0], 6), dtype=np.float64)
     at = np.empty(2 * n + 4, dtype=np.int64)
     S = np.zeros(_S_FIELDS, dtype=np.int64)
-    SF = np.zeros(2, dtype=np.float64)
+    SF = np.zeros(_SF_FIELDS, dtype=np.float64)
     S[_FREE] = cap_ev
     S[_ROOT] = -1
     S[_HEREK] = -1
@@ -441,7 +483,7 @@ def sweep(G, order, row, counters):
     for h in range(m):
         i = hull[h]
         state[i] = 2
-        x = _new_arc(arcs, S, i)
+        x = _new_arc(arcs, S, latest, i)
         S[_ROOT] = bl.insert_after(arcs, S[_ROOT], previous, x)
         if previous >= 0:
             arcs[previous, bl.EDGE] = _new_edge(edges, S, arcs[previous, bl.SITE], i, -1)
@@ -507,26 +549,32 @@ def sweep(G, order, row, counters):
                     S[_STATUS] = ERR_STATE
                     break
                 counters[CIRCLES] += 1
+                S[_HEREBOX] = 0
                 S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC] = ev[e, _PK], ev[e, _PA], ev[e, _PB], ev[e, _PC]
                 v = _new_vertex(vspec, S, ev[e, _PA], ev[e, _PB], ev[e, _PC])
                 _close(edges, arcs[left, bl.EDGE], arcs[left, bl.SITE], v)
                 _close(edges, arcs[k, bl.EDGE], arcs[k, bl.SITE], v)
                 arcs[left, bl.EDGE] = _new_edge(edges, S, arcs[left, bl.SITE], arcs[right, bl.SITE], v)
                 S[_ROOT] = bl.remove(arcs, S[_ROOT], k)
+                gone[k] = True
                 beach -= 1
                 # refresh(left, right): lo..hi is left, right; then left's left, right's right
                 todo = (np.int64(left), np.int64(right), np.int64(arcs[left, bl.PREV]), np.int64(arcs[right, bl.NEXT]))
                 for q in todo:
                     _cancel(G, counters, S, ev, evf, heap, free, arcs, q)
                 for q in todo:
-                    _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, q)
+                    _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, q)
             else:
                 # a probe of site i at the point q of its lower bound: the arc over q decides
                 i = ev[e, _OWNER]
                 pk, pa, pb, pc = ev[e, _PK], ev[e, _PA], ev[e, _PB], ev[e, _PC]
                 counters[PROBES] += 1
                 xl, xh, yl, yh, tl, th = spec_point(G, pk, pa, pb, pc)
-                arc, nat = _locate(G, counters, arcs, S[_ROOT], pk, pa, pb, pc, xl, xh, tl, th, at)
+                hint = latest[ev[e, _PARTNER]] if ev[e, _PARTNER] >= 0 else -1
+                if _in_arc(G, counters, arcs, gone, hint, pk, pa, pb, pc, xl, xh, tl, th):
+                    arc, nat = hint, 0
+                else:
+                    arc, nat = _locate(G, counters, arcs, S[_ROOT], pk, pa, pb, pc, xl, xh, tl, th, at)
                 if arc < 0:
                     S[_STATUS] = ERR_STATE
                     break
@@ -546,15 +594,15 @@ def sweep(G, order, row, counters):
                     counters[IN_ARC] += 1
                     state[i] = 2
                     k_site = arcs[arc, bl.SITE]
-                    x = _new_arc(arcs, S, i)
-                    twin = _new_arc(arcs, S, k_site)
+                    x = _new_arc(arcs, S, latest, i)
+                    twin = _new_arc(arcs, S, latest, k_site)
                     arcs[twin, bl.EDGE] = arcs[arc, bl.EDGE]
                     arcs[arc, bl.EDGE] = _new_edge(edges, S, k_site, i, -1)
                     arcs[x, bl.EDGE] = arcs[arc, bl.EDGE]
                     S[_ROOT] = bl.insert_after(arcs, S[_ROOT], arc, x)
                     S[_ROOT] = bl.insert_after(arcs, S[_ROOT], x, twin)
                     beach += 2
-                    _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, arc, x, twin)
+                    _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, arc, x, twin)
                 else:
                     entered = False
                     for j in range(nat):
@@ -563,17 +611,18 @@ def sweep(G, order, row, counters):
                         sa, sb = arcs[la, bl.SITE], arcs[ra, bl.SITE]
                         if orient2d(G[sa, 0], G[sa, 1], G[i, 0], G[i, 1], G[sb, 0], G[sb, 1]) < 0:
                             # at the breakpoint (a, b): a vertex; (a, b) ends, (a, i), (i, b) start
+                            S[_HEREBOX] = 0
                             S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC] = CENTRE, sa, i, sb
                             counters[AT_VERTEX] += 1
                             state[i] = 2
                             v = _new_vertex(vspec, S, sa, i, sb)
                             _close(edges, arcs[la, bl.EDGE], sa, v)
-                            x = _new_arc(arcs, S, i)
+                            x = _new_arc(arcs, S, latest, i)
                             arcs[la, bl.EDGE] = _new_edge(edges, S, sa, i, v)
                             arcs[x, bl.EDGE] = _new_edge(edges, S, i, sb, v)
                             S[_ROOT] = bl.insert_after(arcs, S[_ROOT], la, x)
                             beach += 1
-                            _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, la, x, ra)
+                            _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, la, x, ra)
                             entered = True
                             break
                     if not entered:
