@@ -52,6 +52,7 @@ ERR_ITERATIONS = 2
 _KIND, _TK, _TA, _TB, _TC, _PK, _PA, _PB, _PC, _SEQ, _OWNER, _PARTNER, _HPOS = range(13)
 _EV_FIELDS = 13
 _CIRCLE, _PROBE = 0, 2
+_NO_BOX = (0.0, 0.0, 0.0, 0.0)
 
 # scalar state
 _ROOT, _SEQN, _NEDGE, _NVERT, _NARC, _HEAPN, _FREE, _NOWK, _NOWA, _NOWB, _NOWC, _HEREK, _HEREA, \
@@ -62,7 +63,7 @@ _S_FIELDS = 19
 _SF_FIELDS = 6
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, inline='always')
 def _earlier(G, counters, ev, evf, e1, e2):
     # the heap's order: time, then kind (circle first), then for probes the farther from its
     # partner, then the older event; disjoint time intervals decide without a call
@@ -70,6 +71,12 @@ def _earlier(G, counters, ev, evf, e1, e2):
         return True
     if evf[e2, 1] < evf[e1, 0]:
         return False
+    return _earlier_overlapping(G, counters, ev, evf, e1, e2)
+
+
+@njit(cache=True, _nrt=False)
+def _earlier_overlapping(G, counters, ev, evf, e1, e2):
+    # _earlier where the time intervals overlap
     c = time_order(G, counters, ev[e1, _TK], ev[e1, _TA], ev[e1, _TB], ev[e1, _TC], evf[e1, 0], evf[e1, 1],
                    ev[e2, _TK], ev[e2, _TA], ev[e2, _TB], ev[e2, _TC], evf[e2, 0], evf[e2, 1])
     if c != 0:
@@ -118,7 +125,7 @@ def _sift_down(G, counters, ev, evf, heap, n, pos):
 
 
 @njit(cache=True, _nrt=False)
-def _push(G, counters, S, ev, evf, heap, free, kind, tk, ta, tb, tc, tlo, thi, pk, pa, pb, pc, owner, partner):
+def _push(G, counters, S, ev, evf, heap, free, kind, tk, ta, tb, tc, tlo, thi, pk, pa, pb, pc, box, owner, partner):
     e = free[S[_FREE] - 1]
     S[_FREE] -= 1
     ev[e, _KIND] = kind
@@ -129,6 +136,7 @@ def _push(G, counters, S, ev, evf, heap, free, kind, tk, ta, tb, tc, tlo, thi, p
     ev[e, _OWNER] = owner
     ev[e, _PARTNER] = partner
     evf[e, 0], evf[e, 1] = tlo, thi
+    evf[e, 2], evf[e, 3], evf[e, 4], evf[e, 5] = box
     n = S[_HEAPN]
     heap[n] = e
     S[_HEAPN] = n + 1
@@ -181,7 +189,7 @@ def _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf
         # k has just met a neighbour that ties with it along a line: it closes now, here
         arcs[k, bl.EVENT] = _push(G, counters, S, ev, evf, heap, free, _CIRCLE,
                                   S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC], SF[0], SF[1],
-                                  S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC], k, -1)
+                                  S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC], _NO_BOX, k, -1)
         return
     if turn <= 0:
         return
@@ -213,7 +221,7 @@ def _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf
         fire = cand[k, 2] == 1
     if fire:
         arcs[k, bl.EVENT] = _push(G, counters, S, ev, evf, heap, free, _CIRCLE, CENTRE, sl, sk, sr, tl, th,
-                                  CENTRE, sl, sk, sr, k, -1)
+                                  CENTRE, sl, sk, sr, (xl, xh, yl, yh), k, -1)
 
 
 @njit(cache=True, _nrt=False)
@@ -309,16 +317,19 @@ def _new_arc(arcs, S, latest, site):
 
 
 @njit(cache=True)
+def _grown(wsite, wnext):
+    """The watch pool, twice as large (its rows kept)."""
+    grown_site = np.empty(2 * wsite.shape[0], dtype=np.int64)
+    grown_next = np.empty(2 * wsite.shape[0], dtype=np.int64)
+    grown_site[:wsite.shape[0]] = wsite
+    grown_next[:wsite.shape[0]] = wnext
+    return grown_site, grown_next
+
+
+@njit(cache=True, _nrt=False)
 def _watch(wsite, wnext, whead, wtail, S, i, s):
-    """Site s joins the end of pending site i's watch list (the pool doubles when full);
-    returns the pool's arrays."""
+    """Site s joins the end of pending site i's watch list (the caller makes room: _grown)."""
     w = S[_WUSED]
-    if w >= wsite.shape[0]:
-        grown_site = np.empty(2 * wsite.shape[0], dtype=np.int64)
-        grown_next = np.empty(2 * wsite.shape[0], dtype=np.int64)
-        grown_site[:w] = wsite[:w]
-        grown_next[:w] = wnext[:w]
-        wsite, wnext = grown_site, grown_next
     S[_WUSED] = w + 1
     wsite[w], wnext[w] = s, -1
     if whead[i] < 0:
@@ -326,7 +337,6 @@ def _watch(wsite, wnext, whead, wtail, S, i, s):
     else:
         wnext[wtail[i]] = w
     wtail[i] = w
-    return wsite, wnext
 
 
 @njit(cache=True, _nrt=False)
@@ -335,6 +345,7 @@ def _lowest_point(G, counters, wsite, wnext, whead, i):
     tlo, thi) of its spec, kind -1 if Q_i is empty."""
     best_k, best_a, best_b, best_c, partner = -1, -1, -1, -1, -1
     blo, bhi = 0.0, 0.0
+    box = _NO_BOX
     j = whead[i]
     while j != -1:
         sj = wsite[j]
@@ -344,6 +355,7 @@ def _lowest_point(G, counters, wsite, wnext, whead, i):
                                         blo, bhi) < 0:
                 if _in_q(G, counters, wsite, wnext, whead, i, CONTACT, i, sj, -1, xl, xh, yl, yh):
                     best_k, best_a, best_b, best_c, partner, blo, bhi = CONTACT, i, sj, -1, sj, tl, th
+                    box = (xl, xh, yl, yh)
         j = wnext[j]
     ja = whead[i]
     while ja != -1:
@@ -356,9 +368,10 @@ def _lowest_point(G, counters, wsite, wnext, whead, i):
                                             best_c, blo, bhi) < 0:
                     if _in_q(G, counters, wsite, wnext, whead, i, CENTRE, i, sa, sb, xl, xh, yl, yh):
                         best_k, best_a, best_b, best_c, partner, blo, bhi = CENTRE, i, sa, sb, -1, tl, th
+                        box = (xl, xh, yl, yh)
             jb = wnext[jb]
         ja = wnext[ja]
-    return best_k, best_a, best_b, best_c, partner, blo, bhi
+    return best_k, best_a, best_b, best_c, partner, blo, bhi, box
 
 
 @njit(cache=True, _nrt=False)
@@ -378,13 +391,13 @@ def _lowest_on_line(G, counters, wsite, wnext, whead, i, k):
             if j != -1:
                 # k was watched already, so the old least point was inside k's constraint and
                 # yet below k's arc: a bug, which would probe the same point forever
-                return True, -2, -1, -1, -1, -1, 0.0, 0.0
+                return True, -2, -1, -1, -1, -1, 0.0, 0.0, _NO_BOX
             continue
         o = orient2d(G[i, 0], G[i, 1], G[k, 0], G[k, 1], G[sj, 0], G[sj, 1])
         if o == 0:
             # j's line is parallel to L_k: all of L_k is allowed by j, or none of it
             if not line_inside(counters, i, k, sj):
-                return True, -1, -1, -1, -1, -1, 0.0, 0.0
+                return True, -1, -1, -1, -1, -1, 0.0, 0.0, _NO_BOX
             continue
         # the end of L_k that j sets is the power centre of i, k, j; of two ends on one side,
         # the one inside the other's constraint is the nearer
@@ -400,7 +413,7 @@ def _lowest_on_line(G, counters, wsite, wnext, whead, i, k):
     if lo >= 0 and hi >= 0:
         xl, xh, yl, yh, _, _ = spec_point(G, CENTRE, i, k, lo)
         if power_gap(G, counters, hi, i, CENTRE, i, k, lo, xl, xh, yl, yh) < 0:
-            return True, -1, -1, -1, -1, -1, 0.0, 0.0          # the ends cross: Q_i is empty
+            return True, -1, -1, -1, -1, -1, 0.0, 0.0, _NO_BOX          # the ends cross: Q_i is empty
     if G[k, 1] < G[i, 1]:
         # T_i along L_k is least at c_ik: the answer if it lies between the ends
         xl, xh, yl, yh, tl, th = spec_point(G, CONTACT, i, k, -1)
@@ -409,18 +422,18 @@ def _lowest_on_line(G, counters, wsite, wnext, whead, i, k):
             if end >= 0 and power_gap(G, counters, end, i, CONTACT, i, k, -1, xl, xh, yl, yh) < 0:
                 inside = False
         if inside:
-            return True, CONTACT, i, k, -1, k, tl, th
+            return True, CONTACT, i, k, -1, k, tl, th, (xl, xh, yl, yh)
     # T_i is monotone between the ends: the least is at one of them
-    best, blo, bhi = -1, 0.0, 0.0
+    best, blo, bhi, box = -1, 0.0, 0.0, _NO_BOX
     for end in (lo, hi):
         if end < 0:
             continue
-        _, _, _, _, tl, th = spec_point(G, CENTRE, i, k, end)
+        xl, xh, yl, yh, tl, th = spec_point(G, CENTRE, i, k, end)
         if best < 0 or time_order(G, counters, CENTRE, i, k, end, tl, th, CENTRE, i, k, best, blo, bhi) < 0:
-            best, blo, bhi = end, tl, th
+            best, blo, bhi, box = end, tl, th, (xl, xh, yl, yh)
     if best < 0:
-        return False, -1, -1, -1, -1, -1, 0.0, 0.0
-    return True, CENTRE, i, k, best, -1, blo, bhi
+        return False, -1, -1, -1, -1, -1, 0.0, 0.0, _NO_BOX
+    return True, CENTRE, i, k, best, -1, blo, bhi, box
 
 
 @njit(cache=True, _nrt=False)
@@ -445,7 +458,7 @@ def sweep(G, order, row, counters):
     arcs = bl.new_arcs(2 * n + 4)
     cap_ev = 3 * n + 16
     ev = np.empty((cap_ev, _EV_FIELDS), dtype=np.int64)
-    evf = np.empty((cap_ev, 2), dtype=np.float64)
+    evf = np.empty((cap_ev, 6), dtype=np.float64)     # time interval, then the point's box
     heap = np.empty(cap_ev, dtype=np.int64)
     free = np.arange(cap_ev - 1, -1, -1).astype(np.int64)
     edges = np.empty((5 * n + 16, 4), dtype=np.int64)
@@ -531,7 +544,9 @@ def sweep(G, order, row, counters):
                 if t == 1 and G[first, 1] < G[i, 1]:
                     break
                 s = first if t == 0 else arcs[head, bl.SITE]
-                wsite, wnext = _watch(wsite, wnext, whead, wtail, S, i, s)
+                if S[_WUSED] >= wsite.shape[0]:
+                    wsite, wnext = _grown(wsite, wnext)
+                _watch(wsite, wnext, whead, wtail, S, i, s)
             schedule = i
             line = -1
         else:
@@ -569,7 +584,8 @@ def sweep(G, order, row, counters):
                 i = ev[e, _OWNER]
                 pk, pa, pb, pc = ev[e, _PK], ev[e, _PA], ev[e, _PB], ev[e, _PC]
                 counters[PROBES] += 1
-                xl, xh, yl, yh, tl, th = spec_point(G, pk, pa, pb, pc)
+                # the box of the probe's point, kept from _lowest_point
+                xl, xh, yl, yh, tl, th = evf[e, 2], evf[e, 3], evf[e, 4], evf[e, 5], evf[e, 0], evf[e, 1]
                 hint = latest[ev[e, _PARTNER]] if ev[e, _PARTNER] >= 0 else -1
                 if _in_arc(G, counters, arcs, gone, hint, pk, pa, pb, pc, xl, xh, tl, th):
                     arc, nat = hint, 0
@@ -582,7 +598,9 @@ def sweep(G, order, row, counters):
                 gap = power_gap(G, counters, above, i, pk, pa, pb, pc, xl, xh, yl, yh)
                 if gap < 0:
                     # q is below the beach line: the arc's site joins the watch, the bound moves on
-                    wsite, wnext = _watch(wsite, wnext, whead, wtail, S, i, above)
+                    if S[_WUSED] >= wsite.shape[0]:
+                        wsite, wnext = _grown(wsite, wnext)
+                    _watch(wsite, wnext, whead, wtail, S, i, above)
                     schedule = i
                     line = above
                 elif gap > 0:
@@ -634,9 +652,9 @@ def sweep(G, order, row, counters):
             i = schedule
             found = False
             if line >= 0:
-                found, bk, ba, bb, bc, partner, blo, bhi = _lowest_on_line(G, counters, wsite, wnext, whead, i, line)
+                found, bk, ba, bb, bc, partner, blo, bhi, box = _lowest_on_line(G, counters, wsite, wnext, whead, i, line)
             if not found:
-                bk, ba, bb, bc, partner, blo, bhi = _lowest_point(G, counters, wsite, wnext, whead, i)
+                bk, ba, bb, bc, partner, blo, bhi, box = _lowest_point(G, counters, wsite, wnext, whead, i)
             if bk == -2:
                 S[_STATUS] = ERR_STATE
                 break
@@ -645,7 +663,7 @@ def sweep(G, order, row, counters):
                 counters[NEVER_ENTERED] += 1
             else:
                 _push(G, counters, S, ev, evf, heap, free, _PROBE, bk, ba, bb, bc, blo, bhi,
-                      bk, ba, bb, bc, i, partner)
+                      bk, ba, bb, bc, box, i, partner)
     if guard >= limit:
         S[_STATUS] = ERR_ITERATIONS
     return S[_STATUS], edges[:S[_NEDGE]], vspec[:S[_NVERT]]
