@@ -86,7 +86,9 @@ import datasets_gen, impls
 from vorobench.judge.engine import build_and_certify
 for name in ("halfplane", "incremental"):
     impls.builtin(name).warmup()
-build_and_certify("incremental", datasets_gen.generate("uniform", 50, seed=1))
+sites = datasets_gen.generate("uniform", 50, seed=1)
+build_and_certify("incremental", sites)
+build_and_certify("incremental", sites, weights=datasets_gen.weights("radii", sites, seed=1))
 impls.builtin("fortune").warmup()
 """
 
