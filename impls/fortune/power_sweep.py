@@ -18,7 +18,9 @@ along the edges of zero length between them, and those edges dropped.
 The helpers (and the predicates) only index the arrays they are given, and are compiled with
 numba's ``_nrt=False``: otherwise every call increments and decrements the reference count of
 each array argument with an atomic instruction, which was half of the sweep's time (1.75 s of
-sweep at 10^5 sites became 0.88 s). Only :func:`sweep`, which allocates, counts references.
+sweep at 10^5 sites became 0.88 s). Only :func:`sweep`, which allocates, counts references. numba
+compiles a callee first reached from such a function with the same flag, so nothing they call
+may allocate arrays (the exact stage is reached through object mode, with scalars only).
 """
 
 from __future__ import annotations
