@@ -4,6 +4,7 @@ Diagram.from_scipy and the builder's unoriented ridges."""
 from __future__ import annotations
 
 import dataclasses
+import json
 
 import matplotlib
 import numpy as np
@@ -222,3 +223,28 @@ def test_the_arrays_of_a_diagram_cannot_be_written_through_it():
         with pytest.raises(ValueError, match="read-only"):
             getattr(d, name)[0] = 0
     assert d.regions is regions
+
+
+def test_changing_a_region_handed_out_changes_no_cached_region():
+    d = impls.build("incremental", _points("uniform", 50, 0))
+    before = d.regions.tolist()
+    d.regions[0].append(99)
+    for region in d.regions:
+        region.clear()
+    d.regions.tolist()[1].append(7)
+    d.regions[2:4][0].append(5)
+    assert d.regions == before and d.regions.tolist() == before
+    assert json.loads(json.dumps(d.regions.tolist())) == before
+
+
+def test_regions_index_like_a_list_and_name_what_they_cannot_take():
+    d = impls.build("incremental", _points("uniform", 20, 3))
+    as_list = d.regions.tolist()
+    assert len(d.regions) == len(as_list) == d.n_sites
+    assert d.regions[-1] == as_list[-1] and d.regions[np.int64(2)] == as_list[2]
+    assert d.regions[1:7:2] == as_list[1:7:2]
+    assert d.regions != as_list[:-1] and d.regions != [[]] * len(as_list)
+    with pytest.raises(IndexError, match="out of range"):
+        d.regions[len(as_list)]
+    with pytest.raises(TypeError, match="integers or slices"):
+        d.regions["0"]

@@ -10,7 +10,6 @@ A diagram is immutable once made: the scipy-style views (``regions``, ``ridge_po
 
 from __future__ import annotations
 
-import gc
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
@@ -20,9 +19,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from vorobench.core.cell_cycles import cell_cycles
-from vorobench.core.clip import clip_convex
+from vorobench.core.clip import clip_convex, clip_groups
 from vorobench.core.errors import InvalidDiagramError
 from vorobench.core.framing import site_box
+from vorobench.core.regions import Regions
 
 __all__ = ["Diagram", "InvalidDiagramError"]
 
@@ -33,6 +33,12 @@ _FORMAT_VERSION = 1
 
 def _first(mask: NDArray[np.bool_]) -> int:
     return int(np.flatnonzero(mask)[0])
+
+
+def _box_corners(box: tuple[float, float, float, float]) -> NDArray[np.float64]:
+    """The corners of (xmin, ymin, xmax, ymax), counter-clockwise from the lower left."""
+    xmin, ymin, xmax, ymax = box
+    return np.array([[xmin, ymin], [xmax, ymin], [xmax, ymax], [xmin, ymax]], dtype=np.float64)
 
 
 def _read_only(arr: NDArray) -> NDArray:
@@ -262,21 +268,13 @@ class Diagram:
         return _read_only(np.asarray(self.input_site, dtype=np.int64))
 
     @cached_property
-    def regions(self) -> list[list[int]]:
+    def regions(self) -> Regions:
         """scipy-style: the vertices of each cell counter-clockwise, -1 where it is unbounded
-        (an unbounded cell's list starts at infinity); an empty list for a cell with no edge."""
+        (an unbounded cell's list starts at infinity); an empty list for a cell with no edge.
+        A read-only sequence whose items are new lists (``.tolist()`` gives scipy's list of
+        lists), so a caller cannot change the cached regions."""
         order, offsets = self._cycles
-        flat = self.origin[order].tolist()
-        bounds = offsets.tolist()
-        # A million small lists would wake the cyclic garbage collector hundreds of times
-        # (4x the time at 10^6 sites, measured); none of them can be part of a cycle.
-        collecting = gc.isenabled()
-        gc.disable()
-        try:
-            return [flat[bounds[i]:bounds[i + 1]] for i in range(self.n_sites)]
-        finally:
-            if collecting:
-                gc.enable()
+        return Regions(self.origin[order], offsets)
 
     @cached_property
     def ridge_points(self) -> NDArray[np.int64]:
@@ -317,26 +315,14 @@ class Diagram:
         pad = margin * span if span > 0 else max(1.0, float(np.abs(lo).max()) * 1e-9)
         return (float(lo[0] - pad), float(lo[1] - pad), float(hi[0] + pad), float(hi[1] + pad))
 
-    def cell_polygon(self, i: int, box: tuple[float, float, float, float] | None = None
-                     ) -> NDArray[np.float64]:
-        """Cell i clipped to ``box`` = (xmin, ymin, xmax, ymax), as a CCW (k, 2) polygon
-        (default box: around the sites); empty for a hidden site.
+    def _cell_lines(self, hs: NDArray[np.int64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(anchor, direction) of the line of each half-edge in ``hs``, its cell on the left.
 
-        The cell is the intersection of the left half-planes of its half-edges, each line
-        through the half-edge's end nearer its two sites (a floating-point library may place a
-        far-away vertex far off its line), or through their (power) bisector's point on the
-        line between them when both ends are at infinity. An edge and its twin choose the same
-        point, so neighbouring polygons share their corners exactly.
+        Each line goes through the half-edge's end nearer its two sites (a floating-point
+        library may place a far-away vertex far off its line), or through their (power)
+        bisector's point on the line between them when both ends are at infinity. An edge and
+        its twin choose the same point, so neighbouring polygons share their corners exactly.
         """
-        if box is None:
-            box = site_box(self)
-        xmin, ymin, xmax, ymax = box
-        poly = np.array([[xmin, ymin], [xmax, ymin], [xmax, ymax], [xmin, ymax]], dtype=np.float64)
-        if self.n_sites == 1 and i == 0:
-            return poly
-        hs = np.asarray(self.cell_half_edges(i), dtype=np.int64)
-        if hs.size == 0:
-            return np.zeros((0, 2))
         direction = self.half_edge_direction(hs)
         a, b = self.sites[self.site[hs]], self.sites[self.site[self.twin[hs]]]
         anchor = 0.5 * (a + b)
@@ -354,14 +340,39 @@ class Diagram:
             # ties go to the vertex with the smaller id, the same choice from either side
             use_start = (ds < de) | ((ds == de) & (start <= end) & (start >= 0))
             anchor = np.where(use_start[:, None], ps, np.where((end >= 0)[:, None], pe, anchor))
+        return anchor, direction
+
+    def cell_polygon(self, i: int, box: tuple[float, float, float, float] | None = None
+                     ) -> NDArray[np.float64]:
+        """Cell i clipped to ``box`` = (xmin, ymin, xmax, ymax), as a CCW (k, 2) polygon
+        (default box: around the sites); empty for a hidden site. The cell is the intersection
+        of the left half-planes of its half-edges' lines (see :meth:`cell_polygons`)."""
+        if box is None:
+            box = site_box(self)
+        poly = _box_corners(box)
+        if self.n_sites == 1 and i == 0:
+            return poly
+        hs = np.asarray(self.cell_half_edges(i), dtype=np.int64)
+        if hs.size == 0:
+            return np.zeros((0, 2))
+        anchor, direction = self._cell_lines(hs)
         return clip_convex(poly, anchor, direction)
+
+    def cell_polygons(self, box: tuple[float, float, float, float] | None = None
+                      ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+        """Every cell clipped to ``box`` in one pass: ``(corners, offsets)``, cell i being the CCW
+        polygon ``corners[offsets[i]:offsets[i + 1]]``, the same as ``cell_polygon(i, box)``."""
+        if box is None:
+            box = site_box(self)
+        order, offsets = self._cycles
+        anchor, direction = self._cell_lines(order)
+        return clip_groups(_box_corners(box), anchor, direction, offsets, empty_without_lines=self.n_sites != 1)
 
     def polygons(self, box: tuple[float, float, float, float] | None = None
                  ) -> list[NDArray[np.float64]]:
         """Every cell clipped to ``box`` (default: around the sites)."""
-        if box is None:
-            box = site_box(self)
-        return [self.cell_polygon(i, box) for i in range(self.n_sites)]
+        corners, offsets = self.cell_polygons(box)
+        return np.split(corners, offsets[1:-1]) if self.n_sites else []
 
     # ------------------------------------------------------------------ export and drawing
     def to_shapely(self, box: Optional[tuple[float, float, float, float]] = None) -> list:
