@@ -214,7 +214,7 @@ class Diagram:
         return h[h < self.twin]
 
     @cached_property
-    def _cycles(self) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    def _cycles(self) -> tuple[NDArray[np.integer], NDArray[np.int64]]:
         """Every cell's half-edges in ``next`` order (:func:`cell_cycles`), walked once."""
         if self.n_half_edges and (self.site.min() < 0 or self.site.max() >= self.n_sites):
             raise InvalidDiagramError(f"site ids must lie in [0, {self.n_sites})")
@@ -274,7 +274,7 @@ class Diagram:
         A read-only sequence whose items are new lists (``.tolist()`` gives scipy's list of
         lists), so a caller cannot change the cached regions."""
         order, offsets = self._cycles
-        return Regions(self.origin[order], offsets)
+        return Regions(self.origin[order], offsets, copy=False)  # a new array, ours alone
 
     @cached_property
     def ridge_points(self) -> NDArray[np.int64]:

@@ -144,10 +144,11 @@ def _link_next_compiled(site, origin, twin, n, V):
     sort; ~3 per vertex), so next[h] is the member of dest(h)'s bucket in cell site[h];
     a ray's successor is its cell's one half-edge from infinity. Sequential when vertex ids
     follow the edge order. Returns (next, ok); ok is False on anything unusual (a strip
-    cell's two lines, a cell that does not close), which the numpy path then handles or reports."""
+    cell's two lines, a cell that does not close), which the numpy path then handles or reports.
+    The buckets are int32 (H < 2^31): a quarter of the build's peak memory at 10^6 sites."""
     H = site.size
-    first = np.zeros(V + 1, dtype=np.int64)
-    from_infinity = np.full(n, -1, dtype=np.int64)
+    first = np.zeros(V + 1, dtype=np.int32)
+    from_infinity = np.full(n, -1, dtype=np.int32)
     for h in range(H):
         v = origin[h]
         if v >= 0:
@@ -159,13 +160,13 @@ def _link_next_compiled(site, origin, twin, n, V):
     for v in range(V):
         first[v + 1] += first[v]
     fill = first[:V].copy()
-    members = np.empty(H, dtype=np.int64)
+    members = np.empty(H, dtype=np.int32)
     for h in range(H):
         v = origin[h]
         if v >= 0:
             members[fill[v]] = h
             fill[v] += 1
-    cells = np.empty(H, dtype=np.int64)     # site of each bucket member, buckets sorted by it
+    cells = np.empty(H, dtype=np.int32)     # site of each bucket member, buckets sorted by it
     for v in range(V):
         lo, hi = first[v], first[v + 1]
         if hi - lo > _BIG_VERTEX:
@@ -212,7 +213,7 @@ def _link_next(site: NDArray[np.int64], origin: NDArray[np.int64], twin: NDArray
     """next[h] = the half-edge of cell site[h] starting at destination(h); ``hint``: say in
     the error that unoriented ridges need ``oriented=False``."""
     H = site.size
-    if H and site.min() >= 0 and site.max() < n and origin.min() >= -1 and origin.max() < V:
+    if 0 < H < 2**31 - 1 and site.min() >= 0 and site.max() < n and origin.min() >= -1 and origin.max() < V:
         nxt, ok = _link_next_compiled(site, origin, twin, n, V)
         if ok:
             return nxt

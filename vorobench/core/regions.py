@@ -26,9 +26,13 @@ class Regions(Sequence):
 
     __slots__ = ("_flat", "_offsets")
 
-    def __init__(self, flat: NDArray[np.int64], offsets: NDArray[np.int64]) -> None:
-        self._flat = np.array(flat, dtype=np.int64)
+    def __init__(self, flat: NDArray[np.integer], offsets: NDArray[np.integer], *, copy: bool = True) -> None:
+        """``copy=False`` keeps ``flat`` itself (read-only from then on): for an array no one
+        else holds."""
+        self._flat = np.array(flat) if copy else np.asarray(flat)   # int32 ids stay int32
         self._offsets = np.array(offsets, dtype=np.int64)
+        if self._flat.size and not np.issubdtype(self._flat.dtype, np.integer):
+            raise ValueError(f"vertex ids must be integers, not {self._flat.dtype}")
         if self._offsets.ndim != 1 or self._offsets.size < 1 or self._offsets[0] != 0 \
                 or self._offsets[-1] != self._flat.size or (np.diff(self._offsets) < 0).any():
             raise ValueError("offsets must rise from 0 to the number of vertex ids")
