@@ -6,7 +6,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
-from vorobench.core.scaling import check_exact_range, check_weight_range
+from vorobench.core.scaling import check_span, check_weight_range
 
 __all__ = ["prepare", "prepare_weighted"]
 
@@ -34,6 +34,28 @@ def _as_real_array(points: ArrayLike, what: str = "points") -> NDArray[np.float6
 
 
 @njit(cache=True)
+def _normalised_copy(arr):
+    """One pass over (n, 2) float64 rows: (a copy with -0.0 made 0.0, so that equal points have
+    equal bits; the first row with a non-finite value or -1; the largest magnitude; the
+    smallest nonzero magnitude, inf if none). The copy stops at a non-finite row."""
+    n = arr.shape[0]
+    out = np.empty((n, 2), dtype=np.float64)
+    hi, lo = 0.0, np.inf
+    for i in range(n):
+        for k in range(2):
+            v = arr[i, k]
+            if not np.isfinite(v):
+                return out, i, hi, lo
+            out[i, k] = v + 0.0
+            a = abs(v)
+            if a > hi:
+                hi = a
+            if 0.0 < a < lo:
+                lo = a
+    return out, -1, hi, lo
+
+
+@njit(cache=True)
 def _mix(x):
     # splitmix64's finaliser: every input bit moves every output bit (uint64 arithmetic wraps)
     x = (x ^ (x >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
@@ -51,7 +73,7 @@ def _first_appearance(bits):
     while size < 2 * n:
         size *= 2
     mask = np.uint64(size - 1)
-    table = np.full(size, -1, dtype=np.int64)          # row that started the site, or -1
+    table = np.full(size, -1, dtype=np.int32)          # row that started the site, or -1
     site_of_row = np.empty(n, dtype=np.intp)
     firsts = np.empty(n, dtype=np.intp)
     m = 0
@@ -89,20 +111,19 @@ def prepare(points: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
         arr = arr.reshape(0, 2)
     if arr.ndim != 2 or arr.shape[1] != 2:
         raise ValueError(f"points must have shape (n, 2), got shape {arr.shape}")
-    arr = np.ascontiguousarray(arr, dtype=np.float64)
-    finite = np.isfinite(arr).all(axis=1)
-    if not finite.all():
-        row = int(np.flatnonzero(~finite)[0])
-        raise ValueError(
-            f"points must be finite: row {row} is {arr[row].tolist()} "
-            f"({int((~finite).sum())} non-finite row(s) in all)"
-        )
-    n = arr.shape[0]
+    given = np.ascontiguousarray(arr, dtype=np.float64)
+    n = given.shape[0]
     if n == 0:
-        return arr, np.zeros(0, dtype=np.intp)
-    check_exact_range(arr)
-    # -0.0 and 0.0 are the same point: normalise so that equal points have equal bits.
-    arr = arr + 0.0
+        return given, np.zeros(0, dtype=np.intp)
+    # one pass: the finiteness check, the magnitudes for the range check, and our own copy
+    arr, bad, hi, lo = _normalised_copy(given)
+    if bad >= 0:
+        finite = np.isfinite(given).all(axis=1)
+        raise ValueError(f"points must be finite: row {bad} is {given[bad].tolist()} "
+                         f"({int((~finite).sum())} non-finite row(s) in all)")
+    check_span(hi, lo, arr)
+    if n >= 2**31 - 1:
+        raise ValueError(f"{n} points: at most 2**31 - 2 are supported (row ids are 32-bit in the duplicate table)")
     inverse, firsts = _first_appearance(arr.view(np.uint64))
     if firsts.size == n:
         return arr, np.arange(n, dtype=np.intp)

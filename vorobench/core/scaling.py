@@ -113,12 +113,18 @@ def check_exact_range(points: ArrayLike) -> tuple[float, float]:
     naming both (and their rows) when no power of two brings them into the exact range."""
     points = np.asarray(points, dtype=np.float64)
     hi, lo = magnitude_range(points)
+    check_span(hi, lo, points)
+    return hi, lo
+
+
+def check_span(hi: float, lo: float, points: ArrayLike) -> None:
+    """:class:`OutsideExactRange` naming the magnitudes ``hi`` and ``lo`` of ``points`` (and
+    their rows) when no power of two brings both into the exact range."""
     if hi > 0 and _exponent(hi) - _exponent(lo) > EXACT_EXPONENT_SPAN:
-        rows = points.reshape(-1, 2)
+        rows = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         raise OutsideExactRange(
             f"coordinates span more than {RANGE_TEXT}: magnitudes from {lo:.6g} (row {_row_of(rows, lo)}) "
             f"to {hi:.6g} (row {_row_of(rows, hi)}), a factor of 2**{_exponent(hi) - _exponent(lo)} in exponent")
-    return hi, lo
 
 
 def _placement(hi: float, lo: float) -> int:
