@@ -100,7 +100,6 @@ def _clean_rings(corners, offsets):
     m = 0
     for g in range(groups):
         first, stop = offsets[g], offsets[g + 1]
-        k = stop - first
         begin = m
         for j in range(first, stop):
             q = j + 1 if j + 1 < stop else first
