@@ -86,13 +86,29 @@ def sweep(sites, counters):
     arcs = bl.new_arcs(arc_cap)
     # removed arcs' rows are reused (a stack), so the live beach line stays in few rows
     arc_free = np.empty(arc_cap, dtype=np.int32)
-    nafree = 0
     ev_i, ev_f, heap, hkey, free = eq.new_queue(arc_cap)
-    nfree = 0
     edge_cap = 3 * n + 2
     edge_sites = np.empty((edge_cap, 2), dtype=np.int32)
     edge_vertices = np.full((edge_cap, 2), -1, dtype=np.int32)
     vertices = np.empty((2 * n + 2, 2), dtype=np.float64)
+    touched = np.empty(2, dtype=np.int64)
+    status, ne, nv = _run(sites, counters, arcs, arc_free, ev_i, ev_f, heap, hkey, free, edge_sites, edge_vertices,
+                          vertices, touched)
+    return status, edge_sites[:ne], edge_vertices[:ne], vertices[:nv]
+
+
+@njit(cache=True, _nrt=False)
+def _run(sites, counters, arcs, arc_free, ev_i, ev_f, heap, hkey, free, edge_sites, edge_vertices, vertices,
+         touched):
+    """The sweep's events, in tables that :func:`sweep` allocates; returns (status, number of
+    edges, number of vertices). Compiled without reference counting (``_nrt=False``): the
+    helpers inlined here would otherwise count references to the tables at every event, with
+    atomic instructions, about a third of the sweep's time."""
+    n = sites.shape[0]
+    arc_cap = arcs.shape[0]
+    edge_cap = edge_sites.shape[0]
+    nafree = 0
+    nfree = 0
     ne = 0
     nv = 0
     na = 0
@@ -127,7 +143,6 @@ def sweep(sites, counters):
     i = k
     iterations = 0
     max_iterations = 4 * n + 16
-    touched = np.empty(2, dtype=np.int64)
     while True:
         iterations += 1
         if iterations > max_iterations:
@@ -273,4 +288,4 @@ def sweep(sites, counters):
             counters[CIRCLE_EVENTS] += 1
         if status != OK:
             break
-    return status, edge_sites[:ne], edge_vertices[:ne], vertices[:nv]
+    return status, ne, nv

@@ -50,7 +50,7 @@ def _cross_numerator(p, plen, s, slen, q, qlen, t, tlen):
     return estimate(out, expansion_diff(ps, n1, qt, n2, out))
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def _exact_offsets(ax, ay, bx, by, cx, cy):
     """Centre minus a, from exact numerators and denominator (rounded once at the end): the
     power centre's with no weights."""

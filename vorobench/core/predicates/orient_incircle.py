@@ -203,7 +203,7 @@ def _two_two_diff_sign(a1, a0, b1, b0):
     return _sign(x0)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def _orient2d_exact(ax, ay, bx, by, cx, cy):
     # Stage B (no allocation): when the four differences are floats exactly (lattices, and
     # nearby points by Sterbenz's lemma), the determinant is a difference of two exact

@@ -52,7 +52,7 @@ BREAKPOINT_ERRBOUND = (8.0 + 64.0 * EPSILON) * EPSILON
 _CIRCLE_TOP_SAFETY = 2.0
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def _midpoint_side(px, qx, sx):
     # sign of 2 sx - (px + qx), exact: (px + qx) as a two-term expansion, minus 2 sx
     # (2 sx is exact in the supported range).
@@ -145,7 +145,7 @@ def breakpoint_side_filter(px, py, qx, qy, sx, sy):
     return _breakpoint_poly_filter(px, py, qx, qy, sx, sy)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def breakpoint_side_exact(px, py, qx, qy, sx, sy):
     """:func:`breakpoint_side` evaluated in exact arithmetic only (no filter)."""
     c = _breakpoint_case(px, py, qx, qy, sx, sy)
@@ -486,7 +486,7 @@ def tops_dd_order(h1, l1, e1, h2, l2, e2):
     return _UNDECIDED
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def tops_key_order(c1, r1, c2, r2):
     """Exact sign of (c1 + sqrt(r1)) - (c2 + sqrt(r2)) for floats r1, r2 >= 0: two circle tops
     from :func:`circle_exact_key`, or a site at height c2 with r2 = 0."""
