@@ -102,12 +102,20 @@ def warm_in_background() -> subprocess.Popen | None:
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
 
+#: pytest options that only work with the tests in one process.
+_ONE_PROCESS = {"--pdb", "--trace", "-s", "--capture=no"}
+
+
 def pytest_workers(args: list[str]) -> list[str]:
-    """``-n K`` for pytest-xdist, one worker per core up to four, unless ``args`` choose. Many
+    """``-n K`` for pytest-xdist, one worker per core up to four, unless ``args`` choose a
+    number, turn xdist off (``-p no:xdist``) or need one process (a debugger, no capture). Many
     tests wait on the processes they start (the judge's sandboxes), so two cores take the
     suite in about two thirds of the time (measured: 876 s of tests on one worker, 574 s on
     two)."""
     if any(a.startswith("-n") or a.startswith("--numprocesses") for a in args):
+        return []
+    # debugging and output options that need the tests in this process, and xdist turned off
+    if any(a in _ONE_PROCESS for a in args) or any(a.endswith("no:xdist") for a in args):
         return []
     workers = min(os.cpu_count() or 1, 4)
     return ["-n", str(workers)] if workers > 1 else []

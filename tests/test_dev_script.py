@@ -28,3 +28,9 @@ def test_one_worker_per_core_up_to_four(dev, monkeypatch, cores, expected):
 def test_a_worker_count_given_on_the_command_line_wins(dev, monkeypatch, chosen):
     monkeypatch.setattr(dev.os, "cpu_count", lambda: 8)
     assert dev.pytest_workers(["tests", *chosen]) == []
+
+
+@pytest.mark.parametrize("one_process", [["--pdb"], ["--trace"], ["-s"], ["--capture=no"], ["-p", "no:xdist"]])
+def test_a_debugger_uncaptured_output_or_xdist_turned_off_keeps_one_process(dev, monkeypatch, one_process):
+    monkeypatch.setattr(dev.os, "cpu_count", lambda: 8)
+    assert dev.pytest_workers(["tests/core", *one_process]) == []

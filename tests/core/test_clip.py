@@ -80,3 +80,16 @@ def test_all_cells_at_once_are_each_cell_alone(dataset, weights):
         assert np.array_equal(corners[offsets[i]:offsets[i + 1]], d.cell_polygon(i, box))
     areas = [polygon_area(p) for p in d.polygons(box)]
     assert sum(areas) == pytest.approx((box[2] - box[0]) * (box[3] - box[1]), rel=1e-9)
+
+
+@pytest.mark.parametrize(("anchor", "direction", "offsets", "message"), [
+    (np.array([0.5, 0.5]), np.array([1.0, 0.0]), [0, 1], "anchor must have shape"),
+    (np.zeros((3, 2)), np.ones((2, 2)), [0, 3], "the same shape"),
+    (np.zeros((2, 2)), np.ones((2, 2)), [0, 1], "rise from 0 to the number of lines"),
+    (np.zeros((2, 2)), np.ones((2, 2)), [0, 2, 1, 2], "rise from 0"),
+])
+def test_shapes_that_do_not_fit_are_named_not_read_past(anchor, direction, offsets, message):
+    with pytest.raises(ValueError, match=message):
+        clip_groups(BOX, anchor, direction, np.array(offsets))
+    with pytest.raises(ValueError, match="start must have shape"):
+        clip_convex(np.zeros((2, 3)), np.zeros((1, 2)), np.ones((1, 2)))

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import pickle
 
 import matplotlib
 import numpy as np
@@ -17,6 +18,7 @@ import datasets_gen
 import impls
 from vorobench import Diagram, InvalidDiagramError, compare
 from vorobench.core.builder import assemble
+from vorobench.core.regions import Regions
 from vorobench.core.hull import all_collinear
 
 matplotlib.use("Agg")
@@ -235,6 +237,23 @@ def test_changing_a_region_handed_out_changes_no_cached_region():
     d.regions[2:4][0].append(5)
     assert d.regions == before and d.regions.tolist() == before
     assert json.loads(json.dumps(d.regions.tolist())) == before
+
+
+@pytest.mark.parametrize("protocol", range(pickle.HIGHEST_PROTOCOL + 1))
+def test_a_diagram_whose_regions_were_read_pickles_with_every_protocol(protocol):
+    d = impls.build("incremental", _points("uniform", 30, 0))
+    regions = d.regions.tolist()
+    back = pickle.loads(pickle.dumps(d, protocol=protocol))
+    assert back.regions == regions and pickle.loads(pickle.dumps(d.regions, protocol=protocol)) == regions
+
+
+def test_regions_refuse_arrays_of_the_wrong_shape_or_type():
+    with pytest.raises(ValueError, match="1-D integer"):
+        Regions(np.array([[1, 2]]), [0, 2])
+    with pytest.raises(ValueError, match="offsets must be integers"):
+        Regions(np.array([1, 2]), [0.0, 2.5])
+    with pytest.raises(ValueError, match="offsets must rise"):
+        Regions(np.array([1, 2]), [0, 3])
 
 
 def test_regions_index_like_a_list_and_name_what_they_cannot_take():

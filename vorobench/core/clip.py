@@ -75,11 +75,24 @@ def clip_groups(start: NDArray[np.float64], anchor: NDArray[np.float64], directi
     """``start`` clipped, for each group g, to the left of every directed line (anchor[k],
     direction[k]) with k in ``offsets[g]:offsets[g + 1]``: ``(corners, corner_offsets)``, the
     polygon of group g being ``corners[corner_offsets[g]:corner_offsets[g + 1]]``. A group with
-    no line is empty when ``empty_without_lines``, else ``start`` itself."""
-    return _clip_groups(np.ascontiguousarray(start, dtype=np.float64).reshape(-1, 2),
-                        np.ascontiguousarray(anchor, dtype=np.float64).reshape(-1, 2),
-                        np.ascontiguousarray(direction, dtype=np.float64).reshape(-1, 2),
-                        np.ascontiguousarray(offsets, dtype=np.int64), bool(empty_without_lines))
+    no line is empty when ``empty_without_lines``, else ``start`` itself. ValueError when the
+    shapes do not fit: (m, 2) corners, (k, 2) anchors and directions, offsets rising from 0 to k."""
+    start, anchor, direction = (_points(a, name) for a, name in
+                                ((start, "start"), (anchor, "anchor"), (direction, "direction")))
+    if anchor.shape != direction.shape:
+        raise ValueError(f"anchor {anchor.shape} and direction {direction.shape} must have the same shape")
+    offsets = np.ascontiguousarray(offsets, dtype=np.int64)
+    if offsets.ndim != 1 or offsets.size < 1 or offsets[0] != 0 or offsets[-1] != anchor.shape[0] \
+            or (np.diff(offsets) < 0).any():
+        raise ValueError(f"offsets must rise from 0 to the number of lines ({anchor.shape[0]})")
+    return _clip_groups(start, anchor, direction, offsets, bool(empty_without_lines))
+
+
+def _points(a: NDArray[np.float64], name: str) -> NDArray[np.float64]:
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    if a.ndim != 2 or a.shape[1] != 2:
+        raise ValueError(f"{name} must have shape (k, 2), got {a.shape}")
+    return a
 
 
 def clip_convex(poly: NDArray[np.float64], anchor: NDArray[np.float64],

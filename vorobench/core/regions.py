@@ -30,9 +30,14 @@ class Regions(Sequence):
         """``copy=False`` keeps ``flat`` itself (read-only from then on): for an array no one
         else holds."""
         self._flat = np.array(flat) if copy else np.asarray(flat)   # int32 ids stay int32
-        self._offsets = np.array(offsets, dtype=np.int64)
-        if self._flat.size and not np.issubdtype(self._flat.dtype, np.integer):
-            raise ValueError(f"vertex ids must be integers, not {self._flat.dtype}")
+        if self._flat.size == 0:
+            self._flat = self._flat.reshape(0).astype(np.int64)
+        if self._flat.ndim != 1 or not np.issubdtype(self._flat.dtype, np.integer):
+            raise ValueError(f"vertex ids must be a 1-D integer array, not {self._flat.ndim}-D {self._flat.dtype}")
+        offsets = np.asarray(offsets)
+        if offsets.size and not np.issubdtype(offsets.dtype, np.integer):
+            raise ValueError(f"offsets must be integers, not {offsets.dtype}")
+        self._offsets = offsets.astype(np.int64)
         if self._offsets.ndim != 1 or self._offsets.size < 1 or self._offsets[0] != 0 \
                 or self._offsets[-1] != self._flat.size or (np.diff(self._offsets) < 0).any():
             raise ValueError("offsets must rise from 0 to the number of vertex ids")
@@ -74,6 +79,10 @@ class Regions(Sequence):
         return NotImplemented
 
     __hash__ = None  # type: ignore[assignment]  # equal to lists, which do not hash
+
+    def __reduce__(self):
+        # pickled as its two arrays (every protocol; __slots__ alone would refuse 0 and 1)
+        return (Regions, (self._flat, self._offsets))
 
     def tolist(self) -> list[list[int]]:
         """All regions as a new list of lists (what scipy's ``regions`` is), e.g. for ``json``."""
