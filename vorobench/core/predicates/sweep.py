@@ -29,8 +29,6 @@ from vorobench.core.predicates.expansion import (
     _xscaled,
     _xsign,
     _xsub,
-    expansion_sign,
-    grow_expansion,
     two_product,
     two_sum,
 )
@@ -52,22 +50,20 @@ BREAKPOINT_ERRBOUND = (8.0 + 64.0 * EPSILON) * EPSILON
 _CIRCLE_TOP_SAFETY = 2.0
 
 
-@njit(cache=True, _nrt=True)
+@njit(cache=True)
 def _midpoint_side(px, qx, sx):
-    # sign of 2 sx - (px + qx), exact: (px + qx) as a two-term expansion, minus 2 sx
-    # (2 sx is exact in the supported range).
+    # sign of 2 sx - (px + qx), exact and without allocating: (px + qx) as the two-term
+    # expansion (y, x), grown by -2 sx (exact in the supported range) in two error-free
+    # sums; the sign of an expansion is that of its largest nonzero component
     x, y = two_sum(px, qx)
-    h = np.empty(3)
-    if y != 0.0:
-        h[0] = y
-        h[1] = x
-        n = 2
-    else:
-        h[0] = x
-        n = 1
-    m = np.empty(4)
-    k = grow_expansion(h, n, -2.0 * sx, m)
-    return -expansion_sign(m, k)
+    q, low = two_sum(-2.0 * sx, y)
+    q, mid = two_sum(q, x)
+    top = q if q != 0.0 else (mid if mid != 0.0 else low)
+    if top > 0.0:
+        return -1
+    if top < 0.0:
+        return 1
+    return 0
 
 
 @njit(cache=True)
