@@ -461,3 +461,19 @@ def test_circumcentre_offsets_in_double_double_are_within_an_ulp_or_refused():
         assert abs(F(ux) - want_x) <= F(np.spacing(abs(ux))), t
         assert abs(F(uy) - want_y) <= F(np.spacing(abs(uy))), t
     assert used > 300 and refused > 0          # nearly collinear triples go to the expansions
+
+
+finite = st.floats(-1e6, 1e6, allow_nan=False, allow_infinity=False)
+
+
+@settings(max_examples=300, deadline=None)
+@given(finite, finite, st.integers(-3, 3), finite)
+def test_at_equal_heights_the_side_of_the_midpoint_is_exact(px, qx, ulps, y):
+    """Two sites at one height meet at the midpoint of their x: s is decided exactly against
+    (px + qx) / 2, here placed a few units in the last place from its rounded value."""
+    sx = float((px + qx) / 2)
+    for _ in range(abs(ulps)):
+        sx = float(np.nextafter(sx, np.inf if ulps > 0 else -np.inf))
+    truth = 2 * F(sx) - (F(px) + F(qx))
+    expected = (truth > 0) - (truth < 0)
+    assert breakpoint_side(px, y, qx, y, sx, y + 1.0) == expected
