@@ -103,7 +103,9 @@ def _run(sites, counters, arcs, arc_free, ev_i, ev_f, heap, hkey, free, edge_sit
     """The sweep's events, in tables that :func:`sweep` allocates; returns (status, number of
     edges, number of vertices). Compiled without reference counting (``_nrt=False``): the
     helpers inlined here would otherwise count references to the tables at every event, with
-    atomic instructions, about a third of the sweep's time."""
+    atomic instructions, more than half of the sweep's time in stack samples. A function first
+    called from here inherits the flag unless it sets its own, so every exact stage reachable
+    from here that allocates scratch space is marked ``_nrt=True``."""
     n = sites.shape[0]
     arc_cap = arcs.shape[0]
     edge_cap = edge_sites.shape[0]

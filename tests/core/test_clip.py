@@ -10,14 +10,12 @@ import datasets_gen
 import impls
 from vorobench.core.clip import clean_rings, clip_convex, clip_groups, polygon_area
 
-shapely = pytest.importorskip("shapely")  # the peers extra, installed by dev.py
-
 BOX = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 3.0], [0.0, 3.0]])
 coordinate = st.floats(-5, 9, allow_nan=False, width=32)
 line = st.tuples(coordinate, coordinate, coordinate, coordinate).filter(lambda v: abs(v[2]) + abs(v[3]) > 1e-3)
 
 
-def _left_half_plane(ax, ay, dx, dy):
+def _left_half_plane(shapely, ax, ay, dx, dy):
     """The left side of the directed line as a big shapely polygon (the oracle's half-plane)."""
     far = 1e4
     norm = np.hypot(dx, dy)
@@ -29,11 +27,12 @@ def _left_half_plane(ax, ay, dx, dy):
 @settings(max_examples=200, deadline=None)
 @given(st.lists(line, min_size=1, max_size=6))
 def test_a_box_clipped_by_lines_has_the_area_shapely_gives(lines):
+    shapely = pytest.importorskip("shapely")  # the peers extra, which dev.py installs
     lines = np.array(lines, dtype=np.float64)
     clipped = clip_convex(BOX, lines[:, :2], lines[:, 2:])
     expected = shapely.Polygon(BOX)
     for ax, ay, dx, dy in lines:
-        expected = expected.intersection(_left_half_plane(ax, ay, dx, dy))
+        expected = expected.intersection(_left_half_plane(shapely, ax, ay, dx, dy))
     assert polygon_area(clipped) == pytest.approx(expected.area, abs=1e-9)
 
 

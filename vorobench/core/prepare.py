@@ -115,6 +115,8 @@ def prepare(points: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
     n = given.shape[0]
     if n == 0:
         return given, np.zeros(0, dtype=np.intp)
+    if n >= 2**31 - 1:
+        raise ValueError(f"{n} points: at most 2**31 - 2 are supported (row ids are 32-bit in the duplicate table)")
     # one pass: the finiteness check, the magnitudes for the range check, and our own copy
     arr, bad, hi, lo = _normalised_copy(given)
     if bad >= 0:
@@ -122,8 +124,6 @@ def prepare(points: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
         raise ValueError(f"points must be finite: row {bad} is {given[bad].tolist()} "
                          f"({int((~finite).sum())} non-finite row(s) in all)")
     check_span(hi, lo, arr)
-    if n >= 2**31 - 1:
-        raise ValueError(f"{n} points: at most 2**31 - 2 are supported (row ids are 32-bit in the duplicate table)")
     inverse, firsts = _first_appearance(arr.view(np.uint64))
     if firsts.size == n:
         return arr, np.arange(n, dtype=np.intp)
