@@ -20,6 +20,8 @@ from numba import njit, objmode
 from impls.fortune import power_exact
 from impls.fortune.power_exact import CENTRE, CONTACT, SITE
 from vorobench.core.predicates import interval as iv
+from vorobench.core.predicates import orient2d
+from vorobench.core.predicates.expansion import _new_pool, _xadd, _xd, _xmul, _xsign, _xsub
 from vorobench.core.predicates.interval import UNDECIDED
 
 __all__ = ["SITE", "CENTRE", "CONTACT", "FILTERED", "EXACT", "spec_point", "time_order", "side",
@@ -316,16 +318,6 @@ def farther(G, counters, i1, p1, i2, p2):
     return _exact_farther(i1, p1, i2, p2)
 
 
-@njit(cache=True)
-def tied(counters, a, b, c):
-    """Collinear a, b, c with b between and one bisector line for both pairs (rare: always
-    decided in rationals)."""
-    counters[EXACT] += 1
-    with objmode(r='int64'):
-        r = power_exact.tied(a, b, c)
-    return r == 1
-
-
 @njit(cache=True, _nrt=False)
 def keeps_middle(G, counters, a, b, c):
     """On the lowest row (x_a < x_b < x_c), whether b's line 2 x_b X - x_b^2 - s_b is strictly
@@ -355,11 +347,123 @@ def keeps_middle(G, counters, a, b, c):
     return r == 1
 
 
-@njit(cache=True)
-def line_inside(counters, i, k, j):
-    """For j collinear with i and k, whether the bisector line of i and k lies where i has no
-    more power than j (rare: always decided in rationals)."""
-    counters[EXACT] += 1
-    with objmode(r='int64'):
-        r = power_exact.line_inside(i, k, j)
-    return r == 1
+@njit(cache=True, inline='always')
+def _between(G, a, b, c):
+    # for distinct collinear a, b, c: whether b lies strictly between a and c, from the signs
+    # of coordinate differences (exact comparisons; on a line that is not vertical, x orders
+    # the points, else y does)
+    axis = _X if G[b, _X] != G[a, _X] else _Y
+    return (G[b, axis] > G[a, axis]) == (G[c, axis] > G[b, axis])
+
+
+@njit(cache=True, _nrt=True)
+def _tied_exact(G, a, b, c):
+    # the sign of D = u (q_c - q_b) - (q_b - q_a) v along one axis (see tied), in exact
+    # expansions of the differences from p_a: D does not change when all three points move
+    # together, as they are collinear
+    w = _new_pool()
+    axis = _X if G[b, _X] != G[a, _X] else _Y
+    u = _xd(G[b, axis], G[a, axis], w)
+    v = _xd(G[c, axis], G[b, axis], w)
+    bx, by = _xd(G[b, _X], G[a, _X], w), _xd(G[b, _Y], G[a, _Y], w)
+    cx, cy = _xd(G[c, _X], G[a, _X], w), _xd(G[c, _Y], G[a, _Y], w)
+    bb = _xadd(_xmul(bx, bx, w), _xmul(by, by, w), w)
+    cc = _xadd(_xmul(cx, cx, w), _xmul(cy, cy, w), w)
+    uq = _xadd(bb, _xd(G[a, _W], G[b, _W], w), w)
+    vq = _xadd(_xsub(cc, bb, w), _xd(G[b, _W], G[c, _W], w), w)
+    return _xsign(_xsub(_xmul(u, vq, w), _xmul(uq, v, w), w))
+
+
+@njit(cache=True, _nrt=False)
+def _tied_filter(G, a, b, c):
+    # the interval of D (see _tied_exact), from the same differences
+    axis = _X if G[b, _X] != G[a, _X] else _Y
+    ul, uh = iv.sub(G[b, axis], G[b, axis], G[a, axis], G[a, axis])
+    vl, vh = iv.sub(G[c, axis], G[c, axis], G[b, axis], G[b, axis])
+    bxl, bxh = iv.sub(G[b, _X], G[b, _X], G[a, _X], G[a, _X])
+    byl, byh = iv.sub(G[b, _Y], G[b, _Y], G[a, _Y], G[a, _Y])
+    cxl, cxh = iv.sub(G[c, _X], G[c, _X], G[a, _X], G[a, _X])
+    cyl, cyh = iv.sub(G[c, _Y], G[c, _Y], G[a, _Y], G[a, _Y])
+    t1l, t1h = iv.sqr(bxl, bxh)
+    t2l, t2h = iv.sqr(byl, byh)
+    bbl, bbh = iv.add(t1l, t1h, t2l, t2h)
+    t1l, t1h = iv.sqr(cxl, cxh)
+    t2l, t2h = iv.sqr(cyl, cyh)
+    ccl, cch = iv.add(t1l, t1h, t2l, t2h)
+    dl, dh = _ds(G, b, a)                                  # w_a - w_b
+    uql, uqh = iv.add(bbl, bbh, dl, dh)
+    dl, dh = _ds(G, c, b)                                  # w_b - w_c
+    vql, vqh = iv.sub(ccl, cch, bbl, bbh)
+    vql, vqh = iv.add(vql, vqh, dl, dh)
+    t1l, t1h = iv.mul(ul, uh, vql, vqh)
+    t2l, t2h = iv.mul(uql, uqh, vl, vh)
+    return iv.sub(t1l, t1h, t2l, t2h)
+
+
+@njit(cache=True, _nrt=False)
+def tied(G, counters, a, b, c):
+    """Collinear a, b, c with b strictly between a and c, and one bisector line for (a, b) and
+    (b, c): the three have equal power all along it, so b's cell lies in the line.
+
+    For collinear points, u = p_b - p_a and v = p_c - p_b are parallel, and the bisectors are one
+    line where u (q_c - q_b) = (q_b - q_a) v along an axis where u is not 0 (q = x^2 + y^2 + s,
+    s = max(w) - w): an interval filter, then exact expansions."""
+    if orient2d(G[a, _X], G[a, _Y], G[b, _X], G[b, _Y], G[c, _X], G[c, _Y]) != 0 or not _between(G, a, b, c):
+        return False
+    counters[FILTERED] += 1
+    dl, dh = _tied_filter(G, a, b, c)
+    s = iv.sign(dl, dh)
+    if s == UNDECIDED:
+        counters[EXACT] += 1
+        s = _tied_exact(G, a, b, c)
+    return s == 0
+
+
+@njit(cache=True, _nrt=True)
+def _line_inside_exact(G, i, k, j):
+    # the sign of E (see line_inside) in exact expansions of the differences from p_i
+    w = _new_pool()
+    nx, ny = _xd(G[k, _X], G[i, _X], w), _xd(G[k, _Y], G[i, _Y], w)
+    px, py = _xd(G[j, _X], G[i, _X], w), _xd(G[j, _Y], G[i, _Y], w)
+    nn = _xadd(_xmul(nx, nx, w), _xmul(ny, ny, w), w)
+    pp = _xadd(_xmul(px, px, w), _xmul(py, py, w), w)
+    npj = _xadd(_xmul(nx, px, w), _xmul(ny, py, w), w)
+    left = _xmul(nn, _xadd(pp, _xd(G[i, _W], G[j, _W], w), w), w)
+    right = _xmul(_xadd(nn, _xd(G[i, _W], G[k, _W], w), w), npj, w)
+    return _xsign(_xsub(left, right, w))
+
+
+@njit(cache=True, _nrt=False)
+def line_inside(G, counters, i, k, j):
+    """Whether the bisector line of i and k lies where i has no more power than j (for j
+    collinear with i and k the two bisector lines are parallel: all of it, or none).
+
+    At the foot f = p_i + n (w_i - w_k + |n|^2) / (2 |n|^2) of the line (n = p_k - p_i,
+    P = p_j - p_i), |n|^2 (l_j(f) - l_i(f)) = E = |n|^2 (|P|^2 + w_i - w_j) - (w_i - w_k + |n|^2) n.P:
+    an interval filter, then exact expansions."""
+    counters[FILTERED] += 1
+    nxl, nxh = iv.sub(G[k, _X], G[k, _X], G[i, _X], G[i, _X])
+    nyl, nyh = iv.sub(G[k, _Y], G[k, _Y], G[i, _Y], G[i, _Y])
+    pxl, pxh = iv.sub(G[j, _X], G[j, _X], G[i, _X], G[i, _X])
+    pyl, pyh = iv.sub(G[j, _Y], G[j, _Y], G[i, _Y], G[i, _Y])
+    t1l, t1h = iv.sqr(nxl, nxh)
+    t2l, t2h = iv.sqr(nyl, nyh)
+    nnl, nnh = iv.add(t1l, t1h, t2l, t2h)
+    t1l, t1h = iv.sqr(pxl, pxh)
+    t2l, t2h = iv.sqr(pyl, pyh)
+    ppl, pph = iv.add(t1l, t1h, t2l, t2h)
+    dl, dh = _ds(G, j, i)                                  # w_i - w_j
+    ppl, pph = iv.add(ppl, pph, dl, dh)
+    leftl, lefth = iv.mul(nnl, nnh, ppl, pph)
+    t1l, t1h = iv.mul(nxl, nxh, pxl, pxh)
+    t2l, t2h = iv.mul(nyl, nyh, pyl, pyh)
+    npl, nph = iv.add(t1l, t1h, t2l, t2h)
+    dl, dh = _ds(G, k, i)                                  # w_i - w_k
+    t1l, t1h = iv.add(nnl, nnh, dl, dh)
+    rightl, righth = iv.mul(t1l, t1h, npl, nph)
+    el, eh = iv.sub(leftl, lefth, rightl, righth)
+    s = iv.sign(el, eh)
+    if s == UNDECIDED:
+        counters[EXACT] += 1
+        s = _line_inside_exact(G, i, k, j)
+    return s >= 0

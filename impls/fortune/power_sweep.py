@@ -187,7 +187,7 @@ def _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf
     if sl == sr:
         return
     turn = orient2d(G[sl, 0], G[sl, 1], G[sk, 0], G[sk, 1], G[sr, 0], G[sr, 1])
-    if turn == 0 and S[_HEREK] >= 0 and tied(counters, sl, sk, sr):
+    if turn == 0 and S[_HEREK] >= 0 and tied(G, counters, sl, sk, sr):
         # k has just met a neighbour that ties with it along a line: it closes now, here
         arcs[k, bl.EVENT] = _push(G, counters, S, ev, evf, heap, free, _CIRCLE,
                                   S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC], SF[0], SF[1],
@@ -398,7 +398,7 @@ def _lowest_on_line(G, counters, wsite, wnext, whead, i, k):
         o = orient2d(G[i, 0], G[i, 1], G[k, 0], G[k, 1], G[sj, 0], G[sj, 1])
         if o == 0:
             # j's line is parallel to L_k: all of L_k is allowed by j, or none of it
-            if not line_inside(counters, i, k, sj):
+            if not line_inside(G, counters, i, k, sj):
                 return True, -1, -1, -1, -1, -1, 0.0, 0.0, _NO_BOX
             continue
         # the end of L_k that j sets is the power centre of i, k, j; of two ends on one side,

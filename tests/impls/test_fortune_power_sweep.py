@@ -176,3 +176,57 @@ def test_integer_lattices_with_integer_weights_agree_with_the_regular_triangulat
     weights = np.array([r[2] for r in rows], dtype=np.float64)
     assume(np.linalg.matrix_rank(sites - sites[0]) == 2)
     assert _exact_against("incremental", sites, weights) == Verdict.EXACT
+
+
+# three sites on one line: a lattice line with integer weights (bisectors that coincide are
+# common there) or a horizontal or vertical line at any floats
+_small = st.integers(-4, 4)
+
+
+@st.composite
+def _collinear_rows(draw):
+    if draw(st.booleans()):
+        ox, oy = draw(_small), draw(_small)
+        dx, dy = draw(st.sampled_from([(1, 0), (0, 1), (1, 1), (2, -1), (1, 3)]))
+        ts = draw(st.lists(_small, min_size=3, max_size=3, unique=True))
+        points = [(float(ox + t * dx), float(oy + t * dy)) for t in ts]
+        weights = draw(st.lists(st.integers(0, 12).map(float), min_size=3, max_size=3))
+    else:
+        fixed = draw(_floats(-8, 8))
+        along = draw(st.lists(_floats(-8, 8), min_size=3, max_size=3, unique=True))
+        vertical = draw(st.booleans())
+        points = [(fixed, t) if vertical else (t, fixed) for t in along]
+        weights = draw(st.lists(st.one_of(st.integers(0, 9).map(float), _floats(0, 20)), min_size=3, max_size=3))
+    return [p + (w,) for p, w in zip(points, weights)]
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.one_of(_collinear_rows(), site_sets.map(lambda rows: rows[:3])))
+def test_the_collinear_decisions_agree_with_the_rationals(rows):
+    # tied (one bisector line for three collinear sites) and line_inside (a bisector line on
+    # the right side of a parallel one): the compiled filter and exact stage against the
+    # reference's rationals, for every order of the three sites; the exact stages are also
+    # asked directly, so they are checked where the filter would have decided
+    sites, weights, table = _table(rows)
+    counters = np.zeros(2, dtype=np.int64)
+    with exact_context(sites, weights):
+        for a, b, c in [(0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)]:
+            tied = power_exact.tied(a, b, c) == 1
+            assert power_predicates.tied(table, counters, a, b, c) == tied, ("tied", a, b, c)
+            if power_exact._sweep().orient(a, b, c) == 0 and power_predicates._between(table, a, b, c):
+                assert (power_predicates._tied_exact(table, a, b, c) == 0) == tied, ("tied exact", a, b, c)
+            inside = power_exact.line_inside(a, b, c) == 1
+            assert power_predicates.line_inside(table, counters, a, b, c) == inside, ("line_inside", a, b, c)
+            assert (power_predicates._line_inside_exact(table, a, b, c) >= 0) == inside, ("inside exact", a, b, c)
+
+
+def test_ties_on_a_lattice_line_reach_the_exact_stage():
+    # x = -1, 0, 1 on a line with weights 0, -1, 0: l_0 = l_1 and l_1 = l_2 both at x = 0, one
+    # bisector line for both pairs, which the interval filter cannot tell from a near miss
+    rows = [(-1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (1.0, 0.0, 0.0)]
+    sites, weights, table = _table(rows)
+    counters = np.zeros(2, dtype=np.int64)
+    with exact_context(sites, weights):
+        assert power_exact.tied(0, 1, 2) == 1
+    assert power_predicates.tied(table, counters, 0, 1, 2)
+    assert counters[power_predicates.EXACT] == 1
