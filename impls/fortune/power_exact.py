@@ -11,13 +11,18 @@ the rationals of :mod:`impls.fortune.power_reference`, the sweep's specification
 * kind 2 (``CONTACT``): c_ab, where the wavefront of a first touches that of the lower b.
 
 The sites live here for the duration of one build (:func:`exact_context`), converted to
-rationals on the first call only: random inputs rarely need any.
+rationals on the first call only: random inputs rarely need any. The rationals are GMP's
+(``gmpy2.mpq``) where gmpy2 is installed, which decides a lattice's ties about three times
+faster than :class:`fractions.Fraction` (near_grid at 10^5: 3.5 s -> 1.4 s per build), and
+Fraction otherwise; the reference's formulas are the same for both, and the tests hold them to
+the same answers.
 """
 
 from __future__ import annotations
 
 from contextlib import contextmanager
 from fractions import Fraction
+from numbers import Rational
 from typing import Iterator, Optional
 
 import numpy as np
@@ -29,6 +34,14 @@ __all__ = ["SITE", "CENTRE", "CONTACT", "exact_context", "time_order", "side", "
            "same_point", "farther", "tied", "keeps_middle", "line_inside"]
 
 SITE, CENTRE, CONTACT = 0, 1, 2
+
+try:
+    from gmpy2 import mpq as _gmp_rational
+except ImportError:                     # a dependency, but the answers do not depend on it
+    _gmp_rational = None
+
+#: The rational type of the exact stage (the exact value of a float: ``rational(float(v))``).
+rational = _gmp_rational if _gmp_rational is not None else Fraction
 
 _inputs: Optional[tuple[NDArray[np.float64], NDArray[np.float64]]] = None
 _geometry: Optional[Sweep] = None
@@ -46,13 +59,13 @@ def exact_context(sites: NDArray[np.float64], weights: NDArray[np.float64]) -> I
 
 
 class _Rationals:
-    """x[i] as a Fraction, made when first asked for (a build that needs a few exact decisions
+    """x[i] as a rational, made when first asked for (a build that needs a few exact decisions
     converts a few sites, not all n)."""
 
     def __init__(self, value) -> None:
         self.value, self.made = value, {}
 
-    def __getitem__(self, i: int) -> Fraction:
+    def __getitem__(self, i: int) -> Rational:
         got = self.made.get(i)
         if got is None:
             got = self.made[i] = self.value(i)
@@ -66,21 +79,22 @@ def _sweep() -> Sweep:
         if _inputs is None:
             raise RuntimeError("the weighted sweep's exact stage was called outside exact_context")
         sites, weights = _inputs
-        top = Fraction(float(weights.max()))
+        q = rational
+        top = q(float(weights.max()))
         g = Sweep.__new__(Sweep)
         g.n = sites.shape[0]
-        g.x = _Rationals(lambda i: Fraction(float(sites[i, 0])))
-        g.y = _Rationals(lambda i: Fraction(float(sites[i, 1])))
-        g.s = _Rationals(lambda i: top - Fraction(float(weights[i])))
+        g.x = _Rationals(lambda i: q(float(sites[i, 0])))
+        g.y = _Rationals(lambda i: q(float(sites[i, 1])))
+        g.s = _Rationals(lambda i: top - q(float(weights[i])))
         g.q = _Rationals(lambda i: g.x[i] ** 2 + g.y[i] ** 2 + g.s[i])
         _geometry = g
     return _geometry
 
 
-def _point(kind: int, a: int, b: int, c: int) -> tuple[tuple, tuple, Time, Fraction]:
+def _point(kind: int, a: int, b: int, c: int) -> tuple[tuple, tuple, Time, Rational]:
     """(cx, cy, time, h) of a spec, as the reference writes them: c = c0 + c1 sqrt(h)."""
     g = _sweep()
-    zero = Fraction(0)
+    zero = rational(0)
     if kind == SITE:
         return (g.x[a], zero), (g.y[a], zero), Time(g.y[a]), zero
     if kind == CENTRE:
@@ -123,8 +137,8 @@ def farther(i1: int, p1: int, i2: int, p2: int) -> int:
     """The sign of |p_i1 - p_p1|^2 - |p_i2 - p_p2|^2 (a partner of -1 is at distance 0)."""
     g = _sweep()
 
-    def far(i: int, p: int) -> Fraction:
-        return Fraction(0) if p < 0 else (g.x[i] - g.x[p]) ** 2 + (g.y[i] - g.y[p]) ** 2
+    def far(i: int, p: int) -> Rational:
+        return rational(0) if p < 0 else (g.x[i] - g.x[p]) ** 2 + (g.y[i] - g.y[p]) ** 2
     d = far(i1, p1) - far(i2, p2)
     return (d > 0) - (d < 0)
 
@@ -148,5 +162,5 @@ def line_inside(i: int, k: int, j: int) -> int:
     nn = nx * nx + ny * ny
     lam = (g.s[k] - g.s[i] - nn) / (2 * nn)
     fx, fy = g.x[k] + lam * nx, g.y[k] + lam * ny
-    zero = Fraction(0)
+    zero = rational(0)
     return int(g.power_gap(j, i, (fx, zero), (fy, zero), zero) >= 0)

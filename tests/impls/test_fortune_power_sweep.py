@@ -230,3 +230,29 @@ def test_ties_on_a_lattice_line_reach_the_exact_stage():
         assert power_exact.tied(0, 1, 2) == 1
     assert power_predicates.tied(table, counters, 0, 1, 2)
     assert counters[power_predicates.EXACT] == 1
+
+
+@settings(max_examples=25, deadline=None)
+@given(site_sets)
+def test_gmp_rationals_and_fractions_give_the_same_exact_decisions(rows):
+    # the exact stage runs on gmpy2's rationals when installed; the reference's formulas are
+    # written for Fraction: every decision of the stage must be the same in both
+    gmpy2 = pytest.importorskip("gmpy2")
+    sites, weights, _ = _table(rows)
+    n = len(rows)
+
+    def decisions(rational):
+        saved, power_exact.rational = power_exact.rational, rational
+        try:
+            with exact_context(sites, weights):
+                g = power_exact._sweep()
+                specs = [s for s in _specs(n) if _exact_spec(g, *s) is not None]
+                out = [power_exact.time_order(*s1, *s2) for s1 in specs[:10] for s2 in specs[:10]]
+                out += [power_exact.side(l, r, *s) for s in specs for l in range(n) for r in range(n) if l != r]
+                out += [power_exact.power_gap(l, r, *s) for s in specs if s[0] != SITE
+                        for l in range(n) for r in range(n) if l != r]
+                return out
+        finally:
+            power_exact.rational = saved
+
+    assert decisions(gmpy2.mpq) == decisions(Fraction)
