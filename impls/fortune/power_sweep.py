@@ -18,9 +18,11 @@ along the edges of zero length between them, and those edges dropped.
 The helpers (and the predicates) only index the arrays they are given, and are compiled with
 numba's ``_nrt=False``: otherwise every call increments and decrements the reference count of
 each array argument with an atomic instruction, which was half of the sweep's time (1.75 s of
-sweep at 10^5 sites became 0.88 s). Only :func:`sweep`, which allocates, counts references. numba
-compiles a callee first reached from such a function with the same flag, so nothing they call
-may allocate arrays (the exact stage is reached through object mode, with scalars only).
+sweep at 10^5 sites became 0.88 s). Only :func:`sweep`, which allocates, counts references; its
+loop over events (:func:`_run`) does not, and hands back to it when the watch pool must grow.
+numba compiles a callee first reached from such a function with the same flag, so nothing they
+call may allocate arrays, unless it is marked ``_nrt=True`` (the exact stages in expansions);
+the rational exact stage is reached through object mode, with scalars only.
 """
 
 from __future__ import annotations
@@ -58,8 +60,10 @@ _NO_BOX = (0.0, 0.0, 0.0, 0.0)
 
 # scalar state
 _ROOT, _SEQN, _NEDGE, _NVERT, _NARC, _HEAPN, _FREE, _NOWK, _NOWA, _NOWB, _NOWC, _HEREK, _HEREA, \
-    _HEREB, _HEREC, _WUSED, _STATUS, _NARCS, _HEREBOX = range(19)
-_S_FIELDS = 19
+    _HEREB, _HEREC, _WUSED, _STATUS, _NARCS, _HEREBOX, _NXTACT, _GUARD, _BEACH = range(22)
+_S_FIELDS = 22
+#: :func:`_run`'s answer when the watch pool must grow before the next event
+_NEED_ROOM = -1
 # float state: the interval of the time now (0, 1), the box of the point here (2..5) once
 # computed (S[_HEREBOX] = 1)
 _SF_FIELDS = 6
@@ -505,16 +509,36 @@ def sweep(G, order, row, counters):
         previous = x
     counters[NEVER_ENTERED] += row - m
     counters[FIRST_ROW] = m
-    head = 0                                    # the leftmost arc never changes
-    beach = m
     counters[MAX_BEACH] = m
+    S[_NXTACT], S[_GUARD], S[_BEACH] = row, 0, m
+    while True:
+        status = _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wnext, whead, wtail,
+                      state, latest, gone, cand, candf, at, S, SF)
+        if status != _NEED_ROOM:
+            break
+        wsite, wnext = _grown(wsite, wnext)
+    return status, edges[:S[_NEDGE]], vspec[:S[_NVERT]]
 
-    nxt_act = row
-    guard = 0
+
+@njit(cache=True, _nrt=False)
+def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wnext, whead, wtail, state, latest,
+         gone, cand, candf, at, S, SF):
+    """The sweep's loop over events, on the arrays :func:`sweep` made: without reference
+    counting, which allocates nothing. Returns the sweep's status, or ``_NEED_ROOM`` (before
+    an event is taken) when the watch pool may be too small for the next one: the caller grows
+    it and calls again, the state being all in the arrays."""
+    n = G.shape[0]
+    head = 0                                    # the leftmost arc never changes
+    nxt_act, guard, beach = S[_NXTACT], S[_GUARD], S[_BEACH]
+
     # activations (n), circle events (one per arc removed, at most 2n) and probes (each adds a
     # new site to a pending site's watch, so at most n per site; a repeat stops the sweep)
     limit = 4 * n + n * n + 1000
     while guard < limit:
+        if S[_WUSED] + 2 > wsite.shape[0]:
+            # an event watches at most two more sites: room first, the event after
+            S[_NXTACT], S[_GUARD], S[_BEACH] = nxt_act, guard, beach
+            return _NEED_ROOM
         guard += 1
         use_heap = False
         if S[_HEAPN] > 0:
@@ -546,8 +570,6 @@ def sweep(G, order, row, counters):
                 if t == 1 and G[first, 1] < G[i, 1]:
                     break
                 s = first if t == 0 else arcs[head, bl.SITE]
-                if S[_WUSED] >= wsite.shape[0]:
-                    wsite, wnext = _grown(wsite, wnext)
                 _watch(wsite, wnext, whead, wtail, S, i, s)
             schedule = i
             line = -1
@@ -600,8 +622,6 @@ def sweep(G, order, row, counters):
                 gap = power_gap(G, counters, above, i, pk, pa, pb, pc, xl, xh, yl, yh)
                 if gap < 0:
                     # q is below the beach line: the arc's site joins the watch, the bound moves on
-                    if S[_WUSED] >= wsite.shape[0]:
-                        wsite, wnext = _grown(wsite, wnext)
                     _watch(wsite, wnext, whead, wtail, S, i, above)
                     schedule = i
                     line = above
@@ -668,7 +688,7 @@ def sweep(G, order, row, counters):
                       bk, ba, bb, bc, box, i, partner)
     if guard >= limit:
         S[_STATUS] = ERR_ITERATIONS
-    return S[_STATUS], edges[:S[_NEDGE]], vspec[:S[_NVERT]]
+    return S[_STATUS]
 
 
 @njit(cache=True)

@@ -256,3 +256,13 @@ def test_gmp_rationals_and_fractions_give_the_same_exact_decisions(rows):
             power_exact.rational = saved
 
     assert decisions(gmpy2.mpq) == decisions(Fraction)
+
+
+def test_the_watch_pool_grows_mid_sweep_and_the_diagram_stays_exact():
+    # kuzmin's dense core makes a site watch tens of others: far more than the pool's first
+    # 4 n + 16 rows, so the loop hands back to grow it, maybe several times, and goes on
+    sites, weights = _case("kuzmin", "radii", 1500)
+    stats = {}
+    d = fortune.build_weighted(sites, weights, stats)
+    assert stats["probes"] > 2 * (4 * sites.shape[0] + 16)
+    assert compare(d, impls.get("incremental").build_weighted(sites, weights)).verdict == Verdict.EXACT
