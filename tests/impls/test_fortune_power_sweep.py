@@ -266,3 +266,20 @@ def test_the_watch_pool_grows_mid_sweep_and_the_diagram_stays_exact():
     d = fortune.build_weighted(sites, weights, stats)
     assert stats["probes"] > 2 * (4 * sites.shape[0] + 16)
     assert compare(d, impls.get("incremental").build_weighted(sites, weights)).verdict == Verdict.EXACT
+
+
+def test_the_exact_points_kept_are_bounded_and_change_no_answer(monkeypatch):
+    # the exact stage keeps the points of the specs it was asked about: a small bound must
+    # clear them, never hand back another spec's point, and a build must come out the same
+    monkeypatch.setattr(power_exact, "_POINTS_KEPT", 3)
+    sites, weights = _case("grid", "integer", 30)
+    with exact_context(sites, weights):
+        g = power_exact._sweep()
+        specs = [s for s in _specs(5) if _exact_spec(g, *s) is not None]
+        for spec in specs + specs[::-1]:
+            kept = power_exact._point(*spec)
+            fresh = power_exact._new_point(g, *spec)
+            assert kept[:2] == fresh[:2] and kept[2] == fresh[2] and kept[3] == fresh[3], spec
+            assert len(g.spec_points) <= 3
+    sites, weights = _case("grid", "integer", 200)
+    assert _exact_against("incremental", sites, weights) == Verdict.EXACT
