@@ -40,6 +40,22 @@ def _ds(G, a, b):
     return iv.sub(G[b, _W], G[b, _W], G[a, _W], G[a, _W])
 
 
+@njit(cache=True, inline='always')
+def _delta(G, a, b):
+    # the intervals of p_b - p_a: (x lo, x hi, y lo, y hi)
+    xl, xh = iv.sub(G[b, _X], G[b, _X], G[a, _X], G[a, _X])
+    yl, yh = iv.sub(G[b, _Y], G[b, _Y], G[a, _Y], G[a, _Y])
+    return xl, xh, yl, yh
+
+
+@njit(cache=True, inline='always')
+def _norm2(xl, xh, yl, yh):
+    # the interval of x^2 + y^2
+    t1l, t1h = iv.sqr(xl, xh)
+    t2l, t2h = iv.sqr(yl, yh)
+    return iv.add(t1l, t1h, t2l, t2h)
+
+
 # Explicit signatures: the callers pass kinds and sites as constants, literals and array
 # items, and each mix would otherwise be a compilation of its own (ten seconds each here).
 # ``_nrt=False``: no reference counting of the array arguments, which costs two atomic
@@ -295,11 +311,8 @@ def _exact_farther(i1, p1, i2, p2):
 def _far(G, i, p):
     if p < 0:
         return 0.0, 0.0
-    dxl, dxh = iv.sub(G[i, _X], G[i, _X], G[p, _X], G[p, _X])
-    dyl, dyh = iv.sub(G[i, _Y], G[i, _Y], G[p, _Y], G[p, _Y])
-    t1l, t1h = iv.sqr(dxl, dxh)
-    t2l, t2h = iv.sqr(dyl, dyh)
-    return iv.add(t1l, t1h, t2l, t2h)
+    xl, xh, yl, yh = _delta(G, p, i)
+    return _norm2(xl, xh, yl, yh)
 
 
 @njit(cache=True, _nrt=False)
@@ -380,16 +393,10 @@ def _tied_filter(G, a, b, c):
     axis = _X if G[b, _X] != G[a, _X] else _Y
     ul, uh = iv.sub(G[b, axis], G[b, axis], G[a, axis], G[a, axis])
     vl, vh = iv.sub(G[c, axis], G[c, axis], G[b, axis], G[b, axis])
-    bxl, bxh = iv.sub(G[b, _X], G[b, _X], G[a, _X], G[a, _X])
-    byl, byh = iv.sub(G[b, _Y], G[b, _Y], G[a, _Y], G[a, _Y])
-    cxl, cxh = iv.sub(G[c, _X], G[c, _X], G[a, _X], G[a, _X])
-    cyl, cyh = iv.sub(G[c, _Y], G[c, _Y], G[a, _Y], G[a, _Y])
-    t1l, t1h = iv.sqr(bxl, bxh)
-    t2l, t2h = iv.sqr(byl, byh)
-    bbl, bbh = iv.add(t1l, t1h, t2l, t2h)
-    t1l, t1h = iv.sqr(cxl, cxh)
-    t2l, t2h = iv.sqr(cyl, cyh)
-    ccl, cch = iv.add(t1l, t1h, t2l, t2h)
+    bxl, bxh, byl, byh = _delta(G, a, b)
+    bbl, bbh = _norm2(bxl, bxh, byl, byh)
+    cxl, cxh, cyl, cyh = _delta(G, a, c)
+    ccl, cch = _norm2(cxl, cxh, cyl, cyh)
     dl, dh = _ds(G, b, a)                                  # w_a - w_b
     uql, uqh = iv.add(bbl, bbh, dl, dh)
     dl, dh = _ds(G, c, b)                                  # w_b - w_c
@@ -442,16 +449,10 @@ def line_inside(G, counters, i, k, j):
     P = p_j - p_i), |n|^2 (l_j(f) - l_i(f)) = E = |n|^2 (|P|^2 + w_i - w_j) - (w_i - w_k + |n|^2) n.P:
     an interval filter, then exact expansions."""
     counters[FILTERED] += 1
-    nxl, nxh = iv.sub(G[k, _X], G[k, _X], G[i, _X], G[i, _X])
-    nyl, nyh = iv.sub(G[k, _Y], G[k, _Y], G[i, _Y], G[i, _Y])
-    pxl, pxh = iv.sub(G[j, _X], G[j, _X], G[i, _X], G[i, _X])
-    pyl, pyh = iv.sub(G[j, _Y], G[j, _Y], G[i, _Y], G[i, _Y])
-    t1l, t1h = iv.sqr(nxl, nxh)
-    t2l, t2h = iv.sqr(nyl, nyh)
-    nnl, nnh = iv.add(t1l, t1h, t2l, t2h)
-    t1l, t1h = iv.sqr(pxl, pxh)
-    t2l, t2h = iv.sqr(pyl, pyh)
-    ppl, pph = iv.add(t1l, t1h, t2l, t2h)
+    nxl, nxh, nyl, nyh = _delta(G, i, k)
+    pxl, pxh, pyl, pyh = _delta(G, i, j)
+    nnl, nnh = _norm2(nxl, nxh, nyl, nyh)
+    ppl, pph = _norm2(pxl, pxh, pyl, pyh)
     dl, dh = _ds(G, j, i)                                  # w_i - w_j
     ppl, pph = iv.add(ppl, pph, dl, dh)
     leftl, lefth = iv.mul(nnl, nnh, ppl, pph)
