@@ -170,7 +170,9 @@ def _vertex_points(sites, weights, specs):
 def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     """The power diagram of prepared ``sites`` with ``weights`` (power |x - p|^2 - w) by the
     weighted sweep (:mod:`impls.fortune.power_sweep`); equal weights go to the ordinary sweep,
-    so its diagram comes out bit for bit."""
+    so its diagram comes out bit for bit. Its decisions are exact for sites and weights in the
+    exact range of :mod:`vorobench.core.scaling`, where ``Implementation.run`` scales every input;
+    far outside it (sites near 2**-300 called directly) a build can stop with an error."""
     sites = np.ascontiguousarray(sites, dtype=np.float64).reshape(-1, 2)
     weights = np.ascontiguousarray(weights, dtype=np.float64).reshape(-1)
     n = sites.shape[0]

@@ -23,6 +23,7 @@ from vorobench.core.predicates import interval as iv
 from vorobench.core.predicates import orient2d
 from vorobench.core.predicates.expansion import _new_pool, _xadd, _xd, _xmul, _xsign, _xsub
 from vorobench.core.predicates.interval import UNDECIDED
+from vorobench.core.scaling import EXACT_MAX_EXPONENT, EXACT_MIN_EXPONENT, WEIGHT_MAX_EXPONENT, WEIGHT_MIN_EXPONENT
 
 __all__ = ["SITE", "CENTRE", "CONTACT", "FILTERED", "EXACT", "spec_point", "time_order", "side",
            "power_gap", "same_centre", "farther", "tied", "keeps_middle", "line_inside"]
@@ -360,6 +361,44 @@ def keeps_middle(G, counters, a, b, c):
     return r == 1
 
 
+# where the compiled exact stages are exact (vorobench.core.scaling): nonzero coordinates with
+# magnitudes in [2**-100, 2**100), weights in [2**-200, 2**200); ``Implementation.run`` scales
+# every input into it, a direct call may not
+_XY_LOW, _XY_HIGH = 2.0 ** (EXACT_MIN_EXPONENT - 1), 2.0 ** EXACT_MAX_EXPONENT
+_W_LOW, _W_HIGH = 2.0 ** (WEIGHT_MIN_EXPONENT - 1), 2.0 ** WEIGHT_MAX_EXPONENT
+
+
+@njit(cache=True, inline='always')
+def _fits(v, low, high):
+    a = abs(v)
+    return a == 0.0 or (low <= a < high)
+
+
+@njit(cache=True)
+def _in_exact_range(G, a, b, c):
+    """Whether sites a, b, c have coordinates and weights where expansions are exact (deeper
+    under or over, products of differences lose bits: the rationals decide there)."""
+    for s in (a, b, c):
+        if not (_fits(G[s, _X], _XY_LOW, _XY_HIGH) and _fits(G[s, _Y], _XY_LOW, _XY_HIGH)
+                and _fits(G[s, _W], _W_LOW, _W_HIGH)):
+            return False
+    return True
+
+
+@njit(cache=True)
+def _rational_tied(a, b, c):
+    with objmode(r='int64'):
+        r = power_exact.tied(a, b, c)
+    return r
+
+
+@njit(cache=True)
+def _rational_line_inside(i, k, j):
+    with objmode(r='int64'):
+        r = power_exact.line_inside(i, k, j)
+    return r
+
+
 @njit(cache=True, inline='always')
 def _between(G, a, b, c):
     # for distinct collinear a, b, c: whether b lies strictly between a and c, from the signs
@@ -422,6 +461,8 @@ def tied(G, counters, a, b, c):
     s = iv.sign(dl, dh)
     if s == UNDECIDED:
         counters[EXACT] += 1
+        if not _in_exact_range(G, a, b, c):
+            return _rational_tied(a, b, c) == 1
         s = _tied_exact(G, a, b, c)
     return s == 0
 
@@ -466,5 +507,7 @@ def line_inside(G, counters, i, k, j):
     s = iv.sign(el, eh)
     if s == UNDECIDED:
         counters[EXACT] += 1
+        if not _in_exact_range(G, i, k, j):
+            return _rational_line_inside(i, k, j) == 1
         s = _line_inside_exact(G, i, k, j)
     return s >= 0

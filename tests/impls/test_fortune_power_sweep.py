@@ -283,3 +283,19 @@ def test_the_exact_points_kept_are_bounded_and_change_no_answer(monkeypatch):
             assert len(g.spec_points) <= 3
     sites, weights = _case("grid", "integer", 200)
     assert _exact_against("incremental", sites, weights) == Verdict.EXACT
+
+
+def test_collinear_decisions_below_the_exact_range_fall_back_to_the_rationals():
+    # Implementation.run scales inputs into the exact range; a direct call need not be in it.
+    # Sites near 2**-300 (weights near 2**-600) underflow the expansions' products, so there
+    # the collinear decisions must be taken in rationals, as they were before they were compiled
+    # (a helper's review found this one wrong without the fallback)
+    k = -300
+    sites = np.ldexp(np.array([[0.0, 1.0], [7.0, 8.0], [-3.0, -2.0]]), k)
+    weights = np.ldexp(np.array([4.0, 7.0, 2.0]), 2 * k)
+    table, counters = fortune._shift_table(sites, weights), np.zeros(2, dtype=np.int64)
+    with exact_context(sites, weights):
+        for i, j, m in [(1, 2, 0), (0, 1, 2), (2, 0, 1), (0, 2, 1)]:
+            assert power_predicates.line_inside(table, counters, i, j, m) == (power_exact.line_inside(i, j, m) == 1)
+            assert power_predicates.tied(table, counters, i, j, m) == (power_exact.tied(i, j, m) == 1)
+    assert counters[power_predicates.EXACT] > 0
