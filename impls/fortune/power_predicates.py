@@ -412,7 +412,9 @@ def _between(G, a, b, c):
 def _tied_exact(G, a, b, c):
     # the sign of D = u (q_c - q_b) - (q_b - q_a) v along one axis (see tied), in exact
     # expansions of the differences from p_a: D does not change when all three points move
-    # together, as they are collinear
+    # together, as they are collinear (outside the exact range: 0 or 1 from the rationals)
+    if not _in_exact_range(G, a, b, c):
+        return 0 if _rational_tied(a, b, c) == 1 else 1
     w = _new_pool()
     axis = _X if G[b, _X] != G[a, _X] else _Y
     u = _xd(G[b, axis], G[a, axis], w)
@@ -461,15 +463,16 @@ def tied(G, counters, a, b, c):
     s = iv.sign(dl, dh)
     if s == UNDECIDED:
         counters[EXACT] += 1
-        if not _in_exact_range(G, a, b, c):
-            return _rational_tied(a, b, c) == 1
         s = _tied_exact(G, a, b, c)
     return s == 0
 
 
 @njit(cache=True, _nrt=True)
 def _line_inside_exact(G, i, k, j):
-    # the sign of E (see line_inside) in exact expansions of the differences from p_i
+    # the sign of E (see line_inside) in exact expansions of the differences from p_i (outside
+    # the exact range: 1 or -1 from the rationals)
+    if not _in_exact_range(G, i, k, j):
+        return 1 if _rational_line_inside(i, k, j) == 1 else -1
     w = _new_pool()
     nx, ny = _xd(G[k, _X], G[i, _X], w), _xd(G[k, _Y], G[i, _Y], w)
     px, py = _xd(G[j, _X], G[i, _X], w), _xd(G[j, _Y], G[i, _Y], w)
@@ -507,7 +510,5 @@ def line_inside(G, counters, i, k, j):
     s = iv.sign(el, eh)
     if s == UNDECIDED:
         counters[EXACT] += 1
-        if not _in_exact_range(G, i, k, j):
-            return _rational_line_inside(i, k, j) == 1
         s = _line_inside_exact(G, i, k, j)
     return s >= 0
