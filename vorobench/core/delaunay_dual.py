@@ -258,19 +258,10 @@ def _linked_half_edges(hid, H, tri, opp, ids, vid):
 
 
 @njit(cache=True)
-def voronoi_dcel(pts, ids, tri, opp, ntri, counters):
-    """The Voronoi diagram dual to a Delaunay triangulation as DCEL arrays, in one pass over
-    the triangulation's half-edges (no sort): (vertices, origin, twin, next, site, merged).
-
-    Delaunay half-edge e = u -> v (its triangle t on its left) gives cell u's Voronoi
-    half-edge, which runs along perp(v - u) from the centre of the triangle on e's right
-    (``opp[e]``'s; -1 for a ghost: from infinity) to t's centre; its twin is the one of
-    ``opp[e]`` (numbered as the pair 2k, 2k + 1). It is followed, around cell u, by the
-    Voronoi half-edge of the next Delaunay half-edge out of u, turning through t:
-    ``opp[prev(e)]``; edges to the infinite vertex and edges inside a cocircular group have
-    no Voronoi half-edge and are turned past (after a ray out to infinity, this reaches the
-    ray coming back, as the contract asks). Same vertices as :func:`voronoi_edges`.
-    """
+def _general_dcel(pts, ids, tri, opp, ntri, counters):
+    """:func:`voronoi_dcel` for any triangulation, cocircular neighbours included: the vertices
+    (merged), then each Voronoi edge numbered as a twin pair 2k, 2k + 1 and linked by turning
+    through the triangles."""
     inf = pts.shape[0]
     vid, vertices, merged = voronoi_vertices(pts, ids, tri, opp, ntri, counters)
     m = 3 * ntri
@@ -290,7 +281,138 @@ def voronoi_dcel(pts, ids, tri, opp, ntri, counters):
         hid[oe] = 2 * pairs + 1
         pairs += 1
     origin, twin, nxt, site = _linked_half_edges(hid, 2 * pairs, tri, opp, ids, vid)
-    return vertices, origin, twin, nxt, site, merged
+    return vertices, origin, twin.astype(np.int32), nxt, site, merged
+
+
+@njit(cache=True)
+def _triangle_numbers(tri, ntri, inf):
+    """(number, finite, ghosts): finite triangle t is Voronoi vertex ``number[t]`` (in triangle
+    order), ghost triangle t is ghost ``-1 - number[t]``."""
+    number = np.empty(ntri, dtype=np.int32)
+    finite = 0
+    ghosts = 0
+    for t in range(ntri):
+        if tri[3 * t] == inf or tri[3 * t + 1] == inf or tri[3 * t + 2] == inf:
+            ghosts += 1
+            number[t] = -ghosts
+        else:
+            number[t] = finite
+            finite += 1
+    return number, finite, ghosts
+
+
+@njit(cache=True, inline='always')
+def _half_edge_of(number, finite, tri, f, inf):
+    """The Voronoi half-edge of Delaunay half-edge f when no two triangles merge (-1 for an edge
+    to the infinite vertex): finite triangle v's three are 3v, 3v + 1, 3v + 2, and ghost g's one
+    finite edge (a hull edge seen from outside: a ray) is 3 * finite + g."""
+    t = f // 3
+    v = number[t]
+    if v >= 0:
+        return 3 * v + (f - 3 * t)
+    if tri[f] == inf or tri[3 * t + (f - 3 * t + 1) % 3] == inf:
+        return -1
+    return 3 * finite - 1 - v
+
+
+@njit(cache=True)
+def _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, twin, nxt, site, tests):
+    """Fill the DCEL of a triangulation none of whose neighbouring triangles are cocircular, in
+    one pass over the triangles; False (the arrays left half-filled) at the first cocircular pair.
+
+    With no merges every edge of a finite triangle gives a Voronoi half-edge, so they are
+    numbered by triangle (:func:`_half_edge_of`) and no table of numbers is needed: the twin of
+    edge e's half-edge is the half-edge of ``opp[e]``, its origin the centre of ``opp[e]``'s
+    triangle, and around its cell it is followed by the twin of the half-edge of prev(e). Each
+    circumcentre is computed as its triangle is read, and each pair of finite neighbours gets its
+    incircle test from the one read first.
+    """
+    inf = pts.shape[0]
+    for t in range(ntri):
+        v = number[t]
+        if v >= 0:
+            a = tri[3 * t]
+            b = tri[3 * t + 1]
+            c = tri[3 * t + 2]
+            x, y = _circumcentre_of(pts, ids, a, b, c)
+            vertices[v, 0] = x
+            vertices[v, 1] = y
+            for k in range(3):
+                e = 3 * t + k
+                oe = opp[e]
+                t2 = oe // 3
+                v2 = number[t2]
+                h = 3 * v + k
+                if v2 >= 0:
+                    twin[h] = 3 * v2 + oe - 3 * t2
+                    origin[h] = v2
+                    if v2 > v:
+                        d = tri[3 * t2 + (oe - 3 * t2 + 2) % 3]   # t2's corner off the shared edge
+                        if incircle_counted(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1],
+                                            pts[d, 0], pts[d, 1], tests) == 0:
+                            return False
+                else:
+                    twin[h] = 3 * finite - 1 - v2      # a hull edge: the ghost's one half-edge, a ray
+                    origin[h] = -1
+                site[h] = ids[tri[e]]
+            # around cell a, the half-edge of a -> b follows the one of a -> c, the twin of c -> a's
+            nxt[3 * v] = twin[3 * v + 2]
+            nxt[3 * v + 1] = twin[3 * v]
+            nxt[3 * v + 2] = twin[3 * v + 1]
+        else:
+            k = 0
+            while tri[3 * t + k] == inf or tri[3 * t + (k + 1) % 3] == inf:
+                k += 1
+            e = 3 * t + k                          # the hull edge u -> w, seen from outside
+            h = 3 * finite - 1 - v
+            oe = opp[e]
+            twin[h] = _half_edge_of(number, finite, tri, oe, inf)
+            origin[h] = number[oe // 3]
+            site[h] = ids[tri[e]]
+            # around cell u, past the ghost edges to the infinite vertex, to the ray coming back
+            f = opp[3 * t + (k + 2) % 3]
+            for _ in range(ntri):
+                g = _half_edge_of(number, finite, tri, f, inf)
+                if g >= 0:
+                    nxt[h] = g
+                    break
+                tf = f // 3
+                f = opp[3 * tf + (f - 3 * tf + 2) % 3]
+            else:
+                raise RuntimeError("the dual of the triangulation: a cell does not close up")
+    return True
+
+
+@njit(cache=True)
+def voronoi_dcel(pts, ids, tri, opp, ntri, counters):
+    """The Voronoi diagram dual to a Delaunay triangulation as int32 DCEL arrays, without
+    sorting: (vertices, origin, twin, next, site, merged).
+
+    Delaunay half-edge e = u -> v (its triangle t on its left) gives cell u's Voronoi
+    half-edge, which runs along perp(v - u) from the centre of the triangle on e's right
+    (``opp[e]``'s; -1 for a ghost: from infinity) to t's centre; its twin is the one of
+    ``opp[e]``. It is followed, around cell u, by the Voronoi half-edge of the next Delaunay
+    half-edge out of u, turning through t: ``opp[prev(e)]``; edges to the infinite vertex and
+    edges inside a cocircular group have no Voronoi half-edge and are turned past (after a ray
+    out to infinity, this reaches the ray coming back, as the contract asks). Same vertices as
+    :func:`voronoi_edges`.
+
+    Without cocircular neighbours (almost every input) this is one pass over the triangles
+    (:func:`_unmerged_dcel`); the first cocircular pair hands over to :func:`_general_dcel`.
+    """
+    inf = pts.shape[0]
+    number, finite, ghosts = _triangle_numbers(tri, ntri, inf)
+    H = 3 * finite + ghosts
+    vertices = np.empty((finite, 2), dtype=np.float64)
+    origin = np.empty(H, dtype=np.int32)
+    twin = np.empty(H, dtype=np.int32)
+    nxt = np.empty(H, dtype=np.int32)
+    site = np.empty(H, dtype=np.int32)
+    tests = np.zeros_like(counters)
+    if _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, twin, nxt, site, tests):
+        counters += tests
+        return vertices, origin, twin, nxt, site, 0
+    return _general_dcel(pts, ids, tri, opp, ntri, counters)
 
 
 # ---------------------------------------------------------------------------------------------
