@@ -315,6 +315,37 @@ def _half_edge_of(number, finite, tri, f, inf):
     return 3 * finite - 1 - v
 
 
+#: Bounds on the error of a computed circumcentre (:func:`circumcentre`), per coordinate: at
+#: most CENTRE_RADIUS_ERROR times an upper bound on the circumradius, plus CENTRE_ROUNDING_ERROR
+#: times the coordinate's magnitude (the derivation is in :func:`_centres_apart`).
+CENTRE_RADIUS_ERROR = 2.0 ** -32
+CENTRE_ROUNDING_ERROR = 2.0 ** -50
+
+
+@njit(cache=True, inline='always')
+def _centres_apart(x1, y1, x2, y2, px, py):
+    """Whether the exact circumcentres of two triangles with common corner p certainly differ,
+    given their computed centres (x1, y1) and (x2, y2): then the triangles are not cocircular.
+
+    Error of a computed centre, per coordinate (u = 2**-53). The fast path of
+    :func:`circumcentre` is taken only when the determinant and both numerators keep more than
+    T = 1e-4 of the sum of their two terms. Their rounding errors, the rounded differences
+    b - a and c - a included, are at most 4u (determinant) and 7u (numerators) of that sum, so
+    at most 4u/T and 7u/T of the computed values; after the division the offset from the
+    first corner is within 1.2e5 u of the exact offset, whose size is at most the circumradius
+    R. The double-double and exact paths are within 3u. Adding the first corner rounds by u
+    of the coordinate. R is bounded through the common corner: R <= |x - px| + |y - py|,
+    computed, up to terms far inside the margins below: 2**-32 is more than 16 times 1.2e5 u
+    and 2**-50 is 8 times u, so each side of the comparison may lose a few roundings.
+    """
+    r1 = abs(x1 - px) + abs(y1 - py)
+    r2 = abs(x2 - px) + abs(y2 - py)
+    m1 = max(abs(x1), abs(y1))
+    m2 = max(abs(x2), abs(y2))
+    bound = CENTRE_RADIUS_ERROR * (r1 + r2) + CENTRE_ROUNDING_ERROR * (m1 + m2)
+    return abs(x1 - x2) > bound or abs(y1 - y2) > bound
+
+
 @njit(cache=True)
 def _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, twin, nxt, site, tests):
     """Fill the DCEL of a triangulation none of whose neighbouring triangles are cocircular, in
@@ -346,7 +377,8 @@ def _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, t
                 if v2 >= 0:
                     twin[h] = 3 * v2 + oe - 3 * t2
                     origin[h] = v2
-                    if v2 > v:
+                    if v2 < v and not _centres_apart(x, y, vertices[v2, 0], vertices[v2, 1],
+                                                     pts[tri[e], 0], pts[tri[e], 1]):
                         d = tri[3 * t2 + (oe - 3 * t2 + 2) % 3]   # t2's corner off the shared edge
                         if incircle_counted(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1],
                                             pts[d, 0], pts[d, 1], tests) == 0:
