@@ -127,7 +127,7 @@ def _store_key(ev_i, ev_f, e, state, cy, r2, q, errq, th, tl, terr):
         ev_f[e, ERRQ] = errq
 
 
-@njit(cache=True, _nrt=True)
+@njit(cache=True, _nrt=False)
 def _refine(sites, ev_i, ev_f, e, counters):
     # on first use: the cheap key of event e (see the module docstring); returns True if
     # (CY, R2) hold an exact key
@@ -141,7 +141,7 @@ def _refine(sites, ev_i, ev_f, e, counters):
     return ev_i[e, KEY] == KEY_EXACT
 
 
-@njit(cache=True, _nrt=True)
+@njit(cache=True, _nrt=False)
 def _refine_exact(sites, ev_i, ev_f, e):
     # when the cheap key could not decide: the key from exact expansions (exact key found or
     # ruled out, double-double top from exact values); returns True if it is an exact key
@@ -161,7 +161,7 @@ def _same_exact_key(ev_i, ev_f, e, g):
             and ev_f[e, R2] == ev_f[g, R2])
 
 
-@njit(cache=True, _nrt=True)
+@njit(cache=True, _nrt=False)
 def _exact_before(sites, ev_i, ev_f, e, g, counters):
     # stages 2-4 of the order (see the module docstring), after the heap keys could not decide
     if _same_exact_key(ev_i, ev_f, e, g):
@@ -206,7 +206,7 @@ def before(sites, ev_i, ev_f, ye, erre, e, yg, errg, g, counters):
     return _exact_before(sites, ev_i, ev_f, e, g, counters)
 
 
-@njit(cache=True, _nrt=True)
+@njit(cache=True, _nrt=False)
 def _exact_before_site(sites, ev_i, ev_f, e, sy, counters):
     a, b, c = ev_i[e, A], ev_i[e, B], ev_i[e, C]
     s = tops_order_filter(sites[a, 1], ev_f[e, Q], ev_f[e, ERRQ], sy, 0.0, 0.0)

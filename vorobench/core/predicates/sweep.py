@@ -250,7 +250,7 @@ def tops_order_filter(ay, q, err_q, dy, r, err_r):
     return _UNDECIDED
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def circle_event_vs_site_exact(ax, ay, bx, by, cx, cy, sy):
     """Exact sign of (top of the circumcircle of a, b, c) - sy; a, b, c must not be collinear."""
     w = _new_pool()
@@ -309,7 +309,7 @@ def _sqrt_sum_sign(p, u, v, w):
     return _xsign(_xsub(_xmul(q, q, w), _xscale(_xmul(p2, v, w), 4.0, w), w))
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def circle_events_order_exact(ax, ay, bx, by, cx, cy, dx, dy, ex, ey, fx, fy):
     """Exact sign of y_top(a, b, c) - y_top(d, e, f) (tops of two circumcircles); no filter."""
     w = _new_pool()
@@ -358,7 +358,7 @@ def _top_from_parts(ay, eh, el, ee, nh, nl, en, sh, sl, es):
 KEY_FOUND, KEY_ABSENT, KEY_NOT_SOUGHT = 1, 2, 3
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def circle_event_top(ax, ay, bx, by, cx, cy):
     """The cheap key of the circle event of non-collinear a, b, c, computed once per event:
     ``(state, cy, r2, q, err_q, th, tl, terr)`` as in :func:`circle_event_key`.
@@ -382,7 +382,7 @@ def circle_event_top(ax, ay, bx, by, cx, cy):
     return KEY_NOT_SOUGHT, 0.0, 0.0, q, err_q, th, tl, terr
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=True)
 def circle_event_key(ax, ay, bx, by, cx, cy):
     """Everything the sweep needs to order the circle event of non-collinear a, b, c, from
     exact arithmetic, computed once per event:
