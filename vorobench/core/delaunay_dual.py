@@ -365,8 +365,9 @@ def _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, t
     numbered by triangle (:func:`_half_edge_of`) and no table of numbers is needed: the twin of
     edge e's half-edge is the half-edge of ``opp[e]``, its origin the centre of ``opp[e]``'s
     triangle, and around its cell it is followed by the twin of the half-edge of prev(e). Each
-    circumcentre is computed as its triangle is read, and each pair of finite neighbours gets its
-    incircle test from the one read first.
+    circumcentre is computed as its triangle is read. A pair of finite neighbours is checked
+    when the second of them is read: their computed centres first (:func:`_centres_apart`),
+    and the exact incircle test only when the centres cannot be told apart.
     """
     inf = pts.shape[0]
     for t in range(ntri):
