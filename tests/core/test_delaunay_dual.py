@@ -16,12 +16,16 @@ from vorobench.core.diagram import Diagram
 from vorobench.core.prepare import prepare
 
 
+def _general(pts, ids, tri, opp, ntri, counters):
+    return _general_dcel(pts, ids, tri, opp, ntri, counters, False)
+
+
 def _both(sites):
     """(one-pass diagram, general diagram, their counters, merged) of the prepared sites."""
     points, ids, tri, opp, ntri, ok = _triangulate(sites, None)
     assert ok
     diagrams, counters, merged = [], [], []
-    for dual in (voronoi_dcel, _general_dcel):
+    for dual in (voronoi_dcel, _general):
         c = np.zeros(4, dtype=np.int64)
         vertices, origin, twin, nxt, site, m = dual(points, ids, tri, opp, ntri, c)
         diagrams.append(Diagram(sites, vertices, origin, twin, nxt, site).validate())
@@ -63,6 +67,16 @@ def test_every_family_gives_the_general_diagram(dataset):
     (fast, general), _, (m_fast, m_general) = _both(sites)
     _assert_same(fast, general)
     assert m_fast == m_general
+
+
+@pytest.mark.parametrize("dataset", ["grid", "cocircular_many", "uniform"])
+def test_the_general_path_gives_one_diagram_whether_or_not_told_of_cocircular_neighbours(dataset):
+    sites, _ = prepare(datasets_gen.generate(dataset, 300, seed=1))
+    points, ids, tri, opp, ntri, _ = _triangulate(sites, None)
+    told, untold = (_general_dcel(points, ids, tri, opp, ntri, np.zeros(4, dtype=np.int64), flag)
+                    for flag in (True, False))
+    for a, b in zip(told, untold):
+        assert np.array_equal(a, b)
 
 
 def test_a_grid_hands_over_and_merges_its_squares():

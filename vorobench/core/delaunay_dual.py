@@ -268,12 +268,16 @@ def _linked_half_edges(hid, H, tri, opp, ids, vid):
 
 
 @njit(cache=True)
-def _general_dcel(pts, ids, tri, opp, ntri, counters):
+def _general_dcel(pts, ids, tri, opp, ntri, counters, cocircular):
     """:func:`voronoi_dcel` for any triangulation, cocircular neighbours included: the vertices
-    (merged), then each Voronoi edge numbered as a twin pair 2k, 2k + 1 and linked by turning
-    through the triangles."""
+    (merged; straight to the union-find when ``cocircular`` neighbours are known to be there),
+    then each Voronoi edge numbered as a twin pair 2k, 2k + 1 and linked by turning through the
+    triangles."""
     inf = pts.shape[0]
-    vid, vertices, merged = voronoi_vertices(pts, ids, tri, opp, ntri, counters)
+    if cocircular:
+        vid, vertices, merged = _merged_vertices(pts, ids, tri, opp, ntri, counters)
+    else:
+        vid, vertices, merged = voronoi_vertices(pts, ids, tri, opp, ntri, counters)
     m = 3 * ntri
     # int32 throughout: half the memory traffic of these mostly cache-missing passes
     hid = np.full(m, -1, dtype=np.int32)
@@ -441,7 +445,8 @@ def voronoi_dcel(pts, ids, tri, opp, ntri, counters):
     :func:`voronoi_edges`.
 
     Without cocircular neighbours (almost every input) this is one pass over the triangles
-    (:func:`_unmerged_dcel`); the first cocircular pair hands over to :func:`_general_dcel`.
+    (:func:`_unmerged_dcel`); the first cocircular pair hands over to :func:`_general_dcel`,
+    which merges (its counters count the incircle tests of the general path only).
     """
     inf = pts.shape[0]
     number, finite, ghosts = _triangle_numbers(tri, ntri, inf)
@@ -455,7 +460,7 @@ def voronoi_dcel(pts, ids, tri, opp, ntri, counters):
     if _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, twin, nxt, site, tests):
         counters += tests
         return vertices, origin, twin, nxt, site, 0
-    return _general_dcel(pts, ids, tri, opp, ntri, counters)
+    return _general_dcel(pts, ids, tri, opp, ntri, counters, True)
 
 
 # ---------------------------------------------------------------------------------------------
