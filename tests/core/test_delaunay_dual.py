@@ -9,8 +9,9 @@ from hypothesis import strategies as st
 import datasets_gen
 import vorobench
 from impls.incremental import _triangulate
-from vorobench.core.circumcentre import circumcentre
-from vorobench.core.delaunay_dual import _centres_apart, _general_dcel, voronoi_dcel
+from vorobench.core.circumcentre import CANCELLATION_THRESHOLD, circumcentre
+from vorobench.core.delaunay_dual import (CENTRE_RADIUS_ERROR, CENTRE_ROUNDING_ERROR, _centres_apart, _general_dcel,
+                                         voronoi_dcel)
 from vorobench.core.predicates import INCIRCLE_CALLS, incircle, orient2d
 from vorobench.core.diagram import Diagram
 from vorobench.core.prepare import prepare
@@ -145,3 +146,46 @@ def test_the_filter_separates_the_neighbours_of_a_random_triangulation():
     (fast, general), (c_fast, c_general), _ = _both(sites)
     assert c_general[INCIRCLE_CALLS] > 2500
     assert c_fast[INCIRCLE_CALLS] == 0
+
+
+def test_the_bound_keeps_its_margin_over_the_cancellation_threshold():
+    """The bound's derivation: the fast path's offsets are within (11 / T + 3) u of their size
+    (T the cancellation threshold of ``circumcentre``), and the constant keeps a margin of 16;
+    the coordinate's own rounding (u) a margin of 8. Lowering T must raise the constant."""
+    u = 2.0 ** -53
+    assert CENTRE_RADIUS_ERROR >= 16 * (11 / CANCELLATION_THRESHOLD + 3) * u
+    assert CENTRE_ROUNDING_ERROR >= 8 * u
+
+
+def _gaussian_circle(primes):
+    """The integer points of x**2 + y**2 = N**2, N the product of the primes (each 1 mod 4),
+    in angular order: products of Gaussian integers, one of (a + bi)**2, p, (a - bi)**2 per
+    prime p = a**2 + b**2, and their four rotations."""
+    points = [(1, 0)]
+    for p in primes:
+        a = next(a for a in range(1, p) if round((p - a * a) ** 0.5) ** 2 == p - a * a)
+        b = round((p - a * a) ** 0.5)
+        factors = ((a * a - b * b, 2 * a * b), (p, 0), (a * a - b * b, -2 * a * b))
+        points = [(x * c - y * d, x * d + y * c) for x, y in points for c, d in factors]
+    ring = {q for x, y in points for q in ((x, y), (-y, x), (-x, -y), (y, -x))}
+    return sorted(ring, key=lambda q: np.arctan2(q[1], q[0]))
+
+
+def test_nearly_flat_triangles_of_one_lattice_circle_are_never_called_apart():
+    """Consecutive integer points of a circle of radius 1.6e11 make nearly collinear triangles,
+    whose centres come from the double-double and exact paths of ``circumcentre``; offset
+    and scaled by powers of two they stay exactly cocircular."""
+    ring = _gaussian_circle([5, 13, 17, 29, 37, 41, 53, 61])
+    rng = np.random.default_rng(7)
+    flat = 0
+    for start in rng.choice(len(ring), 150, replace=False):
+        quad = [ring[(start + j) % len(ring)] for j in range(4)]
+        for offset, scale in ((0, 2.0 ** -60), (2 ** 40, 1.0), (-(2 ** 45), 2.0 ** 30)):
+            a, b, c, d = ((float(x + offset) * scale, float(y - offset) * scale) for x, y in quad)
+            assert _four_on_a_circle(a, b, c, d)
+            bx, by, cx, cy = b[0] - a[0], b[1] - a[1], c[0] - a[0], c[1] - a[1]
+            if abs(bx * cy - by * cx) <= CANCELLATION_THRESHOLD * (abs(bx * cy) + abs(by * cx)):
+                flat += 1
+            # triangles (a, b, c) and (a, c, d) share the diagonal a-c, and (b, c, d), (b, d, a) share b-d
+            assert not _apart(c, a, b, d) and not _apart(b, d, c, a)
+    assert flat > 50, "the test no longer reaches the paths for nearly collinear triangles"

@@ -295,6 +295,7 @@ def _general_dcel(pts, ids, tri, opp, ntri, counters, cocircular):
         hid[oe] = 2 * pairs + 1
         pairs += 1
     origin, twin, nxt, site = _linked_half_edges(hid, 2 * pairs, tri, opp, ids, vid)
+    # int32 like the one pass's (numba widens int32 ^ 1 to int64)
     return vertices, origin, twin.astype(np.int32), nxt, site, merged
 
 
@@ -346,11 +347,12 @@ def _centres_apart(x1, y1, x2, y2, px, py):
     T = 1e-4 of the sum of their two terms. Their rounding errors, the rounded differences
     b - a and c - a included, are at most 4u (determinant) and 7u (numerators) of that sum, so
     at most 4u/T and 7u/T of the computed values; after the division the offset from the
-    first corner is within 1.2e5 u of the exact offset, whose size is at most the circumradius
-    R. The double-double and exact paths are within 3u. Adding the first corner rounds by u
-    of the coordinate. R is bounded through the common corner: R <= |x - px| + |y - py|,
-    computed, up to terms far inside the margins below: 2**-32 is more than 16 times 1.2e5 u
-    and 2**-50 is 8 times u, so each side of the comparison may lose a few roundings.
+    first corner is within 1.2e5 u times its size of the exact offset, whose size is at most
+    the circumradius R. The double-double and exact paths are within 3u. Adding the first
+    corner rounds by u of the coordinate. R is bounded through the common corner:
+    R <= |x - px| + |y - py|, computed, up to terms far inside the margins below: 2**-32 is
+    more than 16 times 1.2e5 u and 2**-50 is 8 times u, so each side of the comparison may
+    lose a few roundings (a test holds the constants to these margins, should T change).
     """
     r1 = abs(x1 - px) + abs(y1 - py)
     r2 = abs(x2 - px) + abs(y2 - py)
