@@ -19,6 +19,7 @@ import numpy as np
 from numba import njit
 
 from vorobench.core.circumcentre import circumcentre, power_centre
+from vorobench.core.prefetch import prefetch
 from vorobench.core.predicates import incircle_counted, orient2d_counted, power_test_counted
 from vorobench.core.union_find import find
 
@@ -362,6 +363,14 @@ def _centres_apart(x1, y1, x2, y2, px, py):
     return abs(x1 - x2) > bound or abs(y1 - y2) > bound
 
 
+#: How many triangles ahead the one pass asks for the rows it will read (:mod:`prefetch`): the
+#: pass waits on cache misses (a triangle's corners and neighbours lie anywhere in memory) and
+#: its body is too long for the processor to run ahead by itself. The centres come second, since
+#: finding them reads the neighbours' numbers asked for earlier. About 10 % off the dual at 10^6.
+CORNERS_AHEAD = 16
+CENTRES_AHEAD = 8
+
+
 @njit(cache=True)
 def _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, twin, nxt, site, tests):
     """Fill the DCEL of a triangulation none of whose neighbouring triangles are cocircular, in
@@ -377,6 +386,19 @@ def _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, t
     """
     inf = pts.shape[0]
     for t in range(ntri):
+        if t + CORNERS_AHEAD < ntri:
+            # the rows this pass will read for a later triangle: its corners, their ids, the
+            # numbers of its neighbours, and (for a nearer one) its neighbours' centres
+            u = t + CORNERS_AHEAD
+            for k in range(3):
+                corner = tri[3 * u + k]
+                prefetch(pts, corner)
+                prefetch(ids, corner)
+                prefetch(number, opp[3 * u + k] // 3)
+        if t + CENTRES_AHEAD < ntri:
+            u = t + CENTRES_AHEAD
+            for k in range(3):
+                prefetch(vertices, number[opp[3 * u + k] // 3])
         v = number[t]
         if v >= 0:
             a = tri[3 * t]
