@@ -43,6 +43,7 @@ from typing import Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from impls.fortune.slabs import slabs
 from vorobench.core.builder import assemble
 from vorobench.core.diagram import Diagram
 
@@ -579,6 +580,20 @@ class ProbingSweep(Sweep):
         super().__init__(sites, weights)
         self.watch: dict[int, list[int]] = {}
         self.counts.update(probes=0)
+        # vertical slabs of about sqrt(n) sites, and the site activated last in each
+        order = sorted(range(self.n), key=lambda i: (self.y[i], self.x[i]))
+        self.slab = [0] * self.n
+        for i, slab in zip(order, slabs(np.asarray(sites, dtype=np.float64).reshape(-1, 2)[order, 0])):
+            self.slab[i] = int(slab)
+        self.last_in_slab: dict[int, int] = {}
+
+    def start(self) -> None:
+        super().start()
+        y0 = min(self.y)
+        for i in sorted(range(self.n), key=lambda i: (self.y[i], self.x[i])):
+            if self.y[i] != y0:
+                break
+            self.last_in_slab[self.slab[i]] = i     # the lowest row counts as activated
 
     # no candidates against the whole beach line: only circle events when arcs change
     def candidates_at(self, pos: int) -> None:
@@ -597,6 +612,21 @@ class ProbingSweep(Sweep):
             # arc belongs to the lowest row
             watch.append(self.arcs[self.beach[0]].site)
         self.watch[i] = watch
+        # the sites activated last in i's slab and the two beside it are near i (most of them
+        # pending, below it): each that the bound breaks joins S_i, so the first bound is near
+        # i's cell, not far below a dense cluster whose sites have not entered yet
+        low = self.lowest_point(i)
+        for near in (self.slab[i] - 1, self.slab[i], self.slab[i] + 1):
+            s = self.last_in_slab.get(near)
+            if low is None:
+                break
+            if s is None or s in watch:
+                continue
+            (_, cx, cy, h), _ = low
+            if self.power_gap(s, i, cx, cy, h) < 0:
+                watch.append(s)
+                low = self.lowest_point(i)
+        self.last_in_slab[self.slab[i]] = i
         self.schedule_probe(i)
 
     def locate(self, cx: tuple, t0: Fraction, h: Fraction) -> tuple[int, list[int]]:

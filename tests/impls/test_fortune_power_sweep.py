@@ -258,13 +258,14 @@ def test_gmp_rationals_and_fractions_give_the_same_exact_decisions(rows):
     assert decisions(gmpy2.mpq) == decisions(Fraction)
 
 
-def test_the_watch_pool_grows_mid_sweep_and_the_diagram_stays_exact():
-    # kuzmin's dense core makes a site watch tens of others: far more than the pool's first
-    # 4 n + 16 rows, so the loop hands back to grow it, maybe several times, and goes on
+def test_the_watch_pool_grows_mid_sweep_and_the_diagram_stays_exact(monkeypatch):
+    # a first pool of 16 rows: every site watches at least one, so the loop hands back to grow
+    # it (doubling) again and again, and goes on where it stopped
+    monkeypatch.setattr(fortune, "WATCH_ROWS_PER_SITE", 0)
     sites, weights = _case("kuzmin", "radii", 1500)
     stats = {}
     d = fortune.build_weighted(sites, weights, stats)
-    assert stats["probes"] > 2 * (4 * sites.shape[0] + 16)
+    assert stats["site_events"] > 2 ** 6 * 16          # each watches a site: six doublings at least
     assert compare(d, impls.get("incremental").build_weighted(sites, weights)).verdict == Verdict.EXACT
 
 
