@@ -580,12 +580,20 @@ class ProbingSweep(Sweep):
         super().__init__(sites, weights)
         self.watch: dict[int, list[int]] = {}
         self.counts.update(probes=0)
-        # vertical slabs of about sqrt(n) sites, and the site activated last in each
+        # vertical slabs of about sqrt(n) sites (level 0; level L's slab is slab >> 2 L, four
+        # times as wide as level L - 1's), and the site activated last in each
         order = sorted(range(self.n), key=lambda i: (self.y[i], self.x[i]))
         self.slab = [0] * self.n
         for i, slab in zip(order, slabs(np.asarray(sites, dtype=np.float64).reshape(-1, 2)[order, 0])):
             self.slab[i] = int(slab)
-        self.last_in_slab: dict[int, int] = {}
+        self.levels = 1
+        while max(self.slab, default=0) >> (2 * self.levels) > 0:
+            self.levels += 1
+        self.last_in_slab: dict[tuple[int, int], int] = {}
+
+    def _activated(self, i: int) -> None:
+        for level in range(self.levels):
+            self.last_in_slab[level, self.slab[i] >> (2 * level)] = i
 
     def start(self) -> None:
         super().start()
@@ -593,7 +601,7 @@ class ProbingSweep(Sweep):
         for i in sorted(range(self.n), key=lambda i: (self.y[i], self.x[i])):
             if self.y[i] != y0:
                 break
-            self.last_in_slab[self.slab[i]] = i     # the lowest row counts as activated
+            self._activated(i)                      # the lowest row counts as activated
 
     # no candidates against the whole beach line: only circle events when arcs change
     def candidates_at(self, pos: int) -> None:
@@ -613,10 +621,13 @@ class ProbingSweep(Sweep):
             watch.append(self.arcs[self.beach[0]].site)
         self.watch[i] = watch
         # the sites activated last in i's slab and the two beside it are near i (most of them
-        # pending, below it): each that the bound breaks joins S_i, so the first bound is near
-        # i's cell, not far below a dense cluster whose sites have not entered yet
+        # pending, below it), and so are the last of its coarser slabs where i is sparser than
+        # its slab's densest part: each that the bound breaks joins S_i, so the first bound is
+        # near i's cell, not far below a dense cluster whose sites have not entered yet
         low = self.lowest_point(i)
-        for near in (self.slab[i] - 1, self.slab[i], self.slab[i] + 1):
+        nearby = [(0, self.slab[i] + d) for d in (-1, 0, 1)]
+        nearby += [(level, self.slab[i] >> (2 * level)) for level in range(1, self.levels)]
+        for near in nearby:
             s = self.last_in_slab.get(near)
             if low is None:
                 break
@@ -626,7 +637,7 @@ class ProbingSweep(Sweep):
             if self.power_gap(s, i, cx, cy, h) < 0:
                 watch.append(s)
                 low = self.lowest_point(i)
-        self.last_in_slab[self.slab[i]] = i
+        self._activated(i)
         self.schedule_probe(i)
 
     def locate(self, cx: tuple, t0: Fraction, h: Fraction) -> tuple[int, list[int]]:

@@ -67,7 +67,8 @@ _NEED_ROOM = -1
 # float state: the interval of the time now (0, 1), the box of the point here (2..5) once
 # computed (S[_HEREBOX] = 1)
 _SF_FIELDS = 6
-#: An activation looks at the newest site of this many slabs (its own and one on each side)
+#: An activation looks at the newest site of this many slabs (its own and one on each side),
+#: then at the newest of its own slab at each coarser level (slabs four times as wide)
 _SLAB_WATCH = 3
 
 
@@ -481,10 +482,15 @@ def sweep(G, order, row, counters, slab, watch_rows):
     free = np.arange(cap_ev - 1, -1, -1).astype(np.int64)
     edges = np.empty((5 * n + 16, 4), dtype=np.int64)
     vspec = np.empty((3 * n + 16, 3), dtype=np.int64)
-    wsite = np.empty(max(watch_rows, 2 + _SLAB_WATCH), dtype=np.int64)
-    wnext = np.empty(wsite.shape[0], dtype=np.int64)
     whead = np.full(n, -1, dtype=np.int64)
-    last = np.full(slab.max() + 1 if n > 0 else 1, -1, dtype=np.int64)   # each slab's newest activation
+    # each slab's newest activation, at each level: level L's slab of a site is slab >> 2 L
+    slabs_count = slab.max() + 1 if n > 0 else 1
+    levels = 1
+    while (slabs_count - 1) >> (2 * levels) > 0:
+        levels += 1
+    last = np.full((levels, slabs_count), -1, dtype=np.int64)
+    wsite = np.empty(max(watch_rows, 2 + _SLAB_WATCH + levels), dtype=np.int64)
+    wnext = np.empty(wsite.shape[0], dtype=np.int64)
     state = np.zeros(n, dtype=np.int8)          # 0 waiting, 1 pending, 2 present, 3 hidden
     latest = np.full(n, -1, dtype=np.int64)     # each site's newest arc (a probe's first guess)
     gone = np.zeros(arcs.shape[0], dtype=np.bool_)
@@ -511,7 +517,8 @@ def sweep(G, order, row, counters, slab, watch_rows):
     previous = -1
     for r in range(row):
         state[order[r]] = 3
-        last[slab[order[r]]] = order[r]
+        for level in range(levels):
+            last[level, slab[order[r]] >> (2 * level)] = order[r]
     for h in range(m):
         i = hull[h]
         state[i] = 2
@@ -548,7 +555,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
     # new site to a pending site's watch, so at most n per site; a repeat stops the sweep)
     limit = 4 * n + n * n + 1000
     while guard < limit:
-        if S[_WUSED] + 2 + _SLAB_WATCH > wsite.shape[0]:
+        if S[_WUSED] + 2 + _SLAB_WATCH + last.shape[0] > wsite.shape[0]:
             # an event watches at most two more sites, and an activation the slabs' sites too:
             # room first, the event after
             S[_NXTACT], S[_GUARD], S[_BEACH] = nxt_act, guard, beach
@@ -697,22 +704,31 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                 # the sites activated last in i's slab and the two beside it are near i, most of
                 # them pending: their constraints bound Q_i close to i's cell at once, where the
                 # beach line alone (far below a dense cluster, whose sites enter late) would take
-                # a probe per cell on the way up. Each that the bound breaks joins S_i, and the
-                # bound moves onto its line (Seidel's step, as after a probe).
+                # a probe per cell on the way up. Where i is sparser than the slab's densest part
+                # (above or below a cluster) the newest in its slab may be far below it, so the
+                # newest of each coarser slab is looked at too. Each that the bound breaks joins
+                # S_i, and the bound moves onto its line (Seidel's step, as after a probe).
                 sl = slab[i]
-                for d in range(_SLAB_WATCH):
+                for d in range(_SLAB_WATCH + last.shape[0] - 1):
                     if bk < 0:
                         break
-                    near = sl - 1 + d
-                    if near < 0 or near >= last.shape[0] or last[near] < 0 or _watched(wsite, wnext, whead, i, last[near]):
+                    if d < _SLAB_WATCH:
+                        level, near = 0, sl - _SLAB_WATCH // 2 + d
+                    else:
+                        level = d - _SLAB_WATCH + 1
+                        near = sl >> (2 * level)
+                    if near < 0 or near >= last.shape[1]:
                         continue
-                    s = last[near]
+                    s = last[level, near]
+                    if s < 0 or _watched(wsite, wnext, whead, i, s):
+                        continue
                     if power_gap(G, counters, s, i, bk, ba, bb, bc, box[0], box[1], box[2], box[3]) < 0:
                         _watch(wsite, wnext, whead, S, i, s)
                         found, bk, ba, bb, bc, partner, blo, bhi, box = _lowest_on_line(G, counters, wsite, wnext, whead, i, s)
                         if not found:
                             bk, ba, bb, bc, partner, blo, bhi, box = _lowest_point(G, counters, wsite, wnext, whead, i)
-                last[sl] = i
+                for level in range(last.shape[0]):
+                    last[level, sl >> (2 * level)] = i
             if bk == -2:
                 S[_STATUS] = ERR_STATE
                 break
