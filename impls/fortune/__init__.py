@@ -107,7 +107,8 @@ _WEIGHTED_ERRORS = {power_sweep.ERR_STATE: "a probe found its bound above the be
                     power_sweep.ERR_ITERATIONS: "the event loop exceeded its iteration cap"}
 
 #: The weighted sweep's first pool of watch-list rows, per site (it doubles when full: a site
-#: watches one to four sites at its activation and one more per probe that moves its bound)
+#: watches one or two sites of the beach line at its activation, the slabs' sites that move its
+#: first bound, and one more per probe that moves its bound)
 WATCH_ROWS_PER_SITE = 4
 _STATS_KEPT = ("site_events", "circle_events", "false_alarms", "vertices", "max_beach_line",
                "breakpoint_tests", "breakpoint_exact", "event_comparisons", "event_comparisons_exact",

@@ -467,9 +467,10 @@ def _in_q(G, counters, wsite, wnext, whead, i, kind, a, b, c, xl, xh, yl, yh):
 def sweep(G, order, row, counters, slab, watch_rows):
     """Run the weighted sweep. ``G`` is the site table of :mod:`power_predicates`, ``order``
     the sites sorted by (y, x), ``row`` the number of them on the lowest y, ``slab`` each
-    site's vertical slab (:func:`impls.fortune.slabs.slabs`): a pending site's first bound also watches the sites
-    activated last in its slab and the two beside it. ``watch_rows`` is the first size of the
-    pool of watch-list rows, which grows (doubling) as needed.
+    site's vertical slab (:func:`impls.fortune.slabs.slabs`): a pending site's first bound
+    also looks at the sites activated last in its slab, in the two beside it and in its slab
+    at coarser levels. ``watch_rows`` is the first size of the pool of watch-list rows, which
+    grows (doubling) as needed.
 
     Returns (status, edges (a, b, start, end), vertex specs (a, b, c)); vertices at one point
     are merged and edges of no length dropped."""
