@@ -3,6 +3,7 @@
     .venv/bin/python benchmarks/at_the_limit.py                          # the table at 10^6
     .venv/bin/python benchmarks/at_the_limit.py --sizes 1e4,1e5,1e6      # with fitted exponents
     .venv/bin/python benchmarks/at_the_limit.py --families uniform,grid --rounds 3 --json out.json
+    .venv/bin/python benchmarks/at_the_limit.py --breakdown              # and every goal of issue 27
 
 For each family the points are generated and prepared once; then the contenders take turns,
 round after round (``--rounds``, best of them is kept), so all of them see the same machine
@@ -19,7 +20,9 @@ the goals name (fortune / Triangle -F, incremental / CGAL), ``prepare`` against 
 ``np.lexsort`` of the same points, and, with several sizes, the fitted exponent of every
 family (least squares of log time on log n over the sizes of at least 10^4 sites). Missing
 outside libraries are left out of the table, never an error. Numba compile time is spent in
-each construction's warm-up before any timing.
+each construction's warm-up before any timing. ``--breakdown`` then prints
+``benchmarks/build_breakdown.py``'s rows at the largest size (the dual, the wrapper, ``regions``,
+``to_shapely``, fortune's peak memory), so that one run prints every goal of issue 27.
 """
 
 from __future__ import annotations
@@ -237,6 +240,9 @@ def main(argv=None) -> int:
     parser.add_argument("--budget", type=float, default=60.0,
                         help="skip a contender whose time, extrapolated from smaller sizes, exceeds this (s)")
     parser.add_argument("--json", default=None, help="also write the records to this JSON file")
+    parser.add_argument("--breakdown", action="store_true",
+                        help="then print build_breakdown's rows at the largest size (the dual, the wrapper, "
+                             "regions, to_shapely, fortune's peak memory)")
     args = parser.parse_args(argv)
     families = [f for f in args.families.split(",") if f]
     unknown = [f for f in families if f not in datasets_gen.available()]
@@ -250,6 +256,12 @@ def main(argv=None) -> int:
     print(table(records))
     if "cocircular" in families:
         print("\n".join(cocircular_growth(args.rounds)))
+    if args.breakdown:
+        import build_breakdown
+
+        print()
+        sys.stdout.flush()
+        return build_breakdown.main(["--n", str(max(args.sizes)), "--rounds", str(args.rounds)])
     return 0
 
 

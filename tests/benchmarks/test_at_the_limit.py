@@ -40,3 +40,16 @@ def test_a_contender_within_budget_is_run_at_the_full_size(timed_sizes):
     (record,) = records
     assert record["seconds"] == pytest.approx(200_000 ** 2 * 1e-9)
     assert timed_sizes == [*at_the_limit.PILOT_SIZES, 200_000]
+
+
+def test_breakdown_runs_build_breakdown_at_the_largest_size(monkeypatch, capsys):
+    import build_breakdown
+
+    asked = []
+    monkeypatch.setattr(at_the_limit, "measure", lambda *args, **kwargs: [])
+    monkeypatch.setattr(at_the_limit, "table", lambda records: "the table")
+    monkeypatch.setattr(build_breakdown, "main", lambda argv: asked.append(argv) or 0)
+    assert at_the_limit.main(["--families", "uniform", "--sizes", "1e4,2e4", "--rounds", "3", "--breakdown"]) == 0
+    assert asked == [["--n", "20000", "--rounds", "3"]]
+    assert at_the_limit.main(["--families", "uniform", "--sizes", "1e4"]) == 0
+    assert len(asked) == 1
