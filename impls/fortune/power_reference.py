@@ -43,7 +43,6 @@ from typing import Optional
 import numpy as np
 from numpy.typing import NDArray
 
-from impls.fortune.slabs import slabs
 from vorobench.core.builder import assemble
 from vorobench.core.diagram import Diagram
 
@@ -566,10 +565,9 @@ class ProbingSweep(Sweep):
     """The same sweep, finding each pending site's contact by *probes* instead of trying it
     against the whole beach line (docs/power.md, the last section).
 
-    Pending site i keeps a few sites S_i (present, pending or hidden: any site bounds its
-    cell; the first come from the beach line and from the slabs, see :meth:`activate`). Its
-    cell lies in Q_i, where i has less power than every site of S_i, so the lowest time of T_i
-    over Q_i, at a point q, bounds its contact from below; a probe is queued then. At the probe q is on or below the beach line,
+    Pending site i keeps a few present sites S_i. Its cell lies in Q_i, where i has less power
+    than every site of S_i, so the lowest time of T_i over Q_i, at a point q, bounds its
+    contact from below; a probe is queued then. At the probe q is on or below the beach line,
     and the arc over q alone says which: the beach line at q's x is that arc's wavefront, so q
     is below it iff that arc's site has less power at q than i. Below: that site joins S_i (q
     leaves Q_i, so the next bound is later). On it: i enters at q, inside that arc or at the
@@ -581,28 +579,6 @@ class ProbingSweep(Sweep):
         super().__init__(sites, weights)
         self.watch: dict[int, list[int]] = {}
         self.counts.update(probes=0)
-        # vertical slabs of about sqrt(n) sites (level 0; level L's slab is slab >> 2 L, four
-        # times as wide as level L - 1's), and the site activated last in each
-        order = sorted(range(self.n), key=lambda i: (self.y[i], self.x[i]))
-        self.slab = [0] * self.n
-        for i, slab in zip(order, slabs(np.asarray(sites, dtype=np.float64).reshape(-1, 2)[order, 0])):
-            self.slab[i] = int(slab)
-        self.levels = 1
-        while max(self.slab, default=0) >> (2 * self.levels) > 0:
-            self.levels += 1
-        self.last_in_slab: dict[tuple[int, int], int] = {}
-
-    def _activated(self, i: int) -> None:
-        for level in range(self.levels):
-            self.last_in_slab[level, self.slab[i] >> (2 * level)] = i
-
-    def start(self) -> None:
-        super().start()
-        y0 = min(self.y)
-        for i in sorted(range(self.n), key=lambda i: (self.y[i], self.x[i])):
-            if self.y[i] != y0:
-                break
-            self._activated(i)                      # the lowest row counts as activated
 
     # no candidates against the whole beach line: only circle events when arcs change
     def candidates_at(self, pos: int) -> None:
@@ -621,24 +597,6 @@ class ProbingSweep(Sweep):
             # arc belongs to the lowest row
             watch.append(self.arcs[self.beach[0]].site)
         self.watch[i] = watch
-        # the sites activated last in i's slab and the two beside it are near i (most of them
-        # pending, below it), and so are the last of its coarser slabs where i is sparser than
-        # its slab's densest part: each that the bound breaks joins S_i, so the first bound is
-        # near i's cell, not far below a dense cluster whose sites have not entered yet
-        low = self.lowest_point(i)
-        nearby = [(0, self.slab[i] + d) for d in (-1, 0, 1)]
-        nearby += [(level, self.slab[i] >> (2 * level)) for level in range(1, self.levels)]
-        for near in nearby:
-            s = self.last_in_slab.get(near)
-            if low is None:
-                break
-            if s is None or s in watch:
-                continue
-            (_, cx, cy, h), _ = low
-            if self.power_gap(s, i, cx, cy, h) < 0:
-                watch.append(s)
-                low = self.lowest_point(i)
-        self._activated(i)
         self.schedule_probe(i)
 
     def locate(self, cx: tuple, t0: Fraction, h: Fraction) -> tuple[int, list[int]]:
