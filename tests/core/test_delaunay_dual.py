@@ -11,14 +11,10 @@ import vorobench
 from impls.incremental import _triangulate
 from vorobench.core.circumcentre import CANCELLATION_THRESHOLD, circumcentre
 from vorobench.core.delaunay_dual import (CENTRE_RADIUS_ERROR, CENTRE_ROUNDING_ERROR, _centres_apart, _general_dcel,
-                                         voronoi_dcel)
+                                         _merged_vertices, voronoi_dcel, voronoi_vertices)
 from vorobench.core.predicates import INCIRCLE_CALLS, incircle, orient2d
 from vorobench.core.diagram import Diagram
 from vorobench.core.prepare import prepare
-
-
-def _general(pts, ids, tri, opp, ntri, counters):
-    return _general_dcel(pts, ids, tri, opp, ntri, counters, False)
 
 
 def _both(sites):
@@ -26,7 +22,7 @@ def _both(sites):
     points, ids, tri, opp, ntri, ok = _triangulate(sites, None)
     assert ok
     diagrams, counters, merged = [], [], []
-    for dual in (voronoi_dcel, _general):
+    for dual in (voronoi_dcel, _general_dcel):
         c = np.zeros(4, dtype=np.int64)
         vertices, origin, twin, nxt, site, m = dual(points, ids, tri, opp, ntri, c)
         diagrams.append(Diagram(sites, vertices, origin, twin, nxt, site).validate())
@@ -71,12 +67,14 @@ def test_every_family_gives_the_general_diagram(dataset):
 
 
 @pytest.mark.parametrize("dataset", ["grid", "cocircular_many", "uniform"])
-def test_the_general_path_gives_one_diagram_whether_or_not_told_of_cocircular_neighbours(dataset):
+def test_the_union_find_gives_the_vertices_of_the_one_pass_check(dataset):
+    # the general path goes straight to the union-find; it must number and place the vertices
+    # as voronoi_vertices does (one pass, then the union-find at the first cocircular pair)
     sites, _ = prepare(datasets_gen.generate(dataset, 300, seed=1))
     points, ids, tri, opp, ntri, _ = _triangulate(sites, None)
-    told, untold = (_general_dcel(points, ids, tri, opp, ntri, np.zeros(4, dtype=np.int64), flag)
-                    for flag in (True, False))
-    for a, b in zip(told, untold):
+    direct, checked = (f(points, ids, tri, opp, ntri, np.zeros(4, dtype=np.int64))
+                       for f in (_merged_vertices, voronoi_vertices))
+    for a, b in zip(direct, checked):
         assert np.array_equal(a, b)
 
 

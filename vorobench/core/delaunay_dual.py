@@ -269,16 +269,13 @@ def _linked_half_edges(hid, H, tri, opp, ids, vid):
 
 
 @njit(cache=True)
-def _general_dcel(pts, ids, tri, opp, ntri, counters, cocircular):
+def _general_dcel(pts, ids, tri, opp, ntri, counters):
     """:func:`voronoi_dcel` for any triangulation, cocircular neighbours included: the vertices
-    (merged; straight to the union-find when ``cocircular`` neighbours are known to be there),
+    (merged by the union-find: the one pass hands over only once it has met a cocircular pair),
     then each Voronoi edge numbered as a twin pair 2k, 2k + 1 and linked by turning through the
     triangles."""
     inf = pts.shape[0]
-    if cocircular:
-        vid, vertices, merged = _merged_vertices(pts, ids, tri, opp, ntri, counters)
-    else:
-        vid, vertices, merged = voronoi_vertices(pts, ids, tri, opp, ntri, counters)
+    vid, vertices, merged = _merged_vertices(pts, ids, tri, opp, ntri, counters)
     m = 3 * ntri
     # int32 throughout: half the memory traffic of these mostly cache-missing passes
     hid = np.full(m, -1, dtype=np.int32)
@@ -484,7 +481,7 @@ def voronoi_dcel(pts, ids, tri, opp, ntri, counters):
     if _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, twin, nxt, site, tests):
         counters += tests
         return vertices, origin, twin, nxt, site, 0
-    return _general_dcel(pts, ids, tri, opp, ntri, counters, True)
+    return _general_dcel(pts, ids, tri, opp, ntri, counters)
 
 
 # ---------------------------------------------------------------------------------------------
