@@ -90,6 +90,7 @@ from numba import njit
 
 from impls.fortune import power_sweep
 from impls.fortune.power_exact import exact_context
+from impls.fortune.slabs import slabs
 from impls.fortune.sweep import COUNTER_NAMES, N_COUNTERS, OK, sweep
 from vorobench.core.circumcentre import power_centre
 from vorobench.core.builder import assemble
@@ -105,6 +106,10 @@ _ERRORS = {1: "the search for the arc above a site left the beach line",
 _WEIGHTED_ERRORS = {power_sweep.ERR_STATE: "a probe found its bound above the beach line or under a site it watched, or an arc lost a neighbour",
                     power_sweep.ERR_ITERATIONS: "the event loop exceeded its iteration cap"}
 
+#: The weighted sweep's first pool of watch-list rows, per site (it doubles when full: a site
+#: watches one or two sites of the beach line at its activation, the slabs' sites that move its
+#: first bound, and one more per probe that moves its bound)
+WATCH_ROWS_PER_SITE = 4
 _STATS_KEPT = ("site_events", "circle_events", "false_alarms", "vertices", "max_beach_line",
                "breakpoint_tests", "breakpoint_exact", "event_comparisons", "event_comparisons_exact",
                "orient2d_calls", "orient2d_exact", "exact_keys")
@@ -189,7 +194,8 @@ def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64], sta
     table = _shift_table(swept, swept_weights)
     counters = np.zeros(power_sweep.N_COUNTERS, dtype=np.int64)
     with exact_context(swept, swept_weights):
-        status, edges, specs = power_sweep.sweep(table, np.arange(n, dtype=np.int64), row, counters)
+        status, edges, specs = power_sweep.sweep(table, np.arange(n, dtype=np.int64), row, counters,
+                                                     slabs(swept[:, 0]), WATCH_ROWS_PER_SITE * n + 16)
         if status != power_sweep.OK:
             raise RuntimeError(f"fortune (weighted): {_WEIGHTED_ERRORS.get(status, 'unknown error')} (n = {n}); "
                                "this is a bug")

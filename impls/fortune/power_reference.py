@@ -43,8 +43,14 @@ from typing import Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from impls.fortune.slabs import slabs
 from vorobench.core.builder import assemble
 from vorobench.core.diagram import Diagram
+
+#: A probe's partner when the site of its bound is not on the beach line (pending or hidden,
+#: from a slab): it is not the site whose arc the probe touches, so it cannot rank the probe
+#: among simultaneous ones (:meth:`Sweep.push`)
+UNKEYED = -2
 
 __all__ = ["build_weighted", "Event", "ProbingSweep", "Sweep", "Time", "surd_sign"]
 
@@ -276,14 +282,19 @@ class Sweep:
         first: a contact inside the arc of a site k has partner k. Sites that touch k's arc at
         one point together and tie with k along a line (collinear, equal power all along it)
         own cells there only if outermost: the one farthest from k enters first and leaves the
-        ones between no room (their cells lie in the line)."""
+        ones between no room (their cells lie in the line). A probe whose partner is
+        ``UNKEYED`` goes before every other contact of its time; on the beach line, it is
+        queued again with the arc's site as its partner."""
         self.seq += 1
-        if kind in (Event.CONTACT_VERTEX, Event.CONTACT_ARC, Event.PROBE):
+        if partner == UNKEYED:
+            # the site of its bound is not on the beach line: first, to be ranked at its point
+            rank = (int(Event.CONTACT_VERTEX), 0, Fraction(0))
+        elif kind in (Event.CONTACT_VERTEX, Event.CONTACT_ARC, Event.PROBE):
             i = payload[1]
             far = (self.x[i] - self.x[partner]) ** 2 + (self.y[i] - self.y[partner]) ** 2 if partner >= 0 else 0
-            rank = (int(Event.CONTACT_VERTEX), -far)
+            rank = (int(Event.CONTACT_VERTEX), 1, -far)
         else:
-            rank = (int(kind), Fraction(0))
+            rank = (int(kind), 1, Fraction(0))
         heapq.heappush(self.heap, _Queued(time, rank, self.seq, int(kind), payload))
 
     def neighbours(self, pos: int) -> tuple[int, int]:
@@ -565,9 +576,10 @@ class ProbingSweep(Sweep):
     """The same sweep, finding each pending site's contact by *probes* instead of trying it
     against the whole beach line (docs/power.md, the last section).
 
-    Pending site i keeps a few present sites S_i. Its cell lies in Q_i, where i has less power
-    than every site of S_i, so the lowest time of T_i over Q_i, at a point q, bounds its
-    contact from below; a probe is queued then. At the probe q is on or below the beach line,
+    Pending site i keeps a few sites S_i (present, pending or hidden: any site bounds its
+    cell; the first come from the beach line and from the slabs, see :meth:`activate`). Its
+    cell lies in Q_i, where i has less power than every site of S_i, so the lowest time of T_i
+    over Q_i, at a point q, bounds its contact from below; a probe is queued then. At the probe q is on or below the beach line,
     and the arc over q alone says which: the beach line at q's x is that arc's wavefront, so q
     is below it iff that arc's site has less power at q than i. Below: that site joins S_i (q
     leaves Q_i, so the next bound is later). On it: i enters at q, inside that arc or at the
@@ -579,6 +591,28 @@ class ProbingSweep(Sweep):
         super().__init__(sites, weights)
         self.watch: dict[int, list[int]] = {}
         self.counts.update(probes=0)
+        # vertical slabs of about sqrt(n) sites (level 0; level L's slab is slab >> 2 L, four
+        # times as wide as level L - 1's), and the site activated last in each
+        order = sorted(range(self.n), key=lambda i: (self.y[i], self.x[i]))
+        self.slab = [0] * self.n
+        for i, slab in zip(order, slabs(np.asarray(sites, dtype=np.float64).reshape(-1, 2)[order, 0])):
+            self.slab[i] = int(slab)
+        self.levels = 1
+        while max(self.slab, default=0) >> (2 * self.levels) > 0:
+            self.levels += 1
+        self.last_in_slab: dict[tuple[int, int], int] = {}
+
+    def _activated(self, i: int) -> None:
+        for level in range(self.levels):
+            self.last_in_slab[level, self.slab[i] >> (2 * level)] = i
+
+    def start(self) -> None:
+        super().start()
+        y0 = min(self.y)
+        for i in sorted(range(self.n), key=lambda i: (self.y[i], self.x[i])):
+            if self.y[i] != y0:
+                break
+            self._activated(i)                      # the lowest row counts as activated
 
     # no candidates against the whole beach line: only circle events when arcs change
     def candidates_at(self, pos: int) -> None:
@@ -597,6 +631,24 @@ class ProbingSweep(Sweep):
             # arc belongs to the lowest row
             watch.append(self.arcs[self.beach[0]].site)
         self.watch[i] = watch
+        # the sites activated last in i's slab and the two beside it are near i (most of them
+        # pending, below it), and so are the last of its coarser slabs where i is sparser than
+        # its slab's densest part: each that the bound breaks joins S_i, so the first bound is
+        # near i's cell, not far below a dense cluster whose sites have not entered yet
+        low = self.lowest_point(i)
+        nearby = [(0, self.slab[i] + d) for d in (-1, 0, 1)]
+        nearby += [(level, self.slab[i] >> (2 * level)) for level in range(1, self.levels)]
+        for near in nearby:
+            s = self.last_in_slab.get(near)
+            if low is None:
+                break
+            if s is None or s in watch:
+                continue
+            (_, cx, cy, h), _ = low
+            if self.power_gap(s, i, cx, cy, h) < 0:
+                watch.append(s)
+                low = self.lowest_point(i)
+        self._activated(i)
         self.schedule_probe(i)
 
     def locate(self, cx: tuple, t0: Fraction, h: Fraction) -> tuple[int, list[int]]:
@@ -646,9 +698,11 @@ class ProbingSweep(Sweep):
             self.pending.discard(i)         # its cell is empty: hidden
             return
         low, partner = low
-        self.push(low[0], Event.PROBE, (None, i, low), partner=partner)
+        if partner >= 0 and partner not in self.present:
+            partner = UNKEYED
+        self.push(low[0], Event.PROBE, (None, i, low, partner), partner=partner)
 
-    def probe(self, i: int, low: tuple) -> None:
+    def probe(self, i: int, low: tuple, partner: int) -> None:
         t, cx, cy, h = low
         self.counts["probes"] += 1
         pos, at_breakpoints = self.locate(cx, t.a, h)
@@ -661,6 +715,10 @@ class ProbingSweep(Sweep):
             return
         if gap > 0:
             raise RuntimeError(f"probe of site {i}: its lower bound is above the beach line (a bug)")
+        if partner == UNKEYED:
+            # q is on the beach line: queued again, ranked now by the site whose arc it touches
+            self.push(t, Event.PROBE, (None, i, low, above), partner=above)
+            return
         # q is on the beach line: inside the arc above it, or at the breakpoints there
         if not at_breakpoints:
             self.here = None
@@ -684,7 +742,7 @@ class ProbingSweep(Sweep):
     def handle(self, kind: Event, item: _Queued) -> None:
         if kind == Event.PROBE:
             self.now = item.time
-            self.probe(item.payload[1], item.payload[2])
+            self.probe(*item.payload[1:])
         else:
             super().handle(kind, item)
 

@@ -4,8 +4,9 @@ The same events and rules as :class:`impls.fortune.power_reference.ProbingSweep`
 specification; docs/power.md, "The sweep for weighted sites"), in the same order, so the two
 build the same diagram: activations at y_i from the sites sorted by (y, x); probes, one per
 pending site, at the least time of T_i over the polygon Q_i where i beats its watched sites;
-circle events at power centres. Ties in time go circle, then activation, then probes (the
-farthest from its partner first), then the older event. Each decision is a predicate of
+circle events at power centres. Ties in time go circle, then activation, then probes (those
+whose partner is not on the beach line first, to be ranked again by the arc they touch; then
+the farthest from its partner first), then the older event. Each decision is a predicate of
 :mod:`impls.fortune.power_predicates` (interval filter, exact stage in rationals).
 
 The beach line is the ordinary sweep's treap (:mod:`impls.fortune.beach_line`), searched here
@@ -56,6 +57,11 @@ ERR_ITERATIONS = 2
 _KIND, _TK, _TA, _TB, _TC, _PK, _PA, _PB, _PC, _SEQ, _OWNER, _PARTNER, _HPOS = range(13)
 _EV_FIELDS = 13
 _CIRCLE, _PROBE = 0, 2
+#: A probe's partner when its bound's site is not on the beach line (pending or hidden: a
+#: slab's site). Simultaneous probes at one point go farthest from the site whose arc they
+#: touch first, and such a site is not that one: the probe goes before every keyed probe of
+#: its time and, if its point is on the beach line, is queued again keyed by the arc's site.
+_UNKEYED = -2
 _NO_BOX = (0.0, 0.0, 0.0, 0.0)
 
 # scalar state
@@ -67,6 +73,9 @@ _NEED_ROOM = -1
 # float state: the interval of the time now (0, 1), the box of the point here (2..5) once
 # computed (S[_HEREBOX] = 1)
 _SF_FIELDS = 6
+#: An activation looks at the newest site of this many slabs (its own and one on each side),
+#: then at the newest of its own slab at each coarser level (slabs four times as wide)
+_SLAB_WATCH = 3
 
 
 @njit(cache=True, inline='always')
@@ -90,9 +99,14 @@ def _earlier_overlapping(G, counters, ev, evf, e1, e2):
     if ev[e1, _KIND] != ev[e2, _KIND]:
         return ev[e1, _KIND] < ev[e2, _KIND]
     if ev[e1, _KIND] == _PROBE:
-        f = farther(G, counters, ev[e1, _OWNER], ev[e1, _PARTNER], ev[e2, _OWNER], ev[e2, _PARTNER])
-        if f != 0:
-            return f > 0
+        u1, u2 = ev[e1, _PARTNER] == _UNKEYED, ev[e2, _PARTNER] == _UNKEYED
+        if u1 or u2:
+            if u1 != u2:
+                return u1
+        else:
+            f = farther(G, counters, ev[e1, _OWNER], ev[e1, _PARTNER], ev[e2, _OWNER], ev[e2, _PARTNER])
+            if f != 0:
+                return f > 0
     return ev[e1, _SEQ] < ev[e2, _SEQ]
 
 
@@ -333,16 +347,25 @@ def _grown(wsite, wnext):
 
 
 @njit(cache=True, _nrt=False)
-def _watch(wsite, wnext, whead, wtail, S, i, s):
-    """Site s joins the end of pending site i's watch list (the caller makes room: _grown)."""
+def _watch(wsite, wnext, whead, S, i, s):
+    """Site s joins the head of pending site i's watch list (the caller makes room: _grown), so
+    the list runs newest first: the newest sites are the nearest, whose constraints are the
+    tightest, and :func:`_lowest_on_line` meets them first."""
     w = S[_WUSED]
     S[_WUSED] = w + 1
-    wsite[w], wnext[w] = s, -1
-    if whead[i] < 0:
-        whead[i] = w
-    else:
-        wnext[wtail[i]] = w
-    wtail[i] = w
+    wsite[w], wnext[w] = s, whead[i]
+    whead[i] = w
+
+
+@njit(cache=True, _nrt=False, inline='always')
+def _watched(wsite, wnext, whead, i, s):
+    """Whether site s is in pending site i's watch list."""
+    j = whead[i]
+    while j != -1:
+        if wsite[j] == s:
+            return True
+        j = wnext[j]
+    return False
 
 
 @njit(cache=True, _nrt=False)
@@ -389,16 +412,15 @@ def _lowest_on_line(G, counters, wsite, wnext, whead, i, k):
     ``found`` is False (and the rest to be ignored) when the pass cannot tell, and the caller
     falls back to :func:`_lowest_point`."""
     lo, hi = -1, -1         # the sites whose lines end L_k on either side (along perp(p_k - p_i))
-    j = whead[i]
+    lo_box = hi_box = _NO_BOX   # the boxes of those ends (power centres of i, k and lo or hi)
+    j = wnext[whead[i]]     # k heads the list; the rest, newest first, are the tightest first
     while j != -1:
         sj = wsite[j]
         j = wnext[j]
         if sj == k:
-            if j != -1:
-                # k was watched already, so the old least point was inside k's constraint and
-                # yet below k's arc: a bug, which would probe the same point forever
-                return True, -2, -1, -1, -1, -1, 0.0, 0.0, _NO_BOX
-            continue
+            # k was watched already, so the old least point was inside k's constraint and
+            # yet below k's arc: a bug, which would probe the same point forever
+            return True, -2, -1, -1, -1, -1, 0.0, 0.0, _NO_BOX
         o = orient2d(G[i, 0], G[i, 1], G[k, 0], G[k, 1], G[sj, 0], G[sj, 1])
         if o == 0:
             # j's line is parallel to L_k: all of L_k is allowed by j, or none of it
@@ -407,17 +429,16 @@ def _lowest_on_line(G, counters, wsite, wnext, whead, i, k):
             continue
         # the end of L_k that j sets is the power centre of i, k, j; of two ends on one side,
         # the one inside the other's constraint is the nearer
-        end = hi if o > 0 else lo
-        if end >= 0:
-            xl, xh, yl, yh, _, _ = spec_point(G, CENTRE, i, k, end)
-            if power_gap(G, counters, sj, i, CENTRE, i, k, end, xl, xh, yl, yh) >= 0:
-                continue
+        end, (xl, xh, yl, yh) = (hi, hi_box) if o > 0 else (lo, lo_box)
+        if end >= 0 and power_gap(G, counters, sj, i, CENTRE, i, k, end, xl, xh, yl, yh) >= 0:
+            continue
+        xl, xh, yl, yh, _, _ = spec_point(G, CENTRE, i, k, sj)
         if o > 0:
-            hi = sj
+            hi, hi_box = sj, (xl, xh, yl, yh)
         else:
-            lo = sj
+            lo, lo_box = sj, (xl, xh, yl, yh)
     if lo >= 0 and hi >= 0:
-        xl, xh, yl, yh, _, _ = spec_point(G, CENTRE, i, k, lo)
+        xl, xh, yl, yh = lo_box
         if power_gap(G, counters, hi, i, CENTRE, i, k, lo, xl, xh, yl, yh) < 0:
             return True, -1, -1, -1, -1, -1, 0.0, 0.0, _NO_BOX          # the ends cross: Q_i is empty
     if G[k, 1] < G[i, 1]:
@@ -454,9 +475,13 @@ def _in_q(G, counters, wsite, wnext, whead, i, kind, a, b, c, xl, xh, yl, yh):
 
 
 @njit(cache=True)
-def sweep(G, order, row, counters):
+def sweep(G, order, row, counters, slab, watch_rows):
     """Run the weighted sweep. ``G`` is the site table of :mod:`power_predicates`, ``order``
-    the sites sorted by (y, x), ``row`` the number of them on the lowest y.
+    the sites sorted by (y, x), ``row`` the number of them on the lowest y, ``slab`` each
+    site's vertical slab (:func:`impls.fortune.slabs.slabs`): a pending site's first bound
+    also looks at the sites activated last in its slab, in the two beside it and in its slab
+    at coarser levels. ``watch_rows`` is the first size of the pool of watch-list rows, which
+    grows (doubling) as needed.
 
     Returns (status, edges (a, b, start, end), vertex specs (a, b, c)); vertices at one point
     are merged and edges of no length dropped."""
@@ -469,10 +494,15 @@ def sweep(G, order, row, counters):
     free = np.arange(cap_ev - 1, -1, -1).astype(np.int64)
     edges = np.empty((5 * n + 16, 4), dtype=np.int64)
     vspec = np.empty((3 * n + 16, 3), dtype=np.int64)
-    wsite = np.empty(4 * n + 16, dtype=np.int64)
-    wnext = np.empty(4 * n + 16, dtype=np.int64)
     whead = np.full(n, -1, dtype=np.int64)
-    wtail = np.full(n, -1, dtype=np.int64)
+    # each slab's newest activation, at each level: level L's slab of a site is slab >> 2 L
+    slabs_count = slab.max() + 1 if n > 0 else 1
+    levels = 1
+    while (slabs_count - 1) >> (2 * levels) > 0:
+        levels += 1
+    last = np.full((levels, slabs_count), -1, dtype=np.int64)
+    wsite = np.empty(max(watch_rows, 2 + _SLAB_WATCH + levels), dtype=np.int64)
+    wnext = np.empty(wsite.shape[0], dtype=np.int64)
     state = np.zeros(n, dtype=np.int8)          # 0 waiting, 1 pending, 2 present, 3 hidden
     latest = np.full(n, -1, dtype=np.int64)     # each site's newest arc (a probe's first guess)
     gone = np.zeros(arcs.shape[0], dtype=np.bool_)
@@ -499,6 +529,8 @@ def sweep(G, order, row, counters):
     previous = -1
     for r in range(row):
         state[order[r]] = 3
+        for level in range(levels):
+            last[level, slab[order[r]] >> (2 * level)] = order[r]
     for h in range(m):
         i = hull[h]
         state[i] = 2
@@ -512,8 +544,8 @@ def sweep(G, order, row, counters):
     counters[MAX_BEACH] = m
     S[_NXTACT], S[_GUARD], S[_BEACH] = row, 0, m
     while True:
-        status = _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wnext, whead, wtail,
-                      state, latest, gone, cand, candf, at, S, SF)
+        status = _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wnext, whead, slab,
+                      last, state, latest, gone, cand, candf, at, S, SF)
         if status != _NEED_ROOM:
             break
         wsite, wnext = _grown(wsite, wnext)
@@ -521,8 +553,8 @@ def sweep(G, order, row, counters):
 
 
 @njit(cache=True, _nrt=False)
-def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wnext, whead, wtail, state, latest,
-         gone, cand, candf, at, S, SF):
+def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wnext, whead, slab, last, state,
+         latest, gone, cand, candf, at, S, SF):
     """The sweep's loop over events, on the arrays :func:`sweep` made: without reference
     counting, which allocates nothing. Returns the sweep's status, or ``_NEED_ROOM`` (before
     an event is taken) when the watch pool may be too small for the next one: the caller grows
@@ -535,8 +567,9 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
     # new site to a pending site's watch, so at most n per site; a repeat stops the sweep)
     limit = 4 * n + n * n + 1000
     while guard < limit:
-        if S[_WUSED] + 2 > wsite.shape[0]:
-            # an event watches at most two more sites: room first, the event after
+        if S[_WUSED] + 2 + _SLAB_WATCH + last.shape[0] > wsite.shape[0]:
+            # an event watches at most two more sites, and an activation the slabs' sites too:
+            # room first, the event after
             S[_NXTACT], S[_GUARD], S[_BEACH] = nxt_act, guard, beach
             return _NEED_ROOM
         guard += 1
@@ -570,9 +603,10 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                 if t == 1 and G[first, 1] < G[i, 1]:
                     break
                 s = first if t == 0 else arcs[head, bl.SITE]
-                _watch(wsite, wnext, whead, wtail, S, i, s)
+                _watch(wsite, wnext, whead, S, i, s)
             schedule = i
             line = -1
+            activated = True
         else:
             e = heap[0]
             _remove(G, counters, S, ev, evf, heap, free, e)
@@ -580,6 +614,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
             SF[0], SF[1] = evf[e, 0], evf[e, 1]
             schedule = -1
             line = -1
+            activated = False
             if ev[e, _KIND] == _CIRCLE:
                 k = ev[e, _OWNER]
                 arcs[k, bl.EVENT] = -1
@@ -622,12 +657,16 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                 gap = power_gap(G, counters, above, i, pk, pa, pb, pc, xl, xh, yl, yh)
                 if gap < 0:
                     # q is below the beach line: the arc's site joins the watch, the bound moves on
-                    _watch(wsite, wnext, whead, wtail, S, i, above)
+                    _watch(wsite, wnext, whead, S, i, above)
                     schedule = i
                     line = above
                 elif gap > 0:
                     S[_STATUS] = ERR_STATE
                     break
+                elif ev[e, _PARTNER] == _UNKEYED:
+                    # q is on the beach line: queued again, now ranked by the arc's site
+                    _push(G, counters, S, ev, evf, heap, free, _PROBE, ev[e, _TK], ev[e, _TA], ev[e, _TB],
+                          ev[e, _TC], tl, th, pk, pa, pb, pc, (xl, xh, yl, yh), i, above)
                 elif nat == 0:
                     # inside the arc: it splits around i, one edge starts both ways
                     S[_HEREK] = -1
@@ -677,6 +716,35 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                 found, bk, ba, bb, bc, partner, blo, bhi, box = _lowest_on_line(G, counters, wsite, wnext, whead, i, line)
             if not found:
                 bk, ba, bb, bc, partner, blo, bhi, box = _lowest_point(G, counters, wsite, wnext, whead, i)
+            if activated:
+                # the sites activated last in i's slab and the two beside it are near i, most of
+                # them pending: their constraints bound Q_i close to i's cell at once, where the
+                # beach line alone (far below a dense cluster, whose sites enter late) would take
+                # a probe per cell on the way up. Where i is sparser than the slab's densest part
+                # (above or below a cluster) the newest in its slab may be far below it, so the
+                # newest of each coarser slab is looked at too. Each that the bound breaks joins
+                # S_i, and the bound moves onto its line (Seidel's step, as after a probe).
+                sl = slab[i]
+                for d in range(_SLAB_WATCH + last.shape[0] - 1):
+                    if bk < 0:
+                        break
+                    if d < _SLAB_WATCH:
+                        level, near = 0, sl - _SLAB_WATCH // 2 + d
+                    else:
+                        level = d - _SLAB_WATCH + 1
+                        near = sl >> (2 * level)
+                    if near < 0 or near >= last.shape[1]:
+                        continue
+                    s = last[level, near]
+                    if s < 0 or _watched(wsite, wnext, whead, i, s):
+                        continue
+                    if power_gap(G, counters, s, i, bk, ba, bb, bc, box[0], box[1], box[2], box[3]) < 0:
+                        _watch(wsite, wnext, whead, S, i, s)
+                        found, bk, ba, bb, bc, partner, blo, bhi, box = _lowest_on_line(G, counters, wsite, wnext, whead, i, s)
+                        if not found:
+                            bk, ba, bb, bc, partner, blo, bhi, box = _lowest_point(G, counters, wsite, wnext, whead, i)
+                for level in range(last.shape[0]):
+                    last[level, sl >> (2 * level)] = i
             if bk == -2:
                 S[_STATUS] = ERR_STATE
                 break
@@ -684,6 +752,8 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                 state[i] = 3                    # Q_i is empty: hidden
                 counters[NEVER_ENTERED] += 1
             else:
+                if partner >= 0 and state[partner] != 2:
+                    partner = _UNKEYED
                 _push(G, counters, S, ev, evf, heap, free, _PROBE, bk, ba, bb, bc, blo, bhi,
                       bk, ba, bb, bc, box, i, partner)
     if guard >= limit:

@@ -266,13 +266,13 @@ def test_a_sweep_without_a_contact_rule_differs(monkeypatch, rule, dataset, fami
 
 def test_a_probing_sweep_that_trusts_its_first_bound_differs(monkeypatch):
     # entering every site at its first lower bound, without asking who owns that point
-    def trusting(self, i, low):
+    def trusting(self, i, low, partner):
         t, cx, cy, h = low
         pos, _ = self.locate(cx, t.a, h)
         if self.power_gap(self.arcs[self.beach[pos]].site, i, cx, cy, h) < 0:
             self.pending.discard(i)          # its bound was not on the beach line: gives up on it
             return
-        original(self, i, low)
+        original(self, i, low, partner)
     original = ProbingSweep.probe
     monkeypatch.setattr(ProbingSweep, "probe", trusting)
     sites, weights = _case("uniform", "radii", 10)

@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 import datasets_gen
 import impls
 from impls import fortune
-from impls.fortune import power_exact, power_predicates
+from impls.fortune import power_exact, power_predicates, power_reference
 from impls.fortune.power_exact import CENTRE, CONTACT, SITE, exact_context
 from vorobench.core.prepare import prepare_weighted
 from vorobench.judge.comparison import Verdict, compare
@@ -258,13 +258,14 @@ def test_gmp_rationals_and_fractions_give_the_same_exact_decisions(rows):
     assert decisions(gmpy2.mpq) == decisions(Fraction)
 
 
-def test_the_watch_pool_grows_mid_sweep_and_the_diagram_stays_exact():
-    # kuzmin's dense core makes a site watch tens of others: far more than the pool's first
-    # 4 n + 16 rows, so the loop hands back to grow it, maybe several times, and goes on
+def test_the_watch_pool_grows_mid_sweep_and_the_diagram_stays_exact(monkeypatch):
+    # a first pool of 16 rows: every site watches at least one, so the loop hands back to grow
+    # it (doubling) again and again, and goes on where it stopped
+    monkeypatch.setattr(fortune, "WATCH_ROWS_PER_SITE", 0)
     sites, weights = _case("kuzmin", "radii", 1500)
     stats = {}
     d = fortune.build_weighted(sites, weights, stats)
-    assert stats["probes"] > 2 * (4 * sites.shape[0] + 16)
+    assert stats["site_events"] > 2 ** 6 * 16          # each watches a site: six doublings at least
     assert compare(d, impls.get("incremental").build_weighted(sites, weights)).verdict == Verdict.EXACT
 
 
@@ -303,9 +304,10 @@ def test_collinear_decisions_below_the_exact_range_fall_back_to_the_rationals():
 
 #: Sets where three or more sites on a line have equal power along one line, so that the middle
 #: ones must stay hidden: simultaneous probes at one point enter farthest from the arc's site
-#: first. A change that let pending sites into a pending site's first bound named a probe's
-#: partner by a site that was not on the beach line, ranked such probes wrongly, and gave
-#: wrong diagrams or stopped on these (found by a review; all of them held on the sweep before).
+#: first. When pending sites first joined a pending site's first bound (the slabs), a probe's
+#: partner could be a site not on the beach line, which ranked such probes wrongly, and gave
+#: wrong diagrams or stopped on these (found by a review). Such a probe is now ranked by the
+#: arc it touches (``_UNKEYED``).
 TIED_ALONG_A_LINE = [
     ([(0, 1), (0, 2), (0, 0), (1, -1)], [0, 1, 1, 4]),
     ([(-4, 1), (-4, 4), (-3, 1), (-3, 2), (-3, 3), (-2, -2)], [1, 0, 10, 8, 8, 17]),
@@ -321,3 +323,11 @@ def test_sites_tied_along_a_line_enter_outermost_first(sites, weights):
     points, w = np.array(sites, dtype=float), np.array(weights, dtype=float)
     d = impls.build("fortune", points, weights=w)
     assert compare(d, impls.build("incremental", points, weights=w)).verdict == Verdict.EXACT
+
+
+@pytest.mark.parametrize("sites, weights", TIED_ALONG_A_LINE)
+def test_the_reference_enters_sites_tied_along_a_line_outermost_first(sites, weights):
+    # the specification takes the same rule: its probing sweep gives the oracle's diagram
+    prepared, w, _ = prepare_weighted(np.array(sites, dtype=float), np.array(weights, dtype=float))
+    got = power_reference.build_weighted(prepared, w, probing=True)
+    assert compare(got, impls.get("incremental").build_weighted(prepared, w)).verdict == Verdict.EXACT
