@@ -715,8 +715,9 @@ class ProbingSweep(Sweep):
             return
         if gap > 0:
             raise RuntimeError(f"probe of site {i}: its lower bound is above the beach line (a bug)")
-        if partner == UNKEYED:
-            # q is on the beach line: queued again, ranked now by the site whose arc it touches
+        if partner == UNKEYED and self.heap and not t < self.heap[0].time:
+            # q is on the beach line, and another contact may come at this time: queued again,
+            # ranked now by the site whose arc it touches
             self.push(t, Event.PROBE, (None, i, low, above), partner=above)
             return
         # q is on the beach line: inside the arc above it, or at the breakpoints there

@@ -663,8 +663,9 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                 elif gap > 0:
                     S[_STATUS] = ERR_STATE
                     break
-                elif ev[e, _PARTNER] == _UNKEYED:
-                    # q is on the beach line: queued again, now ranked by the arc's site
+                elif ev[e, _PARTNER] == _UNKEYED and S[_HEAPN] > 0 and not evf[heap[0], 0] > th:
+                    # q is on the beach line, and another probe may come at this time: queued
+                    # again, now ranked by the arc's site
                     _push(G, counters, S, ev, evf, heap, free, _PROBE, ev[e, _TK], ev[e, _TA], ev[e, _TB],
                           ev[e, _TC], tl, th, pk, pa, pb, pc, (xl, xh, yl, yh), i, above)
                 elif nat == 0:
