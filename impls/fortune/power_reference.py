@@ -589,7 +589,7 @@ class ProbingSweep(Sweep):
 
     def __init__(self, sites: NDArray[np.float64], weights: NDArray[np.float64]) -> None:
         super().__init__(sites, weights)
-        self.watch: dict[int, list[int]] = {}
+        self.watch: dict[int, list[int]] = {}       # S_i, newest first (as the compiled list)
         self.counts.update(probes=0)
         # vertical slabs of about sqrt(n) sites (level 0; level L's slab is slab >> 2 L, four
         # times as wide as level L - 1's), and the site activated last in each
@@ -629,7 +629,7 @@ class ProbingSweep(Sweep):
         if self.y[watch[0]] >= self.y[i]:
             # a bound needs a lower site (else T_i falls forever straight down): the leftmost
             # arc belongs to the lowest row
-            watch.append(self.arcs[self.beach[0]].site)
+            watch.insert(0, self.arcs[self.beach[0]].site)
         self.watch[i] = watch
         # the sites activated last in i's slab and the two beside it are near i (most of them
         # pending, below it), and so are the last of its coarser slabs where i is sparser than
@@ -646,7 +646,7 @@ class ProbingSweep(Sweep):
                 continue
             (_, cx, cy, h), _ = low
             if self.power_gap(s, i, cx, cy, h) < 0:
-                watch.append(s)
+                watch.insert(0, s)
                 low = self.lowest_point(i)
         self._activated(i)
         self.schedule_probe(i)
@@ -710,7 +710,7 @@ class ProbingSweep(Sweep):
         gap = self.power_gap(above, i, cx, cy, h)
         if gap < 0:
             # q is below the beach line: the bound moves on
-            self.watch[i].append(above)
+            self.watch[i].insert(0, above)
             self.schedule_probe(i)
             return
         if gap > 0:
