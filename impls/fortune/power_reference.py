@@ -579,11 +579,11 @@ class ProbingSweep(Sweep):
     Pending site i keeps a few sites S_i (present, pending or hidden: any site bounds its
     cell; the first come from the beach line and from the slabs, see :meth:`activate`). Its
     cell lies in Q_i, where i has less power than every site of S_i, so the lowest time of T_i
-    over Q_i, at a point q, bounds its contact from below; a probe is queued then. At the probe q is on or below the beach line,
-    and the arc over q alone says which: the beach line at q's x is that arc's wavefront, so q
-    is below it iff that arc's site has less power at q than i. Below: that site joins S_i (q
-    leaves Q_i, so the next bound is later). On it: i enters at q, inside that arc or at the
-    breakpoint there. A site whose Q_i becomes empty is hidden. (The arc is found here by
+    over Q_i, at a point q, bounds its contact from below; a probe is queued then. At the probe
+    q is on or below the beach line, and the arc over q alone says which: the beach line at q's
+    x is that arc's wavefront, so q is below it iff that arc's site has less power at q than i.
+    Below: that site joins S_i (q leaves Q_i, so the next bound is later). On it: i enters at
+    q, inside that arc or at the breakpoint there. A site whose Q_i becomes empty is hidden. (The arc is found here by
     walking the beach line; the compiled sweep would search its tree.)
     """
 

@@ -413,6 +413,7 @@ def _lowest_on_line(G, counters, wsite, wnext, whead, i, k):
     falls back to :func:`_lowest_point`."""
     lo, hi = -1, -1         # the sites whose lines end L_k on either side (along perp(p_k - p_i))
     lo_box = hi_box = _NO_BOX   # the boxes of those ends (power centres of i, k and lo or hi)
+    lo_time = hi_time = (0.0, 0.0)      # and the intervals of their times
     j = wnext[whead[i]]     # k heads the list; the rest, newest first, are the tightest first
     while j != -1:
         sj = wsite[j]
@@ -432,11 +433,11 @@ def _lowest_on_line(G, counters, wsite, wnext, whead, i, k):
         end, (xl, xh, yl, yh) = (hi, hi_box) if o > 0 else (lo, lo_box)
         if end >= 0 and power_gap(G, counters, sj, i, CENTRE, i, k, end, xl, xh, yl, yh) >= 0:
             continue
-        xl, xh, yl, yh, _, _ = spec_point(G, CENTRE, i, k, sj)
+        xl, xh, yl, yh, tl, th = spec_point(G, CENTRE, i, k, sj)
         if o > 0:
-            hi, hi_box = sj, (xl, xh, yl, yh)
+            hi, hi_box, hi_time = sj, (xl, xh, yl, yh), (tl, th)
         else:
-            lo, lo_box = sj, (xl, xh, yl, yh)
+            lo, lo_box, lo_time = sj, (xl, xh, yl, yh), (tl, th)
     if lo >= 0 and hi >= 0:
         xl, xh, yl, yh = lo_box
         if power_gap(G, counters, hi, i, CENTRE, i, k, lo, xl, xh, yl, yh) < 0:
@@ -452,12 +453,11 @@ def _lowest_on_line(G, counters, wsite, wnext, whead, i, k):
             return True, CONTACT, i, k, -1, k, tl, th, (xl, xh, yl, yh)
     # T_i is monotone between the ends: the least is at one of them
     best, blo, bhi, box = -1, 0.0, 0.0, _NO_BOX
-    for end in (lo, hi):
+    for end, end_box, (tl, th) in ((lo, lo_box, lo_time), (hi, hi_box, hi_time)):
         if end < 0:
             continue
-        xl, xh, yl, yh, tl, th = spec_point(G, CENTRE, i, k, end)
         if best < 0 or time_order(G, counters, CENTRE, i, k, end, tl, th, CENTRE, i, k, best, blo, bhi) < 0:
-            best, blo, bhi, box = end, tl, th, (xl, xh, yl, yh)
+            best, blo, bhi, box = end, tl, th, end_box
     if best < 0:
         return False, -1, -1, -1, -1, -1, 0.0, 0.0, _NO_BOX
     return True, CENTRE, i, k, best, -1, blo, bhi, box
@@ -714,7 +714,8 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
             i = schedule
             found = False
             if line >= 0:
-                found, bk, ba, bb, bc, partner, blo, bhi, box = _lowest_on_line(G, counters, wsite, wnext, whead, i, line)
+                found, bk, ba, bb, bc, partner, blo, bhi, box = _lowest_on_line(G, counters, wsite, wnext, whead,
+                                                                                i, line)
             if not found:
                 bk, ba, bb, bc, partner, blo, bhi, box = _lowest_point(G, counters, wsite, wnext, whead, i)
             if activated:
@@ -741,7 +742,8 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                         continue
                     if power_gap(G, counters, s, i, bk, ba, bb, bc, box[0], box[1], box[2], box[3]) < 0:
                         _watch(wsite, wnext, whead, S, i, s)
-                        found, bk, ba, bb, bc, partner, blo, bhi, box = _lowest_on_line(G, counters, wsite, wnext, whead, i, s)
+                        found, bk, ba, bb, bc, partner, blo, bhi, box = _lowest_on_line(G, counters, wsite, wnext,
+                                                                                        whead, i, s)
                         if not found:
                             bk, ba, bb, bc, partner, blo, bhi, box = _lowest_point(G, counters, wsite, wnext, whead, i)
                 for level in range(last.shape[0]):

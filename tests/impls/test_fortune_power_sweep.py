@@ -331,3 +331,62 @@ def test_the_reference_enters_sites_tied_along_a_line_outermost_first(sites, wei
     prepared, w, _ = prepare_weighted(np.array(sites, dtype=float), np.array(weights, dtype=float))
     got = power_reference.build_weighted(prepared, w, probing=True)
     assert compare(got, impls.get("incremental").build_weighted(prepared, w)).verdict == Verdict.EXACT
+
+
+def _exact_gap_and_apex(sites, weights, left, right, x, t):
+    """G and the apex quantity of ``power_predicates.side`` at (x, t), in rationals."""
+    xl, yl = (Fraction(v) for v in sites[left])
+    xr, yr = (Fraction(v) for v in sites[right])
+    wl, wr, top = Fraction(weights[left]), Fraction(weights[right]), Fraction(weights.max())
+    x, t = Fraction(x), Fraction(t)
+    a, b = t - yl, t - yr
+    gap = (yl - yr) * (a * b - (top - wr) - (x - xr) ** 2) + b * ((xl - xr) * (2 * x - xl - xr) + wl - wr)
+    return gap, (x - xl) * b - (x - xr) * a
+
+
+def _near_breakpoints(rng, cases):
+    """Two sites, weights and a time, with x at the float-rounded roots of G in x (where G is
+    near 0 and its float value is mostly rounding error) or near the apex, moved by a few ulps;
+    a box of up to a few ulps around (x, t), as a spec's point and time have."""
+    for _ in range(cases):
+        sites = rng.random((2, 2)) * rng.choice([1.0, 1e-3, 1e6])
+        if rng.random() < 0.3:
+            sites[1, 1] = sites[0, 1] + rng.integers(-2, 3) * np.spacing(sites[0, 1])
+        weights = (rng.random(2) * 0.1 * (sites[0, 0] - sites[1, 0]) ** 2) if rng.random() < 0.8 else rng.random(2)
+        t = max(sites[:, 1]) + rng.random() * abs(sites[0, 1] - sites[1, 1] + 1e-3)
+        left, right = (0, 1) if rng.random() < 0.5 else (1, 0)
+        (xl, yl), (xr, yr) = sites[left], sites[right]
+        sr = weights.max() - weights[right]
+        a, b, dy, dx, ds = t - yl, t - yr, yl - yr, xl - xr, weights[left] - weights[right]
+        # G(x) = -dy x^2 + 2 (dy x_r + b dx) x + dy (a b - s_r - x_r^2) - b dx (x_l + x_r) + b ds
+        quad = [-dy, 2 * (dy * xr + b * dx), dy * (a * b - sr - xr * xr) - b * dx * (xl + xr) + b * ds]
+        roots = [r.real for r in np.roots(quad)] if dy != 0 else []
+        if dy != 0:
+            roots.append((xl * b - xr * a) / (b - a))        # the apex quantity's root
+        for x in (r for r in roots if np.isfinite(r)):
+            for k in rng.integers(-3, 4, size=2):
+                x0 = x + k * np.spacing(x)
+                width = rng.choice([0, 1, 4])
+                yield sites, weights, left, right, x0, x0 + width * np.spacing(x0), t, t + width * np.spacing(t)
+
+
+def test_the_float_filters_of_the_breakpoint_test_decide_only_true_signs():
+    # where the float evaluation of side's two quantities decides a sign, every point of the
+    # box has that sign (checked at its corners and centre, in rationals); near the roots,
+    # where the float value is mostly rounding error, a bound too small would decide wrongly
+    rng = np.random.default_rng(7)
+    decided = checked = 0
+    for sites, weights, left, right, xl, xh, tl, th in _near_breakpoints(rng, 1500):
+        table = fortune._shift_table(sites, weights)
+        gap = power_predicates._gap_float(table, left, right, xl, xh, tl, th)
+        apex = power_predicates._apex_float(table, left, right, xl, xh, tl, th)
+        points = [(x, t) for x in (xl, xh) for t in (tl, th)]
+        points.append((Fraction(xl) / 2 + Fraction(xh) / 2, Fraction(tl) / 2 + Fraction(th) / 2))
+        for x, t in points:
+            exact_gap, exact_apex = _exact_gap_and_apex(sites, weights, left, right, x, t)
+            for filtered, exact in ((gap, exact_gap), (apex, exact_apex)):
+                checked += 1
+                if filtered != power_predicates.UNDECIDED:
+                    decided += 1
+                    assert filtered * exact > 0, (sites, weights, left, right, xl, xh, tl, th, filtered, exact)
+    assert decided > checked // 4 and decided < checked      # both outcomes occur

@@ -147,19 +147,20 @@ def div(alo, ahi, blo, bhi):
     """a / b (the whole line when b may be 0)."""
     if blo <= 0.0 <= bhi:
         return -_INF, _INF
-    q1 = alo / blo
-    q2 = alo / bhi
-    q3 = ahi / blo
-    q4 = ahi / bhi
-    if q1 != q1 or q2 != q2 or q3 != q3 or q4 != q4:
+    # b has one sign, so a / b is monotone in a and, for a of either sign, in b: each end is
+    # one corner's quotient (two divisions, not four; rounding to nearest is monotone too)
+    if blo > 0.0:
+        num_lo, den_lo = alo, (bhi if alo >= 0.0 else blo)
+        num_hi, den_hi = ahi, (blo if ahi >= 0.0 else bhi)
+    else:
+        num_lo, den_lo = ahi, (bhi if ahi >= 0.0 else blo)
+        num_hi, den_hi = alo, (blo if alo >= 0.0 else bhi)
+    lo = num_lo / den_lo
+    hi = num_hi / den_hi
+    if lo != lo or hi != hi:
         return -_INF, _INF                      # inf / inf
-    lo = min(min(q1, q2), min(q3, q4))
-    hi = max(max(q1, q2), max(q3, q4))
-    if lo == 0.0 or hi == 0.0:
-        # as in mul: a quotient that rounds to 0 is exact when its numerator is 0
-        exact_zeros = ((q1 != 0.0 and q2 != 0.0) or alo == 0.0) and ((q3 != 0.0 and q4 != 0.0) or ahi == 0.0)
-        return _out_exact_zero(lo, hi, exact_zeros, exact_zeros)
-    return _out(lo, hi)
+    # as in mul: a quotient that rounds to 0 is exact when its numerator is 0 (else it underflowed)
+    return _out_exact_zero(lo, hi, num_lo == 0.0, num_hi == 0.0)
 
 
 @njit(cache=True, inline='always')
