@@ -286,17 +286,40 @@ def _locate(G, counters, arcs, root, kind, a, b, c, xl, xh, tl, th, at):
     return found, m
 
 
+#: The most breakpoints :func:`_walk` crosses before it gives up for a descent from the root.
+_WALK_STEPS = 6
+
+
 @njit(cache=True, _nrt=False)
-def _in_arc(G, counters, arcs, gone, x, kind, a, b, c, xl, xh, tl, th):
-    """Whether the point of a spec lies strictly inside arc x (between its two breakpoints), so
-    that :func:`_locate` would return (x, 0): a search from a likely arc that costs two
-    breakpoint tests instead of a descent from the root."""
+def _walk(G, counters, arcs, gone, x, kind, a, b, c, xl, xh, tl, th):
+    """The arc strictly over the point of a spec, found by walking along the beach line from
+    arc x (a site's arc found last, near the point): what :func:`_locate` would return with no
+    breakpoint at the point, for one or two breakpoint tests per arc crossed instead of a
+    descent from the root. -1 when x is gone, the walk is long, or the point is at a
+    breakpoint (the descent then finds the breakpoints there)."""
     if x < 0 or gone[x]:
-        return False
-    p, q = arcs[x, bl.PREV], arcs[x, bl.NEXT]
-    if p != -1 and side(G, counters, arcs[p, bl.SITE], arcs[x, bl.SITE], kind, a, b, c, xl, xh, tl, th) <= 0:
-        return False
-    return q == -1 or side(G, counters, arcs[x, bl.SITE], arcs[q, bl.SITE], kind, a, b, c, xl, xh, tl, th) < 0
+        return -1
+    # known_left / known_right: the point is already known strictly inside that breakpoint of x
+    known_left, known_right = False, False
+    for _ in range(_WALK_STEPS):
+        p = arcs[x, bl.PREV]
+        if not known_left and p != -1:
+            o = side(G, counters, arcs[p, bl.SITE], arcs[x, bl.SITE], kind, a, b, c, xl, xh, tl, th)
+            if o == 0:
+                return -1
+            if o < 0:
+                x, known_left, known_right = p, False, True
+                continue
+        q = arcs[x, bl.NEXT]
+        if known_right or q == -1:
+            return x
+        o = side(G, counters, arcs[x, bl.SITE], arcs[q, bl.SITE], kind, a, b, c, xl, xh, tl, th)
+        if o < 0:
+            return x
+        if o == 0:
+            return -1
+        x, known_left, known_right = q, True, False
+    return -1
 
 
 @njit(cache=True, _nrt=False)
@@ -325,10 +348,9 @@ def _new_vertex(vspec, S, a, b, c):
 
 
 @njit(cache=True, _nrt=False)
-def _new_arc(arcs, S, latest, site):
+def _new_arc(arcs, S, site):
     x = S[_NARCS]
     S[_NARCS] = x + 1
-    latest[site] = x
     # splitmix-like deterministic priorities: counts do not depend on the machine
     z = np.uint64(x + 1) * np.uint64(0x9E3779B97F4A7C15)
     z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
@@ -504,7 +526,7 @@ def sweep(G, order, row, counters, slab, watch_rows):
     wsite = np.empty(max(watch_rows, 2 + _SLAB_WATCH + levels), dtype=np.int64)
     wnext = np.empty(wsite.shape[0], dtype=np.int64)
     state = np.zeros(n, dtype=np.int8)          # 0 waiting, 1 pending, 2 present, 3 hidden
-    latest = np.full(n, -1, dtype=np.int64)     # each site's newest arc (a probe's first guess)
+    last_arc = np.full(n, -1, dtype=np.int64)   # each site's arc found last: where its next search starts
     gone = np.zeros(arcs.shape[0], dtype=np.bool_)
     cand = np.full((arcs.shape[0], 3), -1, dtype=np.int64)     # see _circle_candidate
     candf = np.empty((arcs.shape[0], 6), dtype=np.float64)
@@ -534,7 +556,7 @@ def sweep(G, order, row, counters, slab, watch_rows):
     for h in range(m):
         i = hull[h]
         state[i] = 2
-        x = _new_arc(arcs, S, latest, i)
+        x = _new_arc(arcs, S, i)
         S[_ROOT] = bl.insert_after(arcs, S[_ROOT], previous, x)
         if previous >= 0:
             arcs[previous, bl.EDGE] = _new_edge(edges, S, arcs[previous, bl.SITE], i, -1)
@@ -545,7 +567,7 @@ def sweep(G, order, row, counters, slab, watch_rows):
     S[_NXTACT], S[_GUARD], S[_BEACH] = row, 0, m
     while True:
         status = _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wnext, whead, slab,
-                      last, state, latest, gone, cand, candf, at, S, SF)
+                      last, state, last_arc, gone, cand, candf, at, S, SF)
         if status != _NEED_ROOM:
             break
         wsite, wnext = _grown(wsite, wnext)
@@ -554,7 +576,7 @@ def sweep(G, order, row, counters, slab, watch_rows):
 
 @njit(cache=True, _nrt=False)
 def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wnext, whead, slab, last, state,
-         latest, gone, cand, candf, at, S, SF):
+         last_arc, gone, cand, candf, at, S, SF):
     """The sweep's loop over events, on the arrays :func:`sweep` made: without reference
     counting, which allocates nothing. Returns the sweep's status, or ``_NEED_ROOM`` (before
     an event is taken) when the watch pool may be too small for the next one: the caller grows
@@ -594,10 +616,16 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
             S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC] = SITE, i, -1, -1
             SF[0], SF[1] = G[i, 1], G[i, 1]
             state[i] = 1
-            arc, _ = _locate(G, counters, arcs, S[_ROOT], SITE, i, -1, -1, G[i, 0], G[i, 0], G[i, 1], G[i, 1], at)
+            # the search starts from the arc found last for the slab's newest site, near i
+            newest = last[0, slab[i]]
+            arc = _walk(G, counters, arcs, gone, last_arc[newest] if newest >= 0 else -1, SITE, i, -1, -1,
+                        G[i, 0], G[i, 0], G[i, 1], G[i, 1])
+            if arc < 0:
+                arc, _ = _locate(G, counters, arcs, S[_ROOT], SITE, i, -1, -1, G[i, 0], G[i, 0], G[i, 1], G[i, 1], at)
             if arc < 0:
                 S[_STATUS] = ERR_STATE
                 break
+            last_arc[i] = arc
             first = arcs[arc, bl.SITE]
             for t in range(2):
                 if t == 1 and G[first, 1] < G[i, 1]:
@@ -645,14 +673,14 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                 counters[PROBES] += 1
                 # the box of the probe's point, kept from _lowest_point
                 xl, xh, yl, yh, tl, th = evf[e, 2], evf[e, 3], evf[e, 4], evf[e, 5], evf[e, 0], evf[e, 1]
-                hint = latest[ev[e, _PARTNER]] if ev[e, _PARTNER] >= 0 else -1
-                if _in_arc(G, counters, arcs, gone, hint, pk, pa, pb, pc, xl, xh, tl, th):
-                    arc, nat = hint, 0
-                else:
+                # from the arc found last for i (at its activation or its last probe), near q
+                arc, nat = _walk(G, counters, arcs, gone, last_arc[i], pk, pa, pb, pc, xl, xh, tl, th), 0
+                if arc < 0:
                     arc, nat = _locate(G, counters, arcs, S[_ROOT], pk, pa, pb, pc, xl, xh, tl, th, at)
                 if arc < 0:
                     S[_STATUS] = ERR_STATE
                     break
+                last_arc[i] = arc
                 above = arcs[arc, bl.SITE]
                 gap = power_gap(G, counters, above, i, pk, pa, pb, pc, xl, xh, yl, yh)
                 if gap < 0:
@@ -674,8 +702,8 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                     counters[IN_ARC] += 1
                     state[i] = 2
                     k_site = arcs[arc, bl.SITE]
-                    x = _new_arc(arcs, S, latest, i)
-                    twin = _new_arc(arcs, S, latest, k_site)
+                    x = _new_arc(arcs, S, i)
+                    twin = _new_arc(arcs, S, k_site)
                     arcs[twin, bl.EDGE] = arcs[arc, bl.EDGE]
                     arcs[arc, bl.EDGE] = _new_edge(edges, S, k_site, i, -1)
                     arcs[x, bl.EDGE] = arcs[arc, bl.EDGE]
@@ -697,7 +725,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                             state[i] = 2
                             v = _new_vertex(vspec, S, sa, i, sb)
                             _close(edges, arcs[la, bl.EDGE], sa, v)
-                            x = _new_arc(arcs, S, latest, i)
+                            x = _new_arc(arcs, S, i)
                             arcs[la, bl.EDGE] = _new_edge(edges, S, sa, i, v)
                             arcs[x, bl.EDGE] = _new_edge(edges, S, i, sb, v)
                             S[_ROOT] = bl.insert_after(arcs, S[_ROOT], la, x)
