@@ -390,3 +390,53 @@ def test_the_float_filters_of_the_breakpoint_test_decide_only_true_signs():
                     decided += 1
                     assert filtered * exact > 0, (sites, weights, left, right, xl, xh, tl, th, filtered, exact)
     assert decided > checked // 4 and decided < checked      # both outcomes occur
+
+
+def _near_collinear_triples(rng, cases):
+    """Three sites, nearly collinear (down to a few ulps off the line) or not, at offsets up
+    to 1e6, with weights that often cancel most of |p_b - p_a|^2 in r_b, or a at the origin and
+    b, c nearly mirrored about its vertical (the centre's x then nearly cancels to 0, so its
+    error is all the numerator's rounding): where the float power centre's error bound is tight
+    or must give up."""
+    for _ in range(cases):
+        if rng.random() < 0.3:
+            p, q = rng.random(2) + 0.1
+            wiggle = rng.choice([1e-9, 1e-13, 1e-16], size=3) * rng.standard_normal(3)
+            sites = np.array([[0.0, rng.random() * 0.1], [p, q], [-p * (1 + wiggle[0]), q * (1 + wiggle[1])]])
+            weights = np.array([0.0, 0.3, 0.3 * (1 + wiggle[2])]) * rng.random()
+            yield sites, weights
+            continue
+        scale, offset = rng.choice([1.0, 1e-3, 1e3]), rng.choice([0.0, 1.0, 1e6]) * rng.random(2)
+        a, b = offset + rng.random(2) * scale, offset + rng.random(2) * scale
+        along, off = rng.random() * 2 - 0.5, rng.choice([1e-2, 1e-8, 1e-13, 1e-16]) * rng.standard_normal()
+        c = a + along * (b - a) + off * scale * np.array([-(b - a)[1], (b - a)[0]])
+        sites = np.array([a, b, c])
+        weights = rng.random(3) * scale * scale
+        if rng.random() < 0.5:      # w_a - w_b close to -|p_b - p_a|^2: r_b nearly cancels
+            weights[1] = weights[0] + float(np.sum((b - a) ** 2)) * (1 + rng.standard_normal() * 1e-9)
+        yield sites, weights
+
+
+def test_the_float_power_centre_holds_the_exact_centre_and_time():
+    # where _centre_float answers, its box holds the exact power centre and its time (compared
+    # in rationals, the time through squares), for every order of the three sites
+    rng = np.random.default_rng(11)
+    answered = asked = 0
+    for sites, weights in _near_collinear_triples(rng, 400):
+        table = fortune._shift_table(sites, weights)
+        with exact_context(sites, weights):
+            g = power_exact._sweep()
+            for a, b, c in [(0, 1, 2), (1, 2, 0), (2, 0, 1), (0, 2, 1)]:
+                v = g.power_centre(a, b, c)
+                ok, xl, xh, yl, yh, tl, th = power_predicates._centre_float(table, a, b, c)
+                asked += 1
+                if v is None or not ok:
+                    continue
+                answered += 1
+                vx, vy = Fraction(v[0]), Fraction(v[1])
+                h = Fraction(g.ell(a, *v))
+                assert Fraction(xl) <= vx <= Fraction(xh), (sites, weights, a, b, c)
+                assert Fraction(yl) <= vy <= Fraction(yh), (sites, weights, a, b, c)
+                low, high = Fraction(tl) - vy, Fraction(th) - vy
+                assert (low <= 0 or low * low <= h) and high >= 0 and high * high >= h, (sites, weights, a, b, c)
+    assert asked // 2 < answered < asked                 # near-collinear triples give up
