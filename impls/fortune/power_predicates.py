@@ -111,7 +111,9 @@ def _centre_float(G, a, b, c):
     er = min(el / r, root_el) if r > 0.0 else root_el
     t = y + r
     et = (ey + er + 2.0 * u * r + 3.0 * u * abs(t)) * _BOUND_SLACK + _TINY
-    if not (ex + ey + et + abs(x) + abs(y) + abs(t) < math.inf):
+    # an overflow, a NaN, or a shift interval given upside down (a negative bound): intervals
+    if not (0.0 <= ex < math.inf and 0.0 <= ey < math.inf and 0.0 <= et < math.inf
+            and abs(x) + abs(y) + abs(t) < math.inf):
         return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     return True, x - ex, x + ex, y - ey, y + ey, t - et, t + et
 
@@ -265,7 +267,7 @@ def _gap_float(G, left, right, xl, xh, tl, th):
     at a time t in [tl, th], from one evaluation in floats at (xl, tl), or UNDECIDED.
 
     The error bound has three parts: the rounding error (SIDE_GAP_ERRBOUND times G with
-    every term in absolute value, the shift s_r taken at its upper end), the spread of G over
+    every term in absolute value, the shift s_r >= 0 taken at its upper end), the spread of G over
     the box, which is exact because G is quadratic in (x, t),
     |G(x, t) - G(xl, tl)| <= |G_t| dt + |G_x| dx + |dy| (dx^2 + dt^2) + 2 |x_l - x_r| dx dt
     with G_t = dy (A + B) + (x_l - x_r) (2 x - x_l - x_r) + s_r - s_l and
@@ -285,6 +287,8 @@ def _gap_float(G, left, right, xl, xh, tl, th):
               + ady * (rx * rx + rt * rt) + 2.0 * adx * rx * rt + ady * (sr - G[right, _SLO]))
     bound = SIDE_GAP_ERRBOUND * magnitude + _SPREAD_SLACK * spread + \
         _UNDERFLOW_SLACK * (1.0 + ady + ab + adx + rx + rt)
+    if not bound >= 0.0:
+        return UNDECIDED                        # a box or shift interval given upside down
     if value > bound:
         return 1
     if value < -bound:
@@ -304,6 +308,8 @@ def _apex_float(G, left, right, xl, xh, tl, th):
     spread = abs(yl_ - yr_) * (xh - xl) + abs(xl_ - xr_) * (th - tl)
     bound = SIDE_APEX_ERRBOUND * (abs(dxl) * abs(b) + abs(dxr) * abs(a)) + _SPREAD_SLACK * spread + \
         _UNDERFLOW_SLACK * (1.0 + abs(a) + abs(b))
+    if not bound >= 0.0:
+        return UNDECIDED                        # a box given upside down
     if value > bound:
         return 1
     if value < -bound:
@@ -312,14 +318,21 @@ def _apex_float(G, left, right, xl, xh, tl, th):
 
 
 @njit(cache=True, inline='always')
+def _side_deltas(G, left, right, xl, xh, tl, th):
+    # the intervals of A = t - y_l, B = t - y_r, x - x_l and x - x_r
+    al, ah = iv.sub(tl, th, G[left, _Y], G[left, _Y])
+    bl, bh = iv.sub(tl, th, G[right, _Y], G[right, _Y])
+    dll, dlh = iv.sub(xl, xh, G[left, _X], G[left, _X])
+    drl, drh = iv.sub(xl, xh, G[right, _X], G[right, _X])
+    return al, ah, bl, bh, dll, dlh, drl, drh
+
+
+@njit(cache=True, inline='always')
 def _gap_interval(G, left, right, xl, xh, tl, th):
     # the sign of G in interval arithmetic (tighter than _gap_float where the box is wide, and
     # exact zeros, as on lattices, stay exact), or UNDECIDED
     yl_, yr_ = G[left, _Y], G[right, _Y]
-    al, ah = iv.sub(tl, th, yl_, yl_)
-    bl, bh = iv.sub(tl, th, yr_, yr_)
-    dll, dlh = iv.sub(xl, xh, G[left, _X], G[left, _X])
-    drl, drh = iv.sub(xl, xh, G[right, _X], G[right, _X])
+    al, ah, bl, bh, dll, dlh, drl, drh = _side_deltas(G, left, right, xl, xh, tl, th)
     # with A = B + (y_r - y_l): G = (y_l - y_r) (A B - s_r - (x - x_r)^2)
     #                              + B ((s_r - s_l) + (x_l - x_r) (2 x - x_l - x_r)),
     # which leaves t in one place per product (its interval is not counted twice)
@@ -342,11 +355,7 @@ def _gap_interval(G, left, right, xl, xh, tl, th):
 @njit(cache=True, inline='always')
 def _apex_interval(G, left, right, xl, xh, tl, th):
     # the sign of (x - x_l) B - (x - x_r) A in interval arithmetic, or UNDECIDED
-    yl_, yr_ = G[left, _Y], G[right, _Y]
-    al, ah = iv.sub(tl, th, yl_, yl_)
-    bl, bh = iv.sub(tl, th, yr_, yr_)
-    dll, dlh = iv.sub(xl, xh, G[left, _X], G[left, _X])
-    drl, drh = iv.sub(xl, xh, G[right, _X], G[right, _X])
+    al, ah, bl, bh, dll, dlh, drl, drh = _side_deltas(G, left, right, xl, xh, tl, th)
     t1l, t1h = iv.mul(dll, dlh, bl, bh)
     t2l, t2h = iv.mul(drl, drh, al, ah)
     nl, nh = iv.sub(t1l, t1h, t2l, t2h)

@@ -103,3 +103,10 @@ def test_exact_zeros_stay_exact_and_widening_makes_no_subnormal():
                    iv.mul(-1e-200, 1e-200, 1e-200, 1e-100),   # both ends underflow
                    iv.add(0.1, 0.2, 0.3, 0.4), iv.sqr(-1e-170, 1e-170)):
         assert not _subnormal(lo) and not _subnormal(hi), (lo, hi)
+
+
+def test_a_divisor_with_one_end_nan_gives_the_whole_line():
+    # the two-quotient division picks its corners by the divisor's signs; a NaN end must not
+    # pick a branch (an interval operation never makes one, but a caller might)
+    assert iv.div(-1.0, 1.0, math.nan, 2.0) == (-math.inf, math.inf)
+    assert iv.div(-1.0, 1.0, -2.0, math.nan) == (-math.inf, math.inf)

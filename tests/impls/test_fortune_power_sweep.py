@@ -440,3 +440,17 @@ def test_the_float_power_centre_holds_the_exact_centre_and_time():
                 low, high = Fraction(tl) - vy, Fraction(th) - vy
                 assert (low <= 0 or low * low <= h) and high >= 0 and high * high >= h, (sites, weights, a, b, c)
     assert asked // 2 < answered < asked                 # near-collinear triples give up
+
+
+def test_the_float_filters_give_up_on_boxes_and_shifts_upside_down():
+    # the sweep never makes them, but a filter must not turn one into a sign or a box (a
+    # helper's review found that the bounds then went negative and a sign came out)
+    sites, weights = np.array([[0.2, 0.1], [0.7, 0.3], [0.4, 0.9]]), np.array([0.0, 0.01, 0.02])
+    table = fortune._shift_table(sites, weights)
+    for box in ((0.5, -np.inf, 2.0, 2.0), (0.5, 0.5, 2.0, -np.inf), (0.5, 0.4, 2.0, 2.0)):
+        assert power_predicates._apex_float(table, 0, 1, *box) == power_predicates.UNDECIDED, box
+        assert power_predicates._gap_float(table, 0, 1, *box) == power_predicates.UNDECIDED, box
+    upside_down = table.copy()
+    upside_down[:, 2] = np.inf                          # s_lo above s_hi
+    assert power_predicates._gap_float(upside_down, 0, 1, 0.5, 0.5, 2.0, 2.0) == power_predicates.UNDECIDED
+    assert not power_predicates._centre_float(upside_down, 0, 1, 2)[0]

@@ -145,8 +145,8 @@ def sqr(alo, ahi):
 @njit(cache=True, inline='always')
 def div(alo, ahi, blo, bhi):
     """a / b (the whole line when b may be 0)."""
-    if blo <= 0.0 <= bhi:
-        return -_INF, _INF
+    if blo <= 0.0 <= bhi or not blo <= bhi:
+        return -_INF, _INF                      # (or an end is NaN: the branch below needs both)
     # b has one sign, so a / b is monotone in a and, for a of either sign, in b: each end is
     # one corner's quotient (two divisions, not four; rounding to nearest is monotone too)
     if blo > 0.0:
