@@ -64,7 +64,7 @@ orient2d_exact.
 
 Weighted sites (``build_weighted``, power diagrams): the weighted sweep of docs/power.md, in
 ``power_sweep.py`` (events: activations, probes for each pending site's first contact, circle
-events at power centres), deciding through ``power_predicates.py`` (interval filters) and
+events at power centres), deciding through ``power_predicates.py`` (float and interval filters) and
 ``power_exact.py`` (the exact stage, in the rationals of ``power_reference.py``, the
 specification). Equal weights go to the ordinary sweep (its diagram bit for bit). Stats add
 weighted_filtered / weighted_exact, probes, contacts_in_arc / contacts_at_vertex,

@@ -1,16 +1,19 @@
-"""The weighted sweep's predicates, compiled: an interval filter, then the exact stage.
+"""The weighted sweep's predicates, compiled: float and interval filters, then the exact stage.
 
 Each decision of :mod:`impls.fortune.power_reference` (the specification) is evaluated here
 in interval arithmetic (:mod:`vorobench.core.predicates.interval`) on the points and times of
-*specs* (see :mod:`impls.fortune.power_exact`); when the interval of the deciding quantity
-holds 0, the same decision is taken in rationals by :mod:`impls.fortune.power_exact`, called
-from numba's object mode. Signs known to be 0 by construction are not filtered: the power gap
+*specs* (see :mod:`impls.fortune.power_exact`); the breakpoint test and the power centre of
+three sites, the most frequent, are first evaluated in floats with error bounds derived by
+hand (``_gap_float``, ``_apex_float``, ``_centre_float``). When the interval of the deciding
+quantity holds 0, the same decision is taken in rationals by :mod:`impls.fortune.power_exact`,
+called from numba's object mode. Signs known to be 0 by construction are not filtered: the power gap
 of two sites at a point that defines them (their power centre, their contact point), and the
 difference of two wavefronts at such a point, where only the branch is left to decide.
 
 ``G`` is the per-site table (x, y, s_lo, s_hi, w): coordinates, the shifted weight
 s_i = max(w) - w_i as an interval, and the weight itself, from which differences of shifts
-are taken (s_i - s_j = w_j - w_i, one rounding instead of two). ``counters`` counts filter calls and exact decisions.
+are taken (s_i - s_j = w_j - w_i, one rounding instead of two). ``counters`` counts filter
+calls and exact decisions.
 """
 
 from __future__ import annotations

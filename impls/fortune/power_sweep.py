@@ -7,7 +7,7 @@ pending site, at the least time of T_i over the polygon Q_i where i beats its wa
 circle events at power centres. Ties in time go circle, then activation, then probes (those
 whose partner is not on the beach line first, to be ranked again by the arc they touch; then
 the farthest from its partner first), then the older event. Each decision is a predicate of
-:mod:`impls.fortune.power_predicates` (interval filter, exact stage in rationals).
+:mod:`impls.fortune.power_predicates` (float and interval filters, exact stage in rationals).
 
 The beach line is the ordinary sweep's treap (:mod:`impls.fortune.beach_line`), searched here
 with the weighted breakpoint test; events sit in an indexed binary heap (cancelled when an arc
