@@ -103,7 +103,8 @@ _ERRORS = {1: "the search for the arc above a site left the beach line",
            3: "the event loop exceeded its iteration cap",
            4: "a circle event's arc lost a neighbour"}
 
-_WEIGHTED_ERRORS = {power_sweep.ERR_STATE: "a probe found its bound above the beach line or under a site it watched, or an arc lost a neighbour",
+_WEIGHTED_ERRORS = {power_sweep.ERR_STATE: "a probe found its bound above the beach line or under a site it watched, "
+                                           "or an arc lost a neighbour",
                     power_sweep.ERR_ITERATIONS: "the event loop exceeded its iteration cap"}
 
 #: The weighted sweep's first pool of watch-list rows, per site (it doubles when full: a site
