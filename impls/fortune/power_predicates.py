@@ -265,6 +265,26 @@ _UNDERFLOW_SLACK = 2.0 ** -1060
 
 
 @njit(cache=True, inline='always')
+def _float_deltas(G, left, right, xl, tl):
+    # the sites' coordinates, then A = t - y_l, B = t - y_r, x - x_l and x - x_r at (xl, tl)
+    yl_, yr_, xl_, xr_ = G[left, _Y], G[right, _Y], G[left, _X], G[right, _X]
+    return yl_, yr_, xl_, xr_, tl - yl_, tl - yr_, xl - xl_, xl - xr_
+
+
+@njit(cache=True, inline='always')
+def _float_sign(value, bound):
+    # the sign of a float value that errs by at most bound, or UNDECIDED; a bound below 0 or
+    # NaN (a box or shift interval given upside down, an overflow) decides nothing
+    if not bound >= 0.0:
+        return UNDECIDED
+    if value > bound:
+        return 1
+    if value < -bound:
+        return -1
+    return UNDECIDED
+
+
+@njit(cache=True, inline='always')
 def _gap_float(G, left, right, xl, xh, tl, th):
     """The sign of the wavefronts' difference G (see :func:`side`) at the point x in [xl, xh],
     at a time t in [tl, th], from one evaluation in floats at (xl, tl), or UNDECIDED.
@@ -276,9 +296,7 @@ def _gap_float(G, left, right, xl, xh, tl, th):
     with G_t = dy (A + B) + (x_l - x_r) (2 x - x_l - x_r) + s_r - s_l and
     G_x = 2 (B (x_l - x_r) - dy (x - x_r)), plus the width of s_r's interval times |dy|; and an
     absolute term for underflow. Overflow and NaN make the bound infinite or NaN: UNDECIDED."""
-    yl_, yr_, xl_, xr_ = G[left, _Y], G[right, _Y], G[left, _X], G[right, _X]
-    a, b = tl - yl_, tl - yr_
-    dxl, dxr = xl - xl_, xl - xr_
+    yl_, yr_, xl_, xr_, a, b, dxl, dxr = _float_deltas(G, left, right, xl, tl)
     dy, dx = yl_ - yr_, xl_ - xr_
     sr = G[right, _SHI]
     ds = G[left, _W] - G[right, _W]                 # s_r - s_l
@@ -290,13 +308,7 @@ def _gap_float(G, left, right, xl, xh, tl, th):
               + ady * (rx * rx + rt * rt) + 2.0 * adx * rx * rt + ady * (sr - G[right, _SLO]))
     bound = SIDE_GAP_ERRBOUND * magnitude + _SPREAD_SLACK * spread + \
         _UNDERFLOW_SLACK * (1.0 + ady + ab + adx + rx + rt)
-    if not bound >= 0.0:
-        return UNDECIDED                        # a box or shift interval given upside down
-    if value > bound:
-        return 1
-    if value < -bound:
-        return -1
-    return UNDECIDED
+    return _float_sign(value, bound)
 
 
 @njit(cache=True, inline='always')
@@ -304,20 +316,12 @@ def _apex_float(G, left, right, xl, xh, tl, th):
     """The sign of (x - x_l) B - (x - x_r) A (see :func:`side`) in floats at (xl, tl), or
     UNDECIDED: the quantity is affine in (x, t) (the x t terms cancel), so its spread over the
     box is exactly |y_l - y_r| dx + |x_l - x_r| dt."""
-    yl_, yr_, xl_, xr_ = G[left, _Y], G[right, _Y], G[left, _X], G[right, _X]
-    a, b = tl - yl_, tl - yr_
-    dxl, dxr = xl - xl_, xl - xr_
+    yl_, yr_, xl_, xr_, a, b, dxl, dxr = _float_deltas(G, left, right, xl, tl)
     value = dxl * b - dxr * a
     spread = abs(yl_ - yr_) * (xh - xl) + abs(xl_ - xr_) * (th - tl)
     bound = SIDE_APEX_ERRBOUND * (abs(dxl) * abs(b) + abs(dxr) * abs(a)) + _SPREAD_SLACK * spread + \
         _UNDERFLOW_SLACK * (1.0 + abs(a) + abs(b))
-    if not bound >= 0.0:
-        return UNDECIDED                        # a box given upside down
-    if value > bound:
-        return 1
-    if value < -bound:
-        return -1
-    return UNDECIDED
+    return _float_sign(value, bound)
 
 
 @njit(cache=True, inline='always')
