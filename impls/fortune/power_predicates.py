@@ -25,6 +25,7 @@ from numba import njit, objmode
 from impls.fortune import power_exact
 from impls.fortune.power_exact import CENTRE, CONTACT, SITE
 from vorobench.core.predicates import interval as iv
+from vorobench.core.predicates import running_error as rerr
 from vorobench.core.predicates import orient2d
 from vorobench.core.predicates.expansion import EPSILON, _new_pool, _xadd, _xd, _xmul, _xsign, _xsub
 from vorobench.core.predicates.interval import UNDECIDED
@@ -121,6 +122,48 @@ def _centre_float(G, a, b, c):
     return True, x - ex, x + ex, y - ey, y + ey, t - et, t + et
 
 
+@njit(cache=True, inline='always')
+def _contact_float(G, i, k):
+    """The contact point of site i with the lower site k and its time (see :func:`spec_point`)
+    in floats with running error bounds (:mod:`vorobench.core.predicates.running_error`):
+    (True, box), or (False, ...) where a divisor may be 0 (sites at nearly one height) or
+    something overflowed, and the intervals take over."""
+    nx, enx = rerr.sub(G[k, _X], 0.0, G[i, _X], 0.0)
+    ny, eny = rerr.sub(G[k, _Y], 0.0, G[i, _Y], 0.0)
+    sx, esx = rerr.sqr(nx, enx)
+    sy, esy = rerr.sqr(ny, eny)
+    nn, enn = rerr.add(sx, esx, sy, esy)
+    ds, eds = rerr.sub(G[i, _W], 0.0, G[k, _W], 0.0)              # s_k - s_i
+    q, eq = rerr.div(ds, eds, nn, enn)
+    q, eq = rerr.half(q, eq)
+    mx, emx = rerr.add(G[i, _X], 0.0, G[k, _X], 0.0)
+    mx, emx = rerr.half(mx, emx)
+    my, emy = rerr.add(G[i, _Y], 0.0, G[k, _Y], 0.0)
+    my, emy = rerr.half(my, emy)
+    p, ep = rerr.mul(nx, enx, q, eq)
+    fx, efx = rerr.add(mx, emx, p, ep)
+    p, ep = rerr.mul(ny, eny, q, eq)
+    fy, efy = rerr.add(my, emy, p, ep)
+    lam, elam = rerr.sub(q, eq, 0.5, 0.0)
+    lam, elam = rerr.sqr(lam, elam)
+    sk, esk = rerr.within(G[k, _SLO], G[k, _SHI])
+    p, ep = rerr.div(sk, esk, nn, enn)
+    h, eh = rerr.add(lam, elam, p, ep)
+    h, eh = rerr.mul(h, eh, sy, esy)
+    r, er = rerr.sqrt(h, eh)
+    rat, erat = rerr.div(nx, enx, ny, eny)
+    p, ep = rerr.mul(r, er, rat, erat)
+    x, ex = rerr.add(fx, efx, p, ep)
+    rat, erat = rerr.sqr(rat, erat)
+    p, ep = rerr.mul(r, er, rat, erat)
+    y, ey = rerr.sub(fy, efy, p, ep)
+    t, et = rerr.add(fy, efy, r, er)
+    okx, xl, xh = rerr.box(x, ex)
+    oky, yl, yh = rerr.box(y, ey)
+    okt, tl, th = rerr.box(t, et)
+    return okx and oky and okt, xl, xh, yl, yh, tl, th
+
+
 # Explicit signatures: the callers pass kinds and sites as constants, literals and array
 # items, and each mix would otherwise be a compilation of its own (ten seconds each here).
 # ``_nrt=False``: no reference counting of the array arguments, which costs two atomic
@@ -178,6 +221,9 @@ def spec_point(G, kind, a, b, c):
     # h = (lam^2 + s_k / |n|^2) n_y^2, lam = (s_k - s_i) / (2 |n|^2) - 1/2, the contact is
     # c = f + sqrt(h) (n_x / n_y, -n_x^2 / n_y^2) at time f_y + sqrt(h)
     i, k = a, b
+    ok, xl, xh, yl, yh, tl, th = _contact_float(G, i, k)
+    if ok:
+        return xl, xh, yl, yh, tl, th
     nxl, nxh = iv.sub(G[k, _X], G[k, _X], G[i, _X], G[i, _X])
     nyl, nyh = iv.sub(G[k, _Y], G[k, _Y], G[i, _Y], G[i, _Y])
     t1l, t1h = iv.sqr(nxl, nxh)
@@ -422,6 +468,28 @@ def _exact_power_gap(j, k, kind, a, b, c):
     return r
 
 
+@njit(cache=True, inline='always')
+def _power_gap_float(G, j, k, xl, xh, yl, yh):
+    # the sign of l_j - l_k (see power_gap) in floats with running error bounds, the point
+    # taken at its box's centre with half the box as its error, or UNDECIDED
+    cx, ecx = rerr.within(xl, xh)
+    cy, ecy = rerr.within(yl, yh)
+    ux, eux = rerr.sub(G[j, _X], 0.0, G[k, _X], 0.0)
+    uy, euy = rerr.sub(G[j, _Y], 0.0, G[k, _Y], 0.0)
+    a, ea = rerr.sub(G[j, _X], 0.0, cx, ecx)
+    b, eb = rerr.sub(G[k, _X], 0.0, cx, ecx)
+    sx, esx = rerr.add(a, ea, b, eb)                   # (p_j - c)_x + (p_k - c)_x
+    a, ea = rerr.sub(G[j, _Y], 0.0, cy, ecy)
+    b, eb = rerr.sub(G[k, _Y], 0.0, cy, ecy)
+    sy, esy = rerr.add(a, ea, b, eb)
+    a, ea = rerr.mul(ux, eux, sx, esx)
+    b, eb = rerr.mul(uy, euy, sy, esy)
+    v, ev = rerr.add(a, ea, b, eb)
+    d, ed = rerr.sub(G[k, _W], 0.0, G[j, _W], 0.0)     # s_j - s_k
+    v, ev = rerr.add(v, ev, d, ed)
+    return rerr.sign(v, ev)
+
+
 @njit("int64(float64[:, :], int64[:], int64, int64, int64, int64, int64, int64, float64, float64, float64, float64)",
       cache=True, _nrt=False)
 def power_gap(G, counters, j, k, kind, a, b, c, xl, xh, yl, yh):
@@ -431,6 +499,9 @@ def power_gap(G, counters, j, k, kind, a, b, c, xl, xh, yl, yh):
     if j == k or (_defines(kind, a, b, c, j) and _defines(kind, a, b, c, k)):
         return 0
     counters[FILTERED] += 1
+    s = _power_gap_float(G, j, k, xl, xh, yl, yh)
+    if s != UNDECIDED:
+        return s
     ux_l, ux_h = iv.sub(G[j, _X], G[j, _X], G[k, _X], G[k, _X])
     uy_l, uy_h = iv.sub(G[j, _Y], G[j, _Y], G[k, _Y], G[k, _Y])
     t1l, t1h = iv.sub(G[j, _X], G[j, _X], xl, xh)

@@ -361,7 +361,7 @@ def _near_breakpoints(rng, cases):
         # G(x) = -dy x^2 + 2 (dy x_r + b dx) x + dy (a b - s_r - x_r^2) - b dx (x_l + x_r) + b ds
         quad = [-dy, 2 * (dy * xr + b * dx), dy * (a * b - sr - xr * xr) - b * dx * (xl + xr) + b * ds]
         roots = [r.real for r in np.roots(quad)] if dy != 0 else []
-        if dy != 0:
+        if dy != 0 and b != a:                               # (b - a may round to 0)
             roots.append((xl * b - xr * a) / (b - a))        # the apex quantity's root
         for x in (r for r in roots if np.isfinite(r)):
             for k in rng.integers(-3, 4, size=2):
@@ -440,6 +440,92 @@ def test_the_float_power_centre_holds_the_exact_centre_and_time():
                 low, high = Fraction(tl) - vy, Fraction(th) - vy
                 assert (low <= 0 or low * low <= h) and high >= 0 and high * high >= h, (sites, weights, a, b, c)
     assert asked // 2 < answered < asked                 # near-collinear triples give up
+
+
+def _contact_pairs(rng, cases):
+    """Two sites, the second lower, at offsets up to 1e6: at nearly one height (down to an ulp
+    apart, where the contact runs off far to the side), nearly one above the other, or
+    neither; often moved so that the contact, or its x and its time, is near the origin, where
+    they cancel to their last bits and the box is all error bound."""
+    for _ in range(cases):
+        scale, offset = rng.choice([1.0, 1e-3, 1e3]), rng.choice([0.0, 1.0, 1e6]) * rng.random(2)
+        upper = offset + rng.random(2) * scale
+        shape = rng.integers(3)
+        if shape == 0:      # nearly one height
+            lower = upper + scale * np.array([rng.random() - 0.5, -rng.choice([1e-3, 1e-9, 1e-15])])
+            lower[1] = min(lower[1], np.nextafter(upper[1], -np.inf))
+        elif shape == 1:    # nearly one above the other
+            lower = upper + scale * np.array([rng.choice([0.0, 1e-9, 1e-15]) * rng.standard_normal(), -rng.random()])
+        else:
+            lower = upper + scale * np.array([rng.random() - 0.5, -rng.random() - 1e-3])
+        weights = rng.random(2) * scale * scale
+        if rng.random() < 0.5:      # the lower site has the largest weight: s_k = 0
+            weights[1] = weights[0] + float(np.sum((upper - lower) ** 2)) * (1 + rng.choice([0.0, 1e-12]))
+        sites = np.array([upper, lower])
+        ok, xl, xh, yl, yh, tl, th = power_predicates._contact_float(fortune._shift_table(sites, weights), 0, 1)
+        move = rng.integers(3)
+        if ok and move:             # the float contact only places the sites; the exact one judges
+            sites = sites - np.array([(xl + xh) / 2, (yl + yh) / 2 if move == 1 else (tl + th) / 2])
+        yield sites, weights
+
+
+def test_the_float_contact_holds_the_exact_contact_and_time():
+    # where _contact_float answers, its box holds the exact contact point (c0 + c1 sqrt h in
+    # each coordinate) and its time f_y + sqrt h, compared in rationals
+    rng = np.random.default_rng(12)
+    answered = asked = 0
+    for sites, weights in _contact_pairs(rng, 1500):
+        table = fortune._shift_table(sites, weights)
+        with exact_context(sites, weights):
+            found = power_exact._sweep().arc_contact(0, 1)
+        ok, xl, xh, yl, yh, tl, th = power_predicates._contact_float(table, 0, 1)
+        asked += 1
+        if found is None or not ok:
+            continue
+        answered += 1
+        time, (x0, x1), (y0, y1), h = found
+        for (c0, c1), lo, hi in (((x0, x1), xl, xh), ((y0, y1), yl, yh), ((time.a, 1), tl, th)):
+            assert power_reference.surd_sign(c0 - Fraction(lo), c1, h) >= 0, (sites, weights, lo, hi)
+            assert power_reference.surd_sign(Fraction(hi) - c0, -c1, h) >= 0, (sites, weights, lo, hi)
+    assert answered > asked // 2                         # it gives up only where a divisor may be 0
+
+
+def test_the_float_power_gap_decides_only_true_signs():
+    # points within a few ulps of the bisector of two weighted sites, with boxes of 0, 1 or 4
+    # ulps: each sign _power_gap_float decides is that of l_j - l_k at every corner of the box
+    # (it is affine in the point, so the corners are its extremes), in rationals
+    rng = np.random.default_rng(13)
+    decided = checked = 0
+    for _ in range(3000):
+        scale, offset = rng.choice([1.0, 1e-3, 1e3]), rng.choice([0.0, 1.0, 1e6]) * rng.random(2)
+        sites = offset + rng.random((2, 2)) * scale
+        weights = rng.random(2) * scale * scale
+        table = fortune._shift_table(sites, weights)
+        start, way = offset + rng.random(2) * scale, rng.standard_normal(2)
+        lifted = [(float(w), site) for w, site in zip(weights, sites)]
+
+        def gap(c):
+            return sum(sign * (np.sum((c - site) ** 2) - w) for sign, (w, site) in zip((1, -1), lifted))
+
+        g0, g1 = gap(start), gap(start + way) - gap(start)
+        if g1 == 0:
+            continue
+        centre = start - g0 / g1 * way
+        centre = centre + rng.integers(-3, 4, size=2) * np.spacing(centre)
+        half = rng.choice([0, 1, 4], size=2) * np.spacing(centre)
+        xl, xh, yl, yh = centre[0] - half[0], centre[0] + half[0], centre[1] - half[1], centre[1] + half[1]
+        got = power_predicates._power_gap_float(table, 0, 1, xl, xh, yl, yh)
+        checked += 1
+        if got == power_predicates.UNDECIDED:
+            continue
+        decided += 1
+        (pj, pk), (wj, wk) = [[Fraction(v) for v in site] for site in sites], [Fraction(w) for w in weights]
+        for x in (xl, xh):
+            for y in (yl, yh):
+                x_, y_ = Fraction(x), Fraction(y)
+                exact = (x_ - pj[0]) ** 2 + (y_ - pj[1]) ** 2 - wj - (x_ - pk[0]) ** 2 - (y_ - pk[1]) ** 2 + wk
+                assert got * exact > 0, (sites, weights, xl, xh, yl, yh, got)
+    assert checked // 10 < decided < checked                 # both outcomes occur
 
 
 def test_the_float_filters_give_up_on_boxes_and_shifts_upside_down():
