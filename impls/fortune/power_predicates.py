@@ -318,19 +318,6 @@ def _float_deltas(G, left, right, xl, tl):
 
 
 @njit(cache=True, inline='always')
-def _float_sign(value, bound):
-    # the sign of a float value that errs by at most bound, or UNDECIDED; a bound below 0 or
-    # NaN (a box or shift interval given upside down, an overflow) decides nothing
-    if not bound >= 0.0:
-        return UNDECIDED
-    if value > bound:
-        return 1
-    if value < -bound:
-        return -1
-    return UNDECIDED
-
-
-@njit(cache=True, inline='always')
 def _gap_float(G, left, right, xl, xh, tl, th):
     """The sign of the wavefronts' difference G (see :func:`side`) at the point x in [xl, xh],
     at a time t in [tl, th], from one evaluation in floats at (xl, tl), or UNDECIDED.
@@ -354,7 +341,7 @@ def _gap_float(G, left, right, xl, xh, tl, th):
               + ady * (rx * rx + rt * rt) + 2.0 * adx * rx * rt + ady * (sr - G[right, _SLO]))
     bound = SIDE_GAP_ERRBOUND * magnitude + _SPREAD_SLACK * spread + \
         _UNDERFLOW_SLACK * (1.0 + ady + ab + adx + rx + rt)
-    return _float_sign(value, bound)
+    return rerr.sign_within(value, bound)
 
 
 @njit(cache=True, inline='always')
@@ -367,7 +354,7 @@ def _apex_float(G, left, right, xl, xh, tl, th):
     spread = abs(yl_ - yr_) * (xh - xl) + abs(xl_ - xr_) * (th - tl)
     bound = SIDE_APEX_ERRBOUND * (abs(dxl) * abs(b) + abs(dxr) * abs(a)) + _SPREAD_SLACK * spread + \
         _UNDERFLOW_SLACK * (1.0 + abs(a) + abs(b))
-    return _float_sign(value, bound)
+    return rerr.sign_within(value, bound)
 
 
 @njit(cache=True, inline='always')

@@ -28,7 +28,7 @@ from vorobench.core.predicates.expansion import EPSILON
 from vorobench.core.predicates.interval import UNDECIDED
 
 __all__ = ["UNDECIDED", "SLACK", "TINY", "exact", "within", "add", "sub", "mul", "sqr", "div", "half",
-           "sqrt", "sign", "box"]
+           "sqrt", "sign", "sign_within", "box"]
 
 #: Relative slack on a bound computed in floats (see the module docstring).
 SLACK = 1.0 + 2.0 ** -40
@@ -108,16 +108,22 @@ def sqrt(a, ea):
 
 
 @njit(cache=True, inline='always')
-def sign(v, e):
-    """-1 or 1 when the exact value is surely on that side of 0, else UNDECIDED."""
-    bound = e * SLACK
+def sign_within(value, bound):
+    """The sign of a value that errs by at most ``bound``, or UNDECIDED; a bound below 0 or NaN
+    (an input given upside down, an overflow) decides nothing."""
     if not bound >= 0.0:
         return UNDECIDED
-    if v > bound:
+    if value > bound:
         return 1
-    if v < -bound:
+    if value < -bound:
         return -1
     return UNDECIDED
+
+
+@njit(cache=True, inline='always')
+def sign(v, e):
+    """-1 or 1 when the exact value is surely on that side of 0, else UNDECIDED."""
+    return sign_within(v, e * SLACK)
 
 
 @njit(cache=True, inline='always')
