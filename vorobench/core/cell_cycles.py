@@ -12,7 +12,9 @@ __all__ = ["cell_cycles"]
 
 @njit(cache=True)
 def _walk_cells(site, nxt, origin, n):
-    """(half-edges grouped by cell in ``next`` order, offsets per cell, bad cell or -1).
+    """(half-edges grouped by cell in ``next`` order, their origins, offsets per cell, bad cell
+    or -1). The origins are read along the walk, where the half-edge is in cache: a gather
+    ``origin[order]`` afterwards reads memory at random again (0.1-0.2 s at 10^6 sites).
 
     An unbounded cell's walk starts at its (lowest-numbered) half-edge from infinity, so its
     vertex list reads from one end of the boundary to the other; a bounded cell's starts at
@@ -33,6 +35,7 @@ def _walk_cells(site, nxt, origin, n):
     # order: builders number a cell's half-edges near each other, so the walk stays in cache
     # (3x faster at 10^6 sites than walking the cells in id order).
     order = np.empty(H, dtype=nxt.dtype)   # half-edge ids as the DCEL has them
+    origins = np.empty(H, dtype=origin.dtype)
     for h0 in range(H):
         c = site[h0]
         if start[c] != h0:
@@ -40,22 +43,24 @@ def _walk_cells(site, nxt, origin, n):
         k, stop, h = offsets[c], offsets[c + 1], h0
         while True:
             if k >= stop or site[h] != c:
-                return order, offsets, c
+                return order, origins, offsets, c
             order[k] = h
+            origins[k] = origin[h]
             k += 1
             h = nxt[h]
             if h == h0:
                 break
         if k != stop:
-            return order, offsets, c
-    return order, offsets, -1
+            return order, origins, offsets, c
+    return order, origins, offsets, -1
 
 
 def cell_cycles(site: NDArray[np.integer], nxt: NDArray[np.integer], origin: NDArray[np.integer],
-                n: int) -> tuple[NDArray[np.integer], NDArray[np.int64], int]:
-    """``(order, offsets, bad)``: the half-edges of cell i are ``order[offsets[i]:offsets[i + 1]]``
-    (int32 when ``next`` is, else int64),
-    counter-clockwise along ``next`` (an empty slice for a cell with no half-edges), and ``bad``
+                n: int) -> tuple[NDArray[np.integer], NDArray[np.integer], NDArray[np.int64], int]:
+    """``(order, origins, offsets, bad)``: the half-edges of cell i are
+    ``order[offsets[i]:offsets[i + 1]]`` (int32 when ``next`` is, else int64),
+    counter-clockwise along ``next`` (an empty slice for a cell with no half-edges), ``origins``
+    is ``origin[order]`` (the scipy-style regions), and ``bad``
     is -1, or a cell whose ``next`` cycle leaves it, misses some of its half-edges or
     does not return to its start. O(n + H); site ids must lie in [0, n).
     """

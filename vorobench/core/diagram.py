@@ -214,18 +214,19 @@ class Diagram:
         return h[h < self.twin]
 
     @cached_property
-    def _cycles(self) -> tuple[NDArray[np.integer], NDArray[np.int64]]:
-        """Every cell's half-edges in ``next`` order (:func:`cell_cycles`), walked once."""
+    def _cycles(self) -> tuple[NDArray[np.integer], NDArray[np.int64], NDArray[np.integer]]:
+        """Every cell's half-edges in ``next`` order (:func:`cell_cycles`), walked once:
+        ``(order, offsets, origins)``, ``origins`` being ``origin[order]``."""
         if self.n_half_edges and (self.site.min() < 0 or self.site.max() >= self.n_sites):
             raise InvalidDiagramError(f"site ids must lie in [0, {self.n_sites})")
-        order, offsets, bad = cell_cycles(self.site, self.next, self.origin, self.n_sites)
+        order, origins, offsets, bad = cell_cycles(self.site, self.next, self.origin, self.n_sites)
         if bad >= 0:
             raise InvalidDiagramError(f"cell {bad}: next does not walk once around the cell's half-edges")
-        return _read_only(order), _read_only(offsets)
+        return _read_only(order), _read_only(offsets), _read_only(origins)
 
     def cell_half_edges(self, i: int) -> list[int]:
         """Half-edges of cell i in counter-clockwise order (starting after infinity if unbounded)."""
-        order, offsets = self._cycles
+        order, offsets, _ = self._cycles
         return order[offsets[i]:offsets[i + 1]].tolist()
 
     # ------------------------------------------------------------------ scipy-style views
@@ -273,8 +274,8 @@ class Diagram:
         (an unbounded cell's list starts at infinity); an empty list for a cell with no edge.
         A read-only sequence whose items are new lists (``.tolist()`` gives scipy's list of
         lists), so a caller cannot change the cached regions."""
-        order, offsets = self._cycles
-        return Regions(self.origin[order], offsets, copy=False)  # a new array, ours alone
+        _, offsets, origins = self._cycles
+        return Regions(origins, offsets, copy=False)  # read-only, like the cache it comes from
 
     @cached_property
     def ridge_points(self) -> NDArray[np.int64]:
@@ -364,7 +365,7 @@ class Diagram:
         polygon ``corners[offsets[i]:offsets[i + 1]]``, the same as ``cell_polygon(i, box)``."""
         if box is None:
             box = site_box(self)
-        order, offsets = self._cycles
+        order, offsets, _ = self._cycles
         anchor, direction = self._cell_lines(order)
         return clip_groups(_box_corners(box), anchor, direction, offsets, empty_without_lines=self.n_sites != 1)
 
