@@ -4,7 +4,9 @@ Each decision of :mod:`impls.fortune.power_reference` (the specification) is eva
 in interval arithmetic (:mod:`vorobench.core.predicates.interval`) on the points and times of
 *specs* (see :mod:`impls.fortune.power_exact`); the breakpoint test and the power centre of
 three sites, the most frequent, are first evaluated in floats with error bounds derived by
-hand (``_gap_float``, ``_apex_float``, ``_centre_float``). When the interval of the deciding
+hand (``_gap_float``, ``_apex_float``, ``_centre_float``), and contact points and power gaps in
+floats that carry their error bound (``_contact_float``, ``_power_gap_float``, with
+:mod:`vorobench.core.predicates.running_error`). When the interval of the deciding
 quantity holds 0, the same decision is taken in rationals by :mod:`impls.fortune.power_exact`,
 called from numba's object mode. Signs known to be 0 by construction are not filtered: the power gap
 of two sites at a point that defines them (their power centre, their contact point), and the
@@ -126,8 +128,8 @@ def _centre_float(G, a, b, c):
 def _contact_float(G, i, k):
     """The contact point of site i with the lower site k and its time (see :func:`spec_point`)
     in floats with running error bounds (:mod:`vorobench.core.predicates.running_error`):
-    (True, box), or (False, ...) where a divisor may be 0 (sites at nearly one height) or
-    something overflowed, and the intervals take over."""
+    (True, box), or (False, ...) where something overflowed or a divisor's error may reach it
+    (differences near the underflow threshold), and the intervals take over."""
     nx, enx = rerr.sub(G[k, _X], 0.0, G[i, _X], 0.0)
     ny, eny = rerr.sub(G[k, _Y], 0.0, G[i, _Y], 0.0)
     sx, esx = rerr.sqr(nx, enx)
