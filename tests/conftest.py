@@ -1,8 +1,10 @@
 """Shared test set-up: the helper modules in tests/support (test doubles loaded as plugins or
-imported by name, in this process and in its workers), and one Dask cluster per session."""
+imported by name, in this process and in its workers), one Dask cluster per session, and
+Ctrl-C for the runs a test starts."""
 
 from __future__ import annotations
 
+import signal
 import sys
 from pathlib import Path
 
@@ -27,3 +29,17 @@ def dask_address():
         with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
                           dashboard_address=None) as cluster:
             yield cluster.scheduler_address.replace("tcp://", "dask://")
+
+
+@pytest.fixture
+def sigint_reaches_children():
+    """Runs started by the test get SIGINT's default action, even when the tests themselves
+    were started with SIGINT ignored (a background job of a shell without job control, as
+    some CI runners start them): an ignored signal stays ignored across exec, Python then
+    installs no KeyboardInterrupt handler, and a test of Ctrl-C waits for nothing."""
+    before = signal.getsignal(signal.SIGINT)
+    if before == signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    if before is not None:
+        signal.signal(signal.SIGINT, before)

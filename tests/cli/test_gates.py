@@ -225,6 +225,7 @@ def _wait_gone(pids, seconds: float) -> list[int]:
     return [p for p in pids if _alive(p)]
 
 
+@pytest.mark.usefixtures("sigint_reaches_children")
 @pytest.mark.parametrize("command,sig", [("bench", signal.SIGTERM), ("bench", signal.SIGKILL),
                                          ("validate", signal.SIGKILL), ("validate", signal.SIGINT)])
 def test_no_worker_or_grandchild_outlives_the_run(command, sig, tmp_path):

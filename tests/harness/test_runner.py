@@ -151,6 +151,7 @@ def test_interrupt_keeps_finished_cases(tmp_path, monkeypatch):
     assert list(df["n"]) == [10] and list(df["time_s"]) == [0.5]
 
 
+@pytest.mark.usefixtures("sigint_reaches_children")
 def test_ctrl_c_in_a_real_run_loses_nothing_finished(tmp_path):
     out = tmp_path / "r.csv"
     cmd = [sys.executable, "-m", "vorobench", "bench", "--min-time", "0", "--plugin", DOUBLES, "--impls", "qhull,hang",
