@@ -43,7 +43,7 @@ _REL = 2.0 ** -52
 _MIN_NORMAL = 2.0 ** -1022
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def _clamped(lo, hi):
     # an end that overflowed to the far side (a lower end of +inf, an upper end of -inf)
     # stands for a finite value beyond the largest float, which that float bounds; this also
@@ -51,7 +51,7 @@ def _clamped(lo, hi):
     return min(lo, _MAX), max(hi, -_MAX)
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def _out_exact_zero(lo, hi, lo_exact_zero, hi_exact_zero):
     # each end moved outward by at least one ulp, which covers the half-ulp rounding of the
     # operation that made it, except an end at 0 that the caller knows to be exact (or a valid
@@ -66,12 +66,12 @@ def _out_exact_zero(lo, hi, lo_exact_zero, hi_exact_zero):
     return lo, hi
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def _out(lo, hi):
     return _out_exact_zero(lo, hi, False, False)
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def _out_sum(lo, hi):
     # _out for a sum or difference of two floats, which is exact when it rounds into the
     # subnormal range or to 0: only a normal result needs widening, and |x| 2**-52 is at least
@@ -83,25 +83,25 @@ def _out_sum(lo, hi):
     return lo - abs(lo) * _REL, hi + abs(hi) * _REL
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def exact(x):
     """The interval of a float that is exactly the value meant."""
     return x, x
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def add(alo, ahi, blo, bhi):
     """a + b."""
     return _out_sum(alo + blo, ahi + bhi)
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def sub(alo, ahi, blo, bhi):
     """a - b."""
     return _out_sum(alo - bhi, ahi - blo)
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def mul(alo, ahi, blo, bhi):
     """a * b."""
     p1 = alo * blo
@@ -122,13 +122,13 @@ def mul(alo, ahi, blo, bhi):
     return _out(lo, hi)
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def half(alo, ahi):
     """a / 2 (exact in floats, barring underflow: widened anyway, but not an end that was 0)."""
     return _out_exact_zero(alo * 0.5, ahi * 0.5, alo == 0.0, ahi == 0.0)
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def sqr(alo, ahi):
     """a * a (never below 0, unlike mul(a, a) on an interval around 0)."""
     # a square is never below 0, so a lower end at 0 needs no widening; an upper end at 0 is
@@ -142,7 +142,7 @@ def sqr(alo, ahi):
     return max(lo, 0.0), hi
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def div(alo, ahi, blo, bhi):
     """a / b (the whole line when b may be 0)."""
     if blo <= 0.0 <= bhi or not blo <= bhi:
@@ -163,7 +163,7 @@ def div(alo, ahi, blo, bhi):
     return _out_exact_zero(lo, hi, num_lo == 0.0, num_hi == 0.0)
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def sqrt(alo, ahi):
     """The square root of a quantity known to be >= 0 (negative ends are its rounding)."""
     # both ends at 0 are exact: the root is >= 0, and an upper end of 0 means the quantity is 0
@@ -171,7 +171,7 @@ def sqrt(alo, ahi):
     return max(lo, 0.0), hi
 
 
-@njit(cache=True, inline='always')
+@njit(cache=True)
 def sign(lo, hi):
     """-1 or 1 when the interval is on one side of 0, else :data:`UNDECIDED`."""
     if lo > 0.0:
