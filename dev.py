@@ -79,9 +79,10 @@ def install_references() -> int:
     return run(["-c", "from impls.executable import build_references; raise SystemExit(build_references())"])
 
 
-#: The numba kernels the tests need, in two groups of about equal compile time on a fresh
-#: clone (measured: 145 s for the sweeps, the judge's comparison and the outside libraries'
-#: adapters; 136 s for the rest, each alone on a core).
+#: The numba kernels most tests need, in two groups of about equal compile time on a fresh
+#: clone (measured: 114 s for the sweeps and the judge's comparison, 136 s for the rest, each
+#: alone on a core). Warming the outside libraries' adapters too did not make the run faster
+#: (1,050 s against 995 s, one fresh clone each): few tests use them.
 WARM_KERNELS = (
     """
 import datasets_gen, impls
@@ -93,8 +94,6 @@ for weights in (None, datasets_gen.weights("radii", sites, seed=1)):
     compare(exact, impls.build("incremental", sites, weights=weights))
     compare(exact, impls.build("qhull", sites, weights=weights))
 exact.regions
-for name in impls.of_kind("outside"):
-    impls.get(name).warmup()
 """,
     """
 import datasets_gen, impls
