@@ -7,7 +7,15 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from vorobench.core.prefetch import prefetch
+
 __all__ = ["cell_cycles"]
+
+#: How many half-edges ahead the walk asks for the rows of the cell it will meet: cell ids
+#: jump about memory from one half-edge to the next, and each row would otherwise be a wait
+#: (the walk at 10^6 sites: 0.75 s before, 0.45 s after for fortune; 0.53 s and 0.42 s for
+#: incremental; A/B in one process).
+CELL_AHEAD = 16
 
 
 @njit(cache=True)
@@ -24,6 +32,10 @@ def _walk_cells(site, nxt, origin, n):
     start = np.full(n, -1, dtype=nxt.dtype)
     offsets = np.zeros(n + 1, dtype=np.int64)
     for h in range(H):
+        if h + CELL_AHEAD < H:
+            later = site[h + CELL_AHEAD]
+            prefetch(start, later)
+            prefetch(offsets, later + 1)
         c = site[h]
         offsets[c + 1] += 1
         s = start[c]
@@ -37,6 +49,10 @@ def _walk_cells(site, nxt, origin, n):
     order = np.empty(H, dtype=nxt.dtype)   # half-edge ids as the DCEL has them
     origins = np.empty(H, dtype=origin.dtype)
     for h0 in range(H):
+        if h0 + CELL_AHEAD < H:
+            later = site[h0 + CELL_AHEAD]
+            prefetch(start, later)
+            prefetch(offsets, later)
         c = site[h0]
         if start[c] != h0:
             continue
