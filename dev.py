@@ -81,19 +81,15 @@ def install_references() -> int:
 
 #: The numba kernels most tests need, in two groups of about equal compile time on a fresh
 #: clone (measured: 114 s for the sweeps and the judge's comparison, 136 s for the rest, each
-#: alone on a core, before the read-only paths were added). numba compiles a kernel again for
-#: each new kind of argument, so the builds go through ``impls.build`` too, as the sandboxes
-#: call them (read-only inputs), and diagrams of both DCEL widths are certified. Warming the outside libraries' adapters too did not make the run faster
+#: alone on a core). Warming the outside libraries' adapters too did not make the run faster
 #: (1,050 s against 995 s, one fresh clone each): few tests use them.
 WARM_KERNELS = (
     """
 import datasets_gen, impls
 from vorobench.judge.comparison import compare
-from vorobench.judge.engine import build_and_certify
 impls.builtin("fortune").warmup()
 sites = datasets_gen.generate("uniform", 50, seed=1)
 for weights in (None, datasets_gen.weights("radii", sites, seed=1)):
-    build_and_certify("fortune", sites, weights=weights)
     exact = impls.build("fortune", sites, weights=weights)
     compare(exact, impls.build("incremental", sites, weights=weights))
     compare(exact, impls.build("qhull", sites, weights=weights))
@@ -105,8 +101,6 @@ from vorobench.judge.engine import build_and_certify
 for name in ("halfplane", "incremental"):
     impls.builtin(name).warmup()
 sites = datasets_gen.generate("uniform", 50, seed=1)
-impls.build("halfplane", sites)
-impls.build("halfplane", sites, weights=datasets_gen.weights("radii", sites, seed=1))
 build_and_certify("incremental", sites)
 build_and_certify("incremental", sites, weights=datasets_gen.weights("radii", sites, seed=1))
 """,
