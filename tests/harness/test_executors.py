@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import math
+import socket
 import sys
 import threading
 import time
@@ -14,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from vorobench.harness import executors
-from vorobench.harness.executors import DaskMissing, make_executor, parse_spec, run_tasks
+from vorobench.harness.executors import DaskMissing, check_spec, make_executor, parse_spec, run_tasks
 
 HERE = Path(__file__).parent
 SUPPORT = HERE.parent / "support"
@@ -27,6 +28,21 @@ def test_parse_spec():
     for bad in ("dask://", "spark://x:1", "thread"):
         with pytest.raises(ValueError, match="unknown executor"):
             parse_spec(bad)
+
+
+def test_check_spec_refuses_a_scheduler_address_where_nothing_listens():
+    check_spec("local")
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]              # closed again when the block ends
+    with pytest.raises(ValueError, match="connection refused"):
+        check_spec(f"dask://127.0.0.1:{port}")
+    with pytest.raises(ValueError, match="not HOST:PORT"):
+        check_spec("dask://127.0.0.1:port")
+    with socket.socket() as listening:
+        listening.bind(("127.0.0.1", 0))
+        listening.listen(1)
+        check_spec(f"dask://127.0.0.1:{listening.getsockname()[1]}")     # a port that accepts passes
 
 
 def test_local_executor_is_a_process_pool():

@@ -218,10 +218,10 @@ def config_from_args(args: argparse.Namespace):
 
 def run(args: argparse.Namespace) -> int:
     from vorobench.harness import results
-    from vorobench.harness.executors import parse_spec
+    from vorobench.harness.executors import check_spec
 
     config, out = config_from_args(args)
-    parse_spec(args.executor)
+    check_spec(args.executor)
     if args.workers < 1:
         raise ValueError("--workers must be at least 1")
     store = None

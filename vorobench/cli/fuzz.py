@@ -90,13 +90,13 @@ def _declared(args: argparse.Namespace) -> dict:
 
 
 def run(args: argparse.Namespace) -> int:
-    from vorobench.harness.executors import parse_spec
+    from vorobench.harness.executors import check_spec
     from vorobench.harness.atomic import write_json
     from vorobench.harness.fuzz import run_campaign
     from vorobench.judge.engine import close_shared_judges
 
     console = Console()
-    parse_spec(args.executor)
+    check_spec(args.executor)
     if not 1 <= args.min_n <= args.max_n:
         raise ValueError("--min-n and --max-n: need 1 <= min-n <= max-n")
     out = Path(args.out)

@@ -146,11 +146,11 @@ def _declared(args: argparse.Namespace) -> dict[str, "Declaration"]:
 
 def run(args: argparse.Namespace) -> int:
     from vorobench.harness import validation
-    from vorobench.harness.executors import parse_spec
+    from vorobench.harness.executors import check_spec
     from vorobench.judge.engine import close_shared_judges
 
     console = Console()
-    parse_spec(args.executor)
+    check_spec(args.executor)
     _check_outputs(args)
     out = Path(args.out)
     path = validation.mark_unfinished(out)

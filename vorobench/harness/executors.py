@@ -19,6 +19,7 @@ import math
 import multiprocessing as mp
 import os
 import shutil
+import socket
 import tempfile
 import threading
 import time
@@ -29,7 +30,7 @@ from typing import Any, Callable, Iterable, Iterator, Optional
 
 from vorobench.judge.isolation import default_start_method
 
-__all__ = ["LOCAL", "DASK_PREFIX", "make_executor", "describe", "parse_spec", "TaskResult", "run_tasks",
+__all__ = ["LOCAL", "DASK_PREFIX", "make_executor", "describe", "parse_spec", "check_spec", "TaskResult", "run_tasks",
            "is_worker_death", "DaskMissing"]
 
 LOCAL = "local"
@@ -69,10 +70,34 @@ def parse_spec(spec: str) -> tuple[str, Optional[str]]:
 CONNECT_TIMEOUT = 10.0
 
 
+def _open_port(address: str, timeout: float) -> None:
+    """ValueError at once when nothing listens at ``address`` ("tcp://HOST:PORT"): Dask's own
+    connect retries a refused port until its timeout, which would make a typo cost seconds."""
+    host, _, port = address[len("tcp://"):].rpartition(":")
+    try:
+        socket.create_connection((host.strip("[]"), int(port)), timeout=timeout).close()
+    except ValueError:
+        raise ValueError(f"{address} is not HOST:PORT") from None
+    except ConnectionRefusedError:
+        raise ValueError(f"cannot reach the Dask scheduler at {address}: connection refused "
+                         f"(nothing listens there)") from None
+    except OSError as exc:         # unknown host, unreachable network, no answer in time
+        raise ValueError(f"cannot reach the Dask scheduler at {address} ({type(exc).__name__}: {exc})") from None
+
+
+def check_spec(spec: Optional[str]) -> None:
+    """:func:`parse_spec`, and for a Dask scheduler a TCP connection to it: a mistyped executor
+    is a ValueError before a run starts anything, not seconds into it."""
+    kind, address = parse_spec(spec)
+    if kind == "dask":
+        _open_port(address, CONNECT_TIMEOUT)
+
+
 def _reach_scheduler(address: str, timeout: float) -> None:
     """Ask the scheduler who it is, within ``timeout`` seconds in all; ValueError if it does not
     answer. (``distributed.Client`` bounds the TCP connection but can wait forever for a port
     that accepts and never speaks.)"""
+    _open_port(address, timeout)
     # Dask is an optional extra (vorobench[dask]): imported only for a dask:// executor.
     import asyncio
 
