@@ -114,6 +114,7 @@ from vorobench.core.predicates import (
     orient2d_counted,
     power_test_counted,
 )
+from vorobench.core.read_only import read_only
 from vorobench.core.scaling import check_weight_range, exact_range_sites
 from vorobench.core.spatial_order import HILBERT_BITS, hilbert_keys
 from vorobench.core.union_find import find
@@ -475,11 +476,12 @@ def cells(sites: NDArray[np.float64], order: NDArray[np.int64], counters: NDArra
     N_POWER_COUNTERS entries, for the power tests); None for the ordinary diagram.
     """
     order = np.ascontiguousarray(order, dtype=np.int64)
+    sites = read_only(np.ascontiguousarray(sites, dtype=np.float64))
     if weights is None:
         return _cells(sites, None, None, order, counters)
     if counters.shape[0] < N_POWER_COUNTERS:
         raise ValueError(f"counters must have {N_POWER_COUNTERS} entries for a power diagram")
-    weights = np.ascontiguousarray(weights, dtype=np.float64)
+    weights = read_only(np.ascontiguousarray(weights, dtype=np.float64))
     return _cells(sites, weights, _rounded_up(weights), order, counters)
 
 
@@ -633,7 +635,7 @@ def _check(sites: ArrayLike) -> NDArray[np.float64]:
 
 def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     """The Voronoi diagram of prepared ``sites``, one half-plane intersection per cell."""
-    sites = _check(sites)
+    sites = read_only(_check(sites))          # one kind of array for the kernels, wherever it came from
     n = sites.shape[0]
     if n <= 1:
         return Diagram.empty(sites)
@@ -656,9 +658,9 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
 def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     """The power diagram of prepared ``sites`` with ``weights`` (power |x - p_i|^2 - w_i), one
     intersection of power half-planes per cell; hidden sites get no half-edge."""
-    sites = _check(sites)
+    sites = read_only(_check(sites))
     n = sites.shape[0]
-    weights = np.ascontiguousarray(weights, dtype=np.float64).reshape(-1)
+    weights = read_only(np.ascontiguousarray(weights, dtype=np.float64).reshape(-1))
     if weights.shape != (n,):
         raise ValueError(f"weights has shape {weights.shape}, there are {n} sites")
     if not np.isfinite(weights).all():

@@ -97,6 +97,7 @@ from impls.external.clock import BuildClock
 from vorobench.core.builder import collinear_diagram
 from vorobench.core.delaunay_dual import power_dcel, voronoi_dcel
 from vorobench.core.diagram import Diagram
+from vorobench.core.read_only import read_only
 from vorobench.core.predicates import (
     INCIRCLE_CALLS,
     INCIRCLE_EXACT,
@@ -500,7 +501,8 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     tri, opp = half_edges(faces, neighbours, n)
     counters = np.zeros(4, dtype=np.int64)
     # the points in CGAL's vertex order (spatially sorted: the dual's passes stay local)
-    vertices, origin, twin, nxt, site, merged = voronoi_dcel(coords, ids, tri, opp, faces.shape[0], counters)
+    vertices, origin, twin, nxt, site, merged = voronoi_dcel(read_only(coords), ids, tri, opp, faces.shape[0],
+                                                              counters)
     diagram = Diagram(sites, vertices, origin, twin, nxt, site)
     clock.report()
     if stats is not None:
@@ -616,8 +618,9 @@ def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64],
     tri, opp = half_edges(faces, neighbours, n)
     counters = np.zeros(N_POWER_COUNTERS, dtype=np.int64)
     # the points in CGAL's vertex order (spatially sorted: the passes stay local)
-    vertices, origin, twin, nxt, site, merged, _ = power_dcel(xy, np.ascontiguousarray(coords[:, 2]), ids, tri, opp,
-                                                              faces.shape[0], counters)
+    lifts = read_only(np.ascontiguousarray(coords[:, 2]))
+    vertices, origin, twin, nxt, site, merged, _ = power_dcel(read_only(xy), lifts, ids, tri, opp, faces.shape[0],
+                                                              counters)
     diagram = Diagram(sites, vertices, origin, twin, nxt, site, weights=weights)
     clock.report()
     if stats is not None:

@@ -52,6 +52,7 @@ from vorobench.core.builder import collinear_diagram
 from vorobench.core.delaunay_dual import voronoi_dcel
 from vorobench.core.ghosts import ghost_layout
 from vorobench.core.diagram import Diagram
+from vorobench.core.read_only import read_only
 from vorobench.core.predicates import INCIRCLE_CALLS, INCIRCLE_EXACT
 from vorobench.core.scaling import exact_range_sites
 
@@ -88,7 +89,7 @@ def build_with(sites: NDArray[np.float64], stats: Optional[dict], switch: str) -
     tri, opp, ntri = ghost_layout(triangles, out["neighbors"], n)
     counters = np.zeros(4, dtype=np.int64)
     ids = np.arange(n, dtype=np.int64)           # Triangle keeps the input order: point v is site v
-    vertices, origin, twin, nxt, site, merged = voronoi_dcel(sites, ids, tri, opp, ntri, counters)
+    vertices, origin, twin, nxt, site, merged = voronoi_dcel(read_only(sites), ids, tri, opp, ntri, counters)
     diagram = Diagram(sites, vertices, origin, twin, nxt, site)
     clock.report()
     if stats is not None:

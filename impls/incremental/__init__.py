@@ -48,6 +48,7 @@ from impls.incremental.triangulate import STAT_NAMES, triangulate
 from vorobench.core.builder import collinear_diagram
 from vorobench.core.delaunay_dual import power_dcel, voronoi_dcel
 from vorobench.core.diagram import Diagram
+from vorobench.core.read_only import read_only
 from vorobench.core.predicates import (
     INCIRCLE_CALLS,
     INCIRCLE_EXACT,
@@ -105,7 +106,7 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
             stats.update(counts, collinear=1)
         return collinear_diagram(sites)
     counters = np.zeros(4, dtype=np.int64)
-    vertices, origin, twin, nxt, site, merged = voronoi_dcel(points, ids, tri, opp, ntri, counters)
+    vertices, origin, twin, nxt, site, merged = voronoi_dcel(read_only(points), ids, tri, opp, ntri, counters)
     if stats is not None:
         stats.update(counts)
         stats["merged_triangles"] = int(merged)
@@ -168,8 +169,8 @@ def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64], sta
         diagram = collinear_diagram(sites, weights)
         counts.update(collinear=1, merged_triangles=0, hidden_degenerate=0)
     else:
-        vertices, origin, twin, nxt, site, merged, degenerate = power_dcel(points, point_weights, ids, tri, opp,
-                                                                           ntri, counters)
+        vertices, origin, twin, nxt, site, merged, degenerate = power_dcel(read_only(points), read_only(point_weights),
+                                                                           ids, tri, opp, ntri, counters)
         diagram = Diagram(sites, vertices, origin, twin, nxt, site, weights=weights)
         counts.update(merged_triangles=int(merged), hidden_degenerate=int(degenerate))
     if stats is not None:

@@ -15,12 +15,14 @@ from vorobench.core.delaunay_dual import (CENTRE_RADIUS_ERROR, CENTRE_ROUNDING_E
 from vorobench.core.predicates import INCIRCLE_CALLS, incircle, orient2d
 from vorobench.core.diagram import Diagram
 from vorobench.core.prepare import prepare
+from vorobench.core.read_only import read_only
 
 
 def _both(sites):
     """(one-pass diagram, general diagram, their counters, merged) of the prepared sites."""
     points, ids, tri, opp, ntri, ok = _triangulate(sites, None)
     assert ok
+    points = read_only(points)                  # as the implementations hand them over
     diagrams, counters, merged = [], [], []
     for dual in (voronoi_dcel, _general_dcel):
         c = np.zeros(4, dtype=np.int64)
@@ -72,6 +74,7 @@ def test_the_union_find_gives_the_vertices_of_the_one_pass_check(dataset):
     # as voronoi_vertices does (one pass, then the union-find at the first cocircular pair)
     sites, _ = prepare(datasets_gen.generate(dataset, 300, seed=1))
     points, ids, tri, opp, ntri, _ = _triangulate(sites, None)
+    points = read_only(points)
     direct, checked = (f(points, ids, tri, opp, ntri, np.zeros(4, dtype=np.int64))
                        for f in (_merged_vertices, voronoi_vertices))
     for a, b in zip(direct, checked):

@@ -108,3 +108,17 @@ def test_registered_and_declared_exact():
     assert "halfplane" in impls.available()
     assert impl.exact and impl.complexity == "O(n^2)"
     impl.warmup()
+
+
+def test_its_kernels_are_compiled_once_for_writable_and_read_only_sites():
+    # The sandbox hands an implementation read-only sites; a caller of build may not.
+    from impls import halfplane
+
+    sites, _ = prepare(datasets_gen.generate("uniform", 30, seed=4))
+    writable = np.array(sites)
+    frozen = np.array(sites)
+    frozen.setflags(write=False)
+    assert halfplane.build(writable).n_vertices == halfplane.build(frozen).n_vertices > 0
+    for kernel in (halfplane._cells, halfplane._glue):
+        ordinary = [sig for sig in kernel.signatures if str(sig[1]) == "none"]     # weights None
+        assert len(ordinary) == 1, (kernel.py_func.__name__, ordinary)

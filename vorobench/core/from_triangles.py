@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from vorobench.core.builder import collinear_diagram
 from vorobench.core.delaunay_dual import power_dcel, voronoi_dcel
 from vorobench.core.diagram import Diagram
+from vorobench.core.read_only import read_only
 from vorobench.core.ghosts import ghost_layout
 from vorobench.core.hull import all_collinear
 from vorobench.core.predicates import N_POWER_COUNTERS, orient2d
@@ -165,7 +166,8 @@ def diagram_from_triangles(sites: NDArray[np.float64], triangles: ArrayLike,
     ids = np.arange(n, dtype=np.int64)
     counters = np.zeros(N_POWER_COUNTERS, dtype=np.int64)
     if w is None:
-        vertices, origin, twin, nxt, site, _ = voronoi_dcel(sites, ids, ghosted, opp, count, counters)
+        vertices, origin, twin, nxt, site, _ = voronoi_dcel(read_only(sites), ids, ghosted, opp, count, counters)
     else:
-        vertices, origin, twin, nxt, site, _, _ = power_dcel(sites, w, ids, ghosted, opp, count, counters)
+        vertices, origin, twin, nxt, site, _, _ = power_dcel(read_only(sites), read_only(w), ids, ghosted, opp, count,
+                                                     counters)
     return Diagram(sites, vertices, origin, twin, nxt, site, weights=w)

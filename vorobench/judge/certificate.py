@@ -70,6 +70,7 @@ from vorobench.core.scaling import comfortable_shift, scale_points, smallest_nor
 from vorobench.core.sorting import argsort_keys, sorted_unique
 from vorobench.core.predicates.degeneracy import lift_extent, orient2d_ulps
 from vorobench.core.predicates.expansion import EPSILON
+from vorobench.core.read_only import read_only
 from vorobench.core.tolerances import (
     EQUIDISTANCE_REL_TOL,
     NEAR_DEGENERATE_REL_TOL,
@@ -797,7 +798,7 @@ def _probe_cells(ctx: _Context, pts: NDArray[np.float64], near: NDArray[np.int64
     np.cumsum(np.bincount(ctx.site[hs], minlength=n), out=cptr[1:])
     outside = np.zeros(rows.shape[0], dtype=bool)
     strictly_inside = np.zeros(rows.shape[0], dtype=bool)
-    xy = ctx.xy if ctx.V else np.zeros((1, 2))
+    xy = ctx.xy if ctx.V else read_only(np.zeros((1, 2)))
     wt = ctx.weights if ctx.weighted else np.zeros(n)
     _probe_kernel(rows, cell, cptr, by_cell, ctx.sites, xy, ctx.site, ctx.twin, ctx.origin,
                   ctx.scale, ctx.normal_min, PROBE_REL_TOL, outside, strictly_inside, wt)
@@ -839,7 +840,7 @@ def _check_probes(ctx: _Context) -> Check:
         bad_own = np.setdiff1d(bad_own, crowded[found])
     claims = in_q & ~tie                                        # strictly inside a farther site's cell
     bad_other = np.flatnonzero(claims.reshape(-1))
-    xy = ctx.xy if ctx.V else np.zeros((1, 2))
+    xy = ctx.xy if ctx.V else read_only(np.zeros((1, 2)))
     site_outside = np.zeros(n, dtype=bool)
     if not ctx.weighted:                # a power cell need not hold its own site
         site_outside[np.bincount(ctx.site, minlength=n) == 0] = True          # a site without a cell
@@ -914,9 +915,11 @@ def certify(diagram: Diagram, *, probes: int = DEFAULT_PROBES, seed: int = 0) ->
         sites = scale_points(sites, shift)
         with np.errstate(over="ignore", under="ignore"):
             xy = scale_points(xy, shift)
-    ctx = _Context(d, sites, xy, origin, twin, np.asarray(d.site, np.int64), origin[twin], data_scale(sites),
-                   d.n_sites, d.n_vertices, d.n_half_edges, seed, int(probes), shift, smallest_normal(shift),
-                   range_problem)
+    # read-only views throughout: the kernels see one kind of array whichever diagram it is
+    sites, xy, origin, twin = read_only(sites), read_only(xy), read_only(origin), read_only(twin)
+    ctx = _Context(d, sites, xy, origin, twin, read_only(np.asarray(d.site, np.int64)), read_only(origin[twin]),
+                   data_scale(sites), d.n_sites, d.n_vertices, d.n_half_edges, seed, int(probes), shift,
+                   smallest_normal(shift), range_problem)
     if d.weights is not None and np.shape(d.weights) == (d.n_sites,):
         w = np.ldexp(np.asarray(d.weights, np.float64), 2 * shift)
         if w.size and not (w == w[0]).all():        # equal weights: the ordinary diagram

@@ -47,6 +47,7 @@ from vorobench.core.diagram import Diagram
 from vorobench.core.incidence import vertex_site_lists
 from vorobench.core.predicates import incircle, orient2d, power_test
 from vorobench.core.predicates.degeneracy import incircle_ulps, lift_extent, orient2d_ulps, power_test_ulps
+from vorobench.core.read_only import read_only
 from vorobench.core.scaling import comfortable_shift, scale_points, smallest_normal
 from vorobench.core.sorting import argsort_keys, dense_rank, is_member, sorted_unique
 from vorobench.core.tolerances import (
@@ -268,6 +269,13 @@ class _Form:
     n_short: int
     m_cv: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, np.int64))
 
+    def __post_init__(self) -> None:
+        # Read-only views of the arrays given (the diagram's own, or new ones): the kernels that
+        # read them then see one kind of array. ``m_cv`` is filled in later and stays writable.
+        for name, value in vars(self).items():
+            if isinstance(value, np.ndarray) and name != "m_cv":
+                setattr(self, name, read_only(value))
+
 
 def _exactly_coincident(sites, xy, ptr, s, a, b, u, v, scale: float, normal_min: float,
                         weights: Optional[NDArray[np.float64]] = None) -> NDArray[np.bool_]:
@@ -433,6 +441,7 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, ulps: Optional[f
     nxt = np.asarray(d.next, np.int64)
     V, H = d.n_vertices, d.n_half_edges
     dest = origin[twin] if H else origin
+    common_sites = read_only(common_sites)      # one compilation of the kernels below
     ptr, s = vertex_site_lists(site, origin, None if consistent else dest, V, max(n, 1))
     at_infinity = np.zeros(H, dtype=bool)
     extent = scale / 2.0
@@ -454,7 +463,7 @@ def _canonical(d: Diagram, site_map: NDArray[np.int64], n: int, ulps: Optional[f
     loop = u == v
     a, b = site[e], site[twin[e]]
     exact = loop.copy()
-    xy = np.asarray(d.vertices, np.float64).reshape(-1, 2)
+    xy = read_only(np.asarray(d.vertices, np.float64).reshape(-1, 2))
     exact[~loop] = _exactly_coincident(common_sites, xy, ptr, s, a[~loop], b[~loop], u[~loop], v[~loop], scale,
                                        normal_min, weights)
     contract = exact.copy()
