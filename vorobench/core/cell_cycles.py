@@ -19,7 +19,7 @@ CELL_AHEAD = 16
 
 
 @njit(cache=True)
-def _walk_cells(site, nxt, origin, n):
+def _walk_cells(site, nxt, origin, n, start, offsets, order, origins):
     """(half-edges grouped by cell in ``next`` order, their origins, offsets per cell, bad cell
     or -1). The origins are read along the walk, where the half-edge is in cache: a gather
     ``origin[order]`` afterwards reads memory at random again (0.1-0.2 s at 10^6 sites).
@@ -29,8 +29,6 @@ def _walk_cells(site, nxt, origin, n):
     its lowest-numbered half-edge. The bad cell is one whose ``next`` cycle does not
     hold exactly the half-edges of the cell (the first found)."""
     H = site.size
-    start = np.full(n, -1, dtype=nxt.dtype)
-    offsets = np.zeros(n + 1, dtype=np.int64)
     for h in range(H):
         if h + CELL_AHEAD < H:
             later = site[h + CELL_AHEAD]
@@ -46,8 +44,6 @@ def _walk_cells(site, nxt, origin, n):
     # Each cycle is walked from its start in the order the starts lie in memory, not in cell
     # order: builders number a cell's half-edges near each other, so the walk stays in cache
     # (3x faster at 10^6 sites than walking the cells in id order).
-    order = np.empty(H, dtype=nxt.dtype)   # half-edge ids as the DCEL has them
-    origins = np.empty(H, dtype=origin.dtype)
     for h0 in range(H):
         if h0 + CELL_AHEAD < H:
             later = site[h0 + CELL_AHEAD]
@@ -81,7 +77,15 @@ def cell_cycles(site: NDArray[np.integer], nxt: NDArray[np.integer], origin: NDA
     does not return to its start. O(n + H); site ids must lie in [0, n).
     """
     # int32 ids stay int32 (no copies of the three arrays); anything else becomes int64
-    return _walk_cells(_ids(site), _ids(nxt), _ids(origin), int(n))
+    site, nxt, origin = _ids(site), _ids(nxt), _ids(origin)
+    # The arrays it fills come from numpy, which asks for huge pages (see delaunay_dual._output):
+    # at 10^6 sites numba's own allocator made their first writes a tenth of the walk.
+    H = site.size
+    start = np.full(n, -1, dtype=nxt.dtype)
+    offsets = np.zeros(n + 1, dtype=np.int64)
+    order = np.empty(H, dtype=nxt.dtype)        # half-edge ids as the DCEL has them
+    origins = np.empty(H, dtype=origin.dtype)
+    return _walk_cells(site, nxt, origin, int(n), start, offsets, order, origins)
 
 
 def _ids(a: NDArray[np.integer]) -> NDArray[np.integer]:
