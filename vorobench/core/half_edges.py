@@ -139,16 +139,17 @@ _BIG_VERTEX = 16   # vertices of higher degree (many cocircular sites) are sorte
 
 
 @njit(cache=True)
-def _link_next_compiled(site, origin, twin, n, V):
+def _link_next_compiled(site, origin, twin, n, V, first, from_infinity, fill, members, cells, nxt, taken):
     """Fast path of :func:`_link_next`. Half-edges are bucketed by start vertex (counting
     sort; ~3 per vertex), so next[h] is the member of dest(h)'s bucket in cell site[h];
     a ray's successor is its cell's one half-edge from infinity. Sequential when vertex ids
     follow the edge order. Returns (next, ok); ok is False on anything unusual (a strip
     cell's two lines, a cell that does not close), which the numpy path then handles or reports.
-    The buckets are int32 (H < 2^31): a quarter of the build's peak memory at 10^6 sites."""
+    The buckets are int32 (H < 2^31): a quarter of the build's peak memory at 10^6 sites.
+    Its arrays come from :func:`_link_next` (numpy's, on huge pages: see
+    :func:`vorobench.core.delaunay_dual._output`); ``first``, ``taken`` zero and
+    ``from_infinity`` -1."""
     H = site.size
-    first = np.zeros(V + 1, dtype=np.int32)
-    from_infinity = np.full(n, -1, dtype=np.int32)
     for h in range(H):
         v = origin[h]
         if v >= 0:
@@ -159,14 +160,13 @@ def _link_next_compiled(site, origin, twin, n, V):
             from_infinity[site[h]] = h
     for v in range(V):
         first[v + 1] += first[v]
-    fill = first[:V].copy()
-    members = np.empty(H, dtype=np.int32)
+        fill[v] = first[v]
     for h in range(H):
         v = origin[h]
         if v >= 0:
             members[fill[v]] = h
             fill[v] += 1
-    cells = np.empty(H, dtype=np.int32)     # site of each bucket member, buckets sorted by it
+    # cells: the site of each bucket member, buckets sorted by it
     for v in range(V):
         lo, hi = first[v], first[v + 1]
         if hi - lo > _BIG_VERTEX:
@@ -176,8 +176,6 @@ def _link_next_compiled(site, origin, twin, n, V):
                 members[lo + k] = part[order[k]]
         for k in range(lo, hi):
             cells[k] = site[members[k]]
-    nxt = np.empty(H, dtype=np.int64)
-    taken = np.zeros(H, dtype=np.bool_)
     for h in range(H):
         c = site[h]
         v = origin[twin[h]]
@@ -214,7 +212,9 @@ def _link_next(site: NDArray[np.int64], origin: NDArray[np.int64], twin: NDArray
     the error that unoriented ridges need ``oriented=False``."""
     H = site.size
     if 0 < H < 2**31 - 1 and site.min() >= 0 and site.max() < n and origin.min() >= -1 and origin.max() < V:
-        nxt, ok = _link_next_compiled(site, origin, twin, n, V)
+        nxt, ok = _link_next_compiled(site, origin, twin, n, V, np.zeros(V + 1, np.int32), np.full(n, -1, np.int32),
+                                      np.empty(V, np.int32), np.empty(H, np.int32), np.empty(H, np.int32),
+                                      np.empty(H, np.int64), np.zeros(H, np.bool_))
         if ok:
             return nxt
     key = site * (V + 1) + (origin + 1)       # (cell, start vertex); infinity sorts first
