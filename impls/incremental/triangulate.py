@@ -128,22 +128,37 @@ def _walk_grid(pts, seed):
     return side, x0, y0, cell_scale, cell_vertex
 
 
-@njit(cache=True)
 def triangulate(pts, order, counters):
     """Delaunay triangulation of ``pts`` inserted in ``order``.
 
     Returns (tri, opp, ntri, stats, ok): ``ok`` is False when all sites are collinear (no
     triangle exists; the caller builds parallel lines instead). ``counters`` receives the
     predicate counts (see :mod:`vorobench.core.predicates`).
+
+    The large arrays the insertion writes are numpy's: numpy asks for transparent huge pages,
+    numba's allocator does not (see :func:`vorobench.core.delaunay_dual._output`).
     """
+    n = pts.shape[0]
+    cap_t = 2 * n + 4
+    tri = np.empty(3 * cap_t, dtype=np.int32)
+    opp = np.empty(3 * cap_t, dtype=np.int32)
+    # mark[t] == 2 m: t is in the cavity of insertion m; 2 m + 1: t was tested and is not
+    mark = np.full(cap_t, -1, dtype=np.int32)
+    fan_from = np.empty(n + 1, dtype=np.int32)  # new triangle whose first corner is this vertex
+    vertex_tri = np.zeros(n + 1, dtype=np.int32)
+    ntri, stats, ok = _insert_all(pts, order, counters, tri, opp, mark, fan_from, vertex_tri)
+    return tri, opp, ntri, stats, ok
+
+
+@njit(cache=True)
+def _insert_all(pts, order, counters, tri, opp, mark, fan_from, vertex_tri):
+    """The insertions of :func:`triangulate`, into its arrays: (ntri, stats, ok)."""
     n = pts.shape[0]
     inf = n
     stats = np.zeros(len(STAT_NAMES), dtype=np.int64)
     cap_t = 2 * n + 4
-    tri = np.empty(3 * cap_t, dtype=np.int32)
-    opp = np.empty(3 * cap_t, dtype=np.int32)
     if n < 3:
-        return tri, opp, 0, stats, False
+        return 0, stats, False
     # ---- seed triangle: the first two sites and the first one not collinear with them
     i0 = order[0]
     i1 = order[1]
@@ -156,7 +171,7 @@ def triangulate(pts, order, counters):
             third = m
             break
     if third < 0:
-        return tri, opp, 0, stats, False
+        return 0, stats, False
     i2 = order[third]
     if o < 0:
         i1, i2 = i2, i1
@@ -178,20 +193,16 @@ def triangulate(pts, order, counters):
         opp[3 * gp + 2] = 3 * g + 1
     ntri = 4
     stats[0] = 3
-    # ---- scratch for the cavity
-    # mark[t] == 2 m: t is in the cavity of insertion m; 2 m + 1: t was tested and is not
-    mark = np.full(cap_t, -1, dtype=np.int32)
+    # ---- scratch for the cavity (little of these is touched: numba's allocator is fine)
     stack = np.empty(cap_t, dtype=np.int64)
     cavity = np.empty(cap_t, dtype=np.int64)
     bnd_u = np.empty(cap_t + 2, dtype=np.int64)
     bnd_v = np.empty(cap_t + 2, dtype=np.int64)
     bnd_o = np.empty(cap_t + 2, dtype=np.int64)
-    fan_from = np.empty(n + 1, dtype=np.int32)  # new triangle whose first corner is this vertex
     # Where walks start: the previous site's triangle, or a triangle at the last site inserted
     # into p's cell of a coarse grid when that site is nearer. Space-filling orders jump
     # (between the arms of a parabola, say), and a straight walk across slivers is long; the
     # grid hands the walk a nearby vertex. ``vertex_tri[v]``: a finite triangle at vertex v.
-    vertex_tri = np.zeros(n + 1, dtype=np.int32)
     side, x0, y0, cell_scale, cell_vertex = _walk_grid(pts, seed)
     last = 0
     previous = i2
@@ -289,4 +300,4 @@ def triangulate(pts, order, counters):
         stats[0] += 1
         stats[2] += ncav
         stats[3] += nb
-    return tri, opp, ntri, stats, True
+    return ntri, stats, True
