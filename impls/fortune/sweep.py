@@ -74,12 +74,15 @@ def _close(edge_sites, edge_vertices, e, left_site, v):
         edge_vertices[e, 0] = v
 
 
-@njit(cache=True)
 def sweep(sites, counters):
     """Run the sweep over ``sites``, which must be sorted by y, then x (site i = i-th event).
 
     Returns (status, edge_sites, edge_vertices, vertices); status OK or an ERR_* code.
     ``counters`` (int64, N_COUNTERS) receives the operation counts.
+
+    The output arrays, written in full, are numpy's (huge pages: see
+    :func:`vorobench.core.delaunay_dual._output`); the beach line's and the queue's rows are
+    reused, so few of theirs are ever touched.
     """
     n = sites.shape[0]
     arc_cap = 2 * n + 2
