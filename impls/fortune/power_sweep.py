@@ -496,7 +496,6 @@ def _in_q(G, counters, wsite, wnext, whead, i, kind, a, b, c, xl, xh, yl, yh):
     return True
 
 
-@njit(cache=True)
 def sweep(G, order, row, counters, slab, watch_rows):
     """Run the weighted sweep. ``G`` is the site table of :mod:`power_predicates`, ``order``
     the sites sorted by (y, x), ``row`` the number of them on the lowest y, ``slab`` each
@@ -506,19 +505,23 @@ def sweep(G, order, row, counters, slab, watch_rows):
     grows (doubling) as needed.
 
     Returns (status, edges (a, b, start, end), vertex specs (a, b, c)); vertices at one point
-    are merged and edges of no length dropped."""
+    are merged and edges of no length dropped.
+
+    The tables are numpy's: numpy asks for transparent huge pages, numba's allocator does not
+    (see :func:`vorobench.core.delaunay_dual._output`), and at 10^6 sites these are hundreds of
+    megabytes written once each."""
     n = G.shape[0]
     arcs = bl.new_arcs(2 * n + 4)
     cap_ev = 3 * n + 16
     ev = np.empty((cap_ev, _EV_FIELDS), dtype=np.int64)
     evf = np.empty((cap_ev, 6), dtype=np.float64)     # time interval, then the point's box
     heap = np.empty(cap_ev, dtype=np.int64)
-    free = np.arange(cap_ev - 1, -1, -1).astype(np.int64)
+    free = np.arange(cap_ev - 1, -1, -1, dtype=np.int64)
     edges = np.empty((5 * n + 16, 4), dtype=np.int64)
     vspec = np.empty((3 * n + 16, 3), dtype=np.int64)
     whead = np.full(n, -1, dtype=np.int64)
     # each slab's newest activation, at each level: level L's slab of a site is slab >> 2 L
-    slabs_count = slab.max() + 1 if n > 0 else 1
+    slabs_count = int(slab.max()) + 1 if n > 0 else 1
     levels = 1
     while (slabs_count - 1) >> (2 * levels) > 0:
         levels += 1
@@ -537,9 +540,20 @@ def sweep(G, order, row, counters, slab, watch_rows):
     S[_ROOT] = -1
     S[_HEREK] = -1
     S[_STATUS] = OK
+    _lowest_row(G, order, row, counters, slab, arcs, edges, last, state, S)
+    while True:
+        status = _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wnext, whead, slab,
+                      last, state, last_arc, gone, cand, candf, at, S, SF)
+        if status != _NEED_ROOM:
+            break
+        wsite, wnext = _grown(wsite, wnext)
+    return status, edges[:S[_NEDGE]], vspec[:S[_NVERT]]
 
-    # the lowest row: the upper envelope of the lines 2 x_i X - x_i^2 - s_i (slopes increasing
-    # along the row) starts the beach line; the others there are hidden for good
+
+@njit(cache=True)
+def _lowest_row(G, order, row, counters, slab, arcs, edges, last, state, S):
+    """The beach line of the lowest row, the upper envelope of the lines 2 x_i X - x_i^2 - s_i
+    (slopes increasing along the row); the others there are hidden for good."""
     hull = np.empty(row, dtype=np.int64)
     m = 0
     for r in range(row):
@@ -549,6 +563,7 @@ def sweep(G, order, row, counters, slab, watch_rows):
         hull[m] = i
         m += 1
     previous = -1
+    levels = last.shape[0]
     for r in range(row):
         state[order[r]] = 3
         for level in range(levels):
@@ -565,13 +580,6 @@ def sweep(G, order, row, counters, slab, watch_rows):
     counters[FIRST_ROW] = m
     counters[MAX_BEACH] = m
     S[_NXTACT], S[_GUARD], S[_BEACH] = row, 0, m
-    while True:
-        status = _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wnext, whead, slab,
-                      last, state, last_arc, gone, cand, candf, at, S, SF)
-        if status != _NEED_ROOM:
-            break
-        wsite, wnext = _grown(wsite, wnext)
-    return status, edges[:S[_NEDGE]], vspec[:S[_NVERT]]
 
 
 @njit(cache=True, _nrt=False)
