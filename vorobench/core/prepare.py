@@ -35,25 +35,25 @@ def _as_real_array(points: ArrayLike, what: str = "points") -> NDArray[np.float6
 
 
 @njit(cache=True)
-def _normalised_copy(arr):
-    """One pass over (n, 2) float64 rows: (a copy with -0.0 made 0.0, so that equal points have
-    equal bits; the first row with a non-finite value or -1; the largest magnitude; the
-    smallest nonzero magnitude, inf if none). The copy stops at a non-finite row."""
+def _normalised_copy(arr, out):
+    """One pass over (n, 2) float64 rows into ``out`` (numpy's: huge pages, see
+    :func:`vorobench.core.delaunay_dual._output`): (the copy with -0.0 made 0.0, so that equal
+    points have equal bits; the first row with a non-finite value or -1; the largest magnitude;
+    the smallest nonzero magnitude, inf if none). The copy stops at a non-finite row."""
     n = arr.shape[0]
-    out = np.empty((n, 2), dtype=np.float64)
     hi, lo = 0.0, np.inf
     for i in range(n):
         for k in range(2):
             v = arr[i, k]
             if not np.isfinite(v):
-                return out, i, hi, lo
+                return i, hi, lo
             out[i, k] = v + 0.0
             a = abs(v)
             if a > hi:
                 hi = a
             if 0.0 < a < lo:
                 lo = a
-    return out, -1, hi, lo
+    return -1, hi, lo
 
 
 @njit(cache=True)
@@ -70,26 +70,33 @@ def _mix(x):
 SLOT_AHEAD = 16
 
 
-@njit(cache=True)
 def _first_appearance(bits):
     """(site of each row, rows that start a site) for rows of two uint64 bit patterns: equal
-    rows share a site, sites numbered in order of first appearance. One pass over an open
-    addressing table of twice the rows' size: O(n) expected, no sort.
+    rows share a site, sites numbered in order of first appearance (:func:`_first_appearance_in`
+    on tables numpy allocates: huge pages, 40 MB at 10^6 rows)."""
+    n = bits.shape[0]
+    size = 1
+    while size < 2 * n:
+        size *= 2
+    table = np.full(size, -1, dtype=np.int64)          # (tag << 32) | row, or -1 for free
+    site_of_row = np.empty(n, dtype=np.intp)
+    firsts = np.empty(n, dtype=np.intp)
+    m = _first_appearance_in(bits, np.empty(n, dtype=np.uint64), table, site_of_row, firsts)
+    return site_of_row, firsts[:m]
+
+
+@njit(cache=True)
+def _first_appearance_in(bits, hashes, table, site_of_row, firsts):
+    """:func:`_first_appearance` into its arrays; returns the number of sites. One pass over an
+    open addressing table of twice the rows' size: O(n) expected, no sort.
 
     An entry holds the row that started a site and 31 more bits of its hash (a tag), so a
     probe that meets another site's row reads that row only when the tags agree: almost
     only at a true duplicate."""
     n = bits.shape[0]
-    size = 1
-    while size < 2 * n:
-        size *= 2
-    mask = np.uint64(size - 1)
-    hashes = np.empty(n, dtype=np.uint64)
+    mask = np.uint64(table.size - 1)
     for i in range(n):
         hashes[i] = _mix(bits[i, 0] ^ _mix(bits[i, 1]))
-    table = np.full(size, -1, dtype=np.int64)          # (tag << 32) | row, or -1 for free
-    site_of_row = np.empty(n, dtype=np.intp)
-    firsts = np.empty(n, dtype=np.intp)
     m = 0
     for i in range(n):
         if i + SLOT_AHEAD < n:
@@ -110,7 +117,7 @@ def _first_appearance(bits):
                     site_of_row[i] = site_of_row[j]
                     break
             slot = (slot + np.uint64(1)) & mask
-    return site_of_row, firsts[:m]
+    return m
 
 
 def prepare(points: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
@@ -136,7 +143,8 @@ def prepare(points: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
     if n >= 2**31 - 1:
         raise ValueError(f"{n} points: at most 2**31 - 2 are supported (row ids are 32-bit in the duplicate table)")
     # one pass: the finiteness check, the magnitudes for the range check, and our own copy
-    arr, bad, hi, lo = _normalised_copy(given)
+    arr = np.empty((n, 2), dtype=np.float64)
+    bad, hi, lo = _normalised_copy(given, arr)
     if bad >= 0:
         finite = np.isfinite(given).all(axis=1)
         raise ValueError(f"points must be finite: row {bad} is {given[bad].tolist()} "
