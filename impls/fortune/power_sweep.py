@@ -508,7 +508,7 @@ def sweep(G, order, row, counters, slab, watch_rows):
     are merged and edges of no length dropped.
 
     The tables are numpy's: numpy asks for transparent huge pages, numba's allocator does not
-    (see :func:`vorobench.core.delaunay_dual._output`), and at 10^6 sites these are hundreds of
+    (see :func:`vorobench.core.delaunay_dual.voronoi_dcel`), and at 10^6 sites these are hundreds of
     megabytes written once each."""
     n = G.shape[0]
     arcs = bl.new_arcs(2 * n + 4)

@@ -81,7 +81,7 @@ def sweep(sites, counters):
     ``counters`` (int64, N_COUNTERS) receives the operation counts.
 
     The output arrays, written in full, are numpy's (huge pages: see
-    :func:`vorobench.core.delaunay_dual._output`); the beach line's and the queue's rows are
+    :func:`vorobench.core.delaunay_dual.voronoi_dcel`); the beach line's and the queue's rows are
     reused, so few of theirs are ever touched.
     """
     n = sites.shape[0]

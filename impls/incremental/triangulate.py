@@ -136,7 +136,7 @@ def triangulate(pts, order, counters):
     predicate counts (see :mod:`vorobench.core.predicates`).
 
     The large arrays the insertion writes are numpy's: numpy asks for transparent huge pages,
-    numba's allocator does not (see :func:`vorobench.core.delaunay_dual._output`).
+    numba's allocator does not (see :func:`vorobench.core.delaunay_dual.voronoi_dcel`).
     """
     n = pts.shape[0]
     cap_t = 2 * n + 4

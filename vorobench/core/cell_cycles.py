@@ -78,7 +78,7 @@ def cell_cycles(site: NDArray[np.integer], nxt: NDArray[np.integer], origin: NDA
     """
     # int32 ids stay int32 (no copies of the three arrays); anything else becomes int64
     site, nxt, origin = _ids(site), _ids(nxt), _ids(origin)
-    # The arrays it fills come from numpy, which asks for huge pages (see delaunay_dual._output):
+    # The arrays it fills come from numpy, which asks for huge pages (see delaunay_dual.voronoi_dcel):
     # at 10^6 sites the walk over fortune's DCEL took 0.47-0.57 s with numba's allocator, 0.35-0.39 s now.
     H = site.size
     start = np.full(n, -1, dtype=nxt.dtype)

@@ -468,26 +468,22 @@ def voronoi_dcel(pts, ids, tri, opp, ntri, counters):
     (:func:`_unmerged_dcel`); the first cocircular pair hands over to :func:`_general_dcel`,
     which merges (its counters count the incircle tests of the general path only).
 
-    The output arrays are numpy's (:func:`_output`), not allocated in the compiled pass.
+    The output arrays are allocated here by numpy, not in the compiled pass: numpy asks the
+    kernel for transparent huge pages on large arrays, numba's own allocator does not, and
+    writing 128 MB of fresh DCEL arrays at 10^6 sites took 0.08-0.10 s of page faults from
+    numba's allocator, 0.03 s from numpy's (with THP set to "madvise", as on most
+    distributions; docs/architecture.md, ``delaunay_dual.py``).
     """
     inf = pts.shape[0]
     number, finite, ghosts = _triangle_numbers(tri, ntri, inf)
     H = 3 * finite + ghosts
-    vertices = _output((finite, 2), np.float64)
-    origin, twin, nxt, site = (_output(H, np.int32) for _ in range(4))
+    vertices = np.empty((finite, 2), dtype=np.float64)
+    origin, twin, nxt, site = (np.empty(H, dtype=np.int32) for _ in range(4))
     tests = np.zeros_like(counters)
     if _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, twin, nxt, site, tests):
         counters += tests
         return vertices, origin, twin, nxt, site, 0
     return _general_dcel(pts, ids, tri, opp, ntri, counters)
-
-
-def _output(shape, dtype) -> np.ndarray:
-    """An uninitialised output array from numpy. numpy asks the kernel for transparent huge
-    pages on large arrays, numba's own allocator does not: writing 128 MB of fresh DCEL arrays
-    at 10^6 sites took 0.08-0.10 s of page faults from numba's allocator, 0.03 s from numpy's
-    (this machine's THP setting is "madvise", as on most distributions)."""
-    return np.empty(shape, dtype=dtype)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -147,7 +147,7 @@ def _link_next_compiled(site, origin, twin, n, V, first, from_infinity, fill, me
     cell's two lines, a cell that does not close), which the numpy path then handles or reports.
     The buckets are int32 (H < 2^31): a quarter of the build's peak memory at 10^6 sites.
     Its arrays come from :func:`_link_next` (numpy's, on huge pages: see
-    :func:`vorobench.core.delaunay_dual._output`); ``first``, ``taken`` zero and
+    :func:`vorobench.core.delaunay_dual.voronoi_dcel`); ``first``, ``taken`` zero and
     ``from_infinity`` -1."""
     H = site.size
     for h in range(H):

@@ -37,7 +37,7 @@ def _as_real_array(points: ArrayLike, what: str = "points") -> NDArray[np.float6
 @njit(cache=True)
 def _normalised_copy(arr, out):
     """One pass over (n, 2) float64 rows into ``out`` (numpy's: huge pages, see
-    :func:`vorobench.core.delaunay_dual._output`): (the copy with -0.0 made 0.0, so that equal
+    :func:`vorobench.core.delaunay_dual.voronoi_dcel`): (the copy with -0.0 made 0.0, so that equal
     points have equal bits; the first row with a non-finite value or -1; the largest magnitude;
     the smallest nonzero magnitude, inf if none). The copy stops at a non-finite row."""
     n = arr.shape[0]
