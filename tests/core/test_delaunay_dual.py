@@ -81,6 +81,28 @@ def test_the_union_find_gives_the_vertices_of_the_one_pass_check(dataset):
         assert np.array_equal(a, b)
 
 
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1), st.integers(1, 6))
+def test_empty_rectangles_among_random_sites_fold_as_the_general_path_does(seed, rectangles):
+    """Random sites with a few small rectangles far apart among them (each one's corners exactly
+    cocircular, its circle empty): the one pass meets its first cocircular pair somewhere in
+    the middle, goes on from there, and folds each rectangle into one vertex of degree 4."""
+    rng = np.random.default_rng(seed)
+    sites = rng.random((200, 2)) * 100.0
+    corners = []
+    for cell in rng.choice(100, size=rectangles, replace=False):
+        # random corners (two rectangles in one row would be an isosceles trapezoid, cocircular
+        # too); an axis-parallel rectangle's corners are cocircular whatever their floats
+        x, y = 10.0 * (cell % 10) + 3.0 + rng.random(), 10.0 * (cell // 10) + 3.0 + rng.random()
+        corners += [(x, y), (x + 0.5, y), (x + 0.5, y + 0.25), (x, y + 0.25)]
+        sites = sites[np.abs(sites - (x + 0.25, y + 0.125)).max(axis=1) > 1.0]   # its circle empty
+    sites, _ = prepare(rng.permutation(np.vstack([sites, corners])))
+    (fast, general), _, (m_fast, m_general) = _both(sites)
+    _assert_same(fast, general)
+    assert m_fast == m_general == rectangles
+    assert (np.bincount(fast.origin[fast.origin >= 0]) == 4).sum() == rectangles
+
+
 def test_a_grid_hands_over_and_merges_its_squares():
     """4 x 4 unit squares: every square's two triangles share one vertex, of degree 4."""
     sites, _ = prepare(np.array([(i, j) for i in range(5) for j in range(5)], dtype=float))

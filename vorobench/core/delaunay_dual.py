@@ -270,10 +270,11 @@ def _linked_half_edges(hid, H, tri, opp, ids, vid):
 
 @njit(cache=True)
 def _general_dcel(pts, ids, tri, opp, ntri, counters):
-    """:func:`voronoi_dcel` for any triangulation, cocircular neighbours included: the vertices
-    (merged by the union-find: the one pass hands over only once it has met a cocircular pair),
-    then each Voronoi edge numbered as a twin pair 2k, 2k + 1 and linked by turning through the
-    triangles."""
+    """:func:`voronoi_dcel`'s diagram built another way, the way it was built before the one pass
+    folded cocircular groups itself: the vertices (merged by the union-find over every pair of
+    neighbours), then each Voronoi edge numbered as a twin pair 2k, 2k + 1 and linked by turning
+    through the triangles. About four times slower; kept as the independent construction
+    tests/core/test_delaunay_dual.py holds :func:`voronoi_dcel` to."""
     inf = pts.shape[0]
     vid, vertices, merged = _merged_vertices(pts, ids, tri, opp, ntri, counters)
     m = 3 * ntri
@@ -360,6 +361,9 @@ def _centres_apart(x1, y1, x2, y2, px, py):
     return abs(x1 - x2) > bound or abs(y1 - y2) > bound
 
 
+#: ``parent`` of :func:`_unmerged_dcel` when it is to stop at the first cocircular pair
+_NO_UNION_FIND = np.empty(0, dtype=np.int32)
+
 #: How many triangles ahead the one pass asks for the rows it will read (:mod:`prefetch`): the
 #: pass waits on cache misses (a triangle's corners and neighbours lie anywhere in memory) and
 #: its body is too long for the processor to run ahead by itself. The centres come second, since
@@ -369,9 +373,17 @@ CENTRES_AHEAD = 8
 
 
 @njit(cache=True)
-def _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, twin, nxt, site, tests):
-    """Fill the DCEL of a triangulation none of whose neighbouring triangles are cocircular, in
-    one pass over the triangles; False (the arrays left half-filled) at the first cocircular pair.
+def _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, twin, nxt, site, tests, parent,
+                   first):
+    """Fill the DCEL of the triangulation with one vertex per finite triangle, in one pass over
+    the triangles from triangle ``first``: (stop, merged).
+
+    With ``parent`` empty the pass stops at the first cocircular pair of neighbours and returns
+    its triangle as ``stop`` (the arrays filled up to it); otherwise it goes on to the end,
+    joining the vertex numbers of every cocircular pair in the union-find ``parent`` (the root
+    of a set its smallest number) and counting the joins in ``merged``; ``stop`` is then -1.
+    Cocircular neighbours are left as vertices joined by edges of zero length, which
+    :func:`_merged_dcel` folds.
 
     With no merges every edge of a finite triangle gives a Voronoi half-edge, so they are
     numbered by triangle (:func:`_half_edge_of`) and no table of numbers is needed: the twin of
@@ -382,7 +394,8 @@ def _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, t
     and the exact incircle test only when the centres cannot be told apart.
     """
     inf = pts.shape[0]
-    for t in range(ntri):
+    merged = 0
+    for t in range(first, ntri):
         if t + CORNERS_AHEAD < ntri:
             # the rows this pass will read for a later triangle: its corners, their ids, the
             # numbers of its neighbours, and (for a nearer one) its neighbours' centres
@@ -418,7 +431,13 @@ def _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, t
                         d = tri[3 * t2 + (oe - 3 * t2 + 2) % 3]   # t2's corner off the shared edge
                         if incircle_counted(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1],
                                             pts[d, 0], pts[d, 1], tests) == 0:
-                            return False
+                            if parent.size == 0:
+                                return t, 0
+                            r1 = find(parent, v)
+                            r2 = find(parent, v2)
+                            if r1 != r2:
+                                parent[max(r1, r2)] = min(r1, r2)
+                                merged += 1
                 else:
                     twin[h] = 3 * finite - 1 - v2      # a hull edge: the ghost's one half-edge, a ray
                     origin[h] = -1
@@ -448,7 +467,91 @@ def _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, t
                 f = opp[3 * tf + (f - 3 * tf + 2) % 3]
             else:
                 raise RuntimeError("the dual of the triangulation: a cell does not close up")
-    return True
+    return -1, merged
+
+
+@njit(cache=True)
+def _merged_dcel(pts, ids, tri, ntri, number, parent, vertices, origin, twin, nxt, site, low, vnew, newh,
+                 out_vertices, out_origin, out_twin, out_nxt, out_site):
+    """Fold the cocircular groups of :func:`_unmerged_dcel`'s DCEL (one vertex per triangle,
+    ``parent`` its union-find) into one vertex each, into the ``out_`` arrays.
+
+    A group's triangles share one empty circle, so their corners all lie on it: the group
+    triangulates a convex polygon, its triangles joined by a tree of diagonals, and each
+    diagonal is one edge of zero length (two half-edges) to drop. A group's vertex is numbered
+    by its root (its first triangle) and computed from the three smallest site ids on its circle,
+    as for any vertex; around each cell a kept half-edge is followed by the next kept one.
+    ``low`` (rows of three points), ``vnew`` (a number per vertex) and ``newh`` (per half-edge)
+    are scratch. Returns the number of vertices written.
+    """
+    finite = parent.size
+    inf = pts.shape[0]
+    # every entry on its root: a root is the smallest number of its set, so parent[v] <= v and
+    # an ascending pass finds parent[parent[v]] already a root
+    for v in range(finite):
+        parent[v] = parent[parent[v]]
+    # vnew[r] = 1 marks the roots of groups of two or more
+    for v in range(finite):
+        vnew[v] = 0
+    for v in range(finite):
+        if parent[v] != v:
+            vnew[parent[v]] = 1
+    # each group's three points of smallest id (triangles come in the order of their numbers,
+    # so a root's own triangle is met before the others of its group)
+    for t in range(ntri):
+        v = number[t]
+        if v < 0:
+            continue
+        r = parent[v]
+        if r == v:
+            if vnew[v] == 1:
+                _sort3_by_id(low, v, tri[3 * t], tri[3 * t + 1], tri[3 * t + 2], ids)
+        else:
+            for k in range(3):
+                _insert_by_id(low, r, tri[3 * t + k], ids)
+    nv = 0
+    for v in range(finite):
+        if parent[v] != v:
+            continue
+        if vnew[v] == 1:
+            i, j, k = low[v, 0], low[v, 1], low[v, 2]
+            x, y = circumcentre(pts[i, 0], pts[i, 1], pts[j, 0], pts[j, 1], pts[k, 0], pts[k, 1])
+        else:
+            x, y = vertices[v, 0], vertices[v, 1]
+        out_vertices[nv, 0] = x
+        out_vertices[nv, 1] = y
+        vnew[v] = nv
+        nv += 1
+    # the half-edges between two vertices of one group have zero length: dropped. Finite
+    # triangle v's half-edges 3v, 3v + 1, 3v + 2 end at v; a ghost's runs out to infinity.
+    H = origin.size
+    kept = 0
+    for h in range(H):
+        o = origin[h]
+        if h < 3 * finite and o >= 0 and parent[o] == parent[h // 3]:
+            newh[h] = -1
+        else:
+            newh[h] = kept
+            kept += 1
+    if kept != out_origin.size:
+        raise RuntimeError("the dual of the triangulation: a cocircular group is not a tree of triangles")
+    for h in range(H):
+        j = newh[h]
+        if j < 0:
+            continue
+        o = origin[h]
+        out_origin[j] = -1 if o < 0 else vnew[parent[o]]
+        out_twin[j] = newh[twin[h]]
+        out_site[j] = site[h]
+        g = nxt[h]
+        for _ in range(H):
+            if newh[g] >= 0:
+                break
+            g = nxt[g]
+        if newh[g] < 0:
+            raise RuntimeError("the dual of the triangulation: a cell does not close up")
+        out_nxt[j] = newh[g]
+    return nv
 
 
 def voronoi_dcel(pts, ids, tri, opp, ntri, counters):
@@ -465,8 +568,10 @@ def voronoi_dcel(pts, ids, tri, opp, ntri, counters):
     :func:`voronoi_edges`.
 
     Without cocircular neighbours (almost every input) this is one pass over the triangles
-    (:func:`_unmerged_dcel`); the first cocircular pair hands over to :func:`_general_dcel`,
-    which merges (its counters count the incircle tests of the general path only).
+    (:func:`_unmerged_dcel`). From the first cocircular pair on, the pass also joins such pairs
+    in a union-find, and :func:`_merged_dcel` then folds each group into one vertex, dropping
+    the edges of zero length inside it. (:func:`_general_dcel` builds the same diagram another
+    way, by numbering the edges between different vertices first; the tests hold this one to it.)
 
     The output arrays are allocated here by numpy, not in the compiled pass: numpy asks the
     kernel for transparent huge pages on large arrays, numba's own allocator does not, and
@@ -479,11 +584,23 @@ def voronoi_dcel(pts, ids, tri, opp, ntri, counters):
     H = 3 * finite + ghosts
     vertices = np.empty((finite, 2), dtype=np.float64)
     origin, twin, nxt, site = (np.empty(H, dtype=np.int32) for _ in range(4))
-    tests = np.zeros_like(counters)
-    if _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, twin, nxt, site, tests):
-        counters += tests
+    stop, _ = _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, twin, nxt, site, counters,
+                             _NO_UNION_FIND, 0)
+    if stop < 0:
         return vertices, origin, twin, nxt, site, 0
-    return _general_dcel(pts, ids, tri, opp, ntri, counters)
+    # a cocircular pair: the pass goes on from there, joining every such pair, and the groups
+    # are folded (no triangle before ``stop`` was cocircular with an earlier neighbour)
+    parent = np.arange(finite, dtype=np.int32)
+    _, merged = _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, twin, nxt, site,
+                               counters, parent, stop)
+    out_vertices = np.empty((finite - merged, 2), dtype=np.float64)
+    out = [np.empty(H - 2 * merged, dtype=np.int32) for _ in range(4)]
+    low = np.empty((finite, 3), dtype=np.int32)
+    vnew = np.empty(finite, dtype=np.int32)
+    newh = np.empty(H, dtype=np.int32)
+    _merged_dcel(pts, ids, tri, ntri, number, parent, vertices, origin, twin, nxt, site, low, vnew, newh,
+                 out_vertices, *out)
+    return (out_vertices, *out, merged)
 
 
 # ---------------------------------------------------------------------------------------------
