@@ -5,7 +5,8 @@ CONTRACT
 Complexity: O(n log n) expected. Sites are inserted in a biased randomized insertion order
 (random rounds of doubling size, Hilbert-sorted within each round), so the expected cost
 does not depend on the input order (``sorted`` included), and each new site is located by a
-visibility walk from the previous insertion, short because consecutive sites are close.
+visibility walk from the previous insertion, short because consecutive sites are close (a site
+outside the hull, after one inserted on it, by a walk along the hull's ghost triangles first).
 Input: prepared sites (distinct, finite float64), any n >= 0; coordinates within the range
 where :mod:`vorobench.core.predicates` is exact (|x| in [2**-100, 2**100) or 0), where
 ``Implementation.run`` scales every input by a power of two (:mod:`vorobench.core.scaling`).

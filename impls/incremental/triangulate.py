@@ -59,6 +59,11 @@ def _strictly_between(pts, u, v, px, py):
 
 
 @njit(cache=True, _nrt=False)
+def _is_ghost(tri, t, inf):
+    return tri[3 * t] == inf or tri[3 * t + 1] == inf or tri[3 * t + 2] == inf
+
+
+@njit(cache=True, _nrt=False)
 def _in_conflict(pts, tri, t, inf, px, py, counters):
     u, v = _ghost_edge(tri, t, inf)
     if u < 0:
@@ -102,6 +107,40 @@ def _locate(pts, tri, opp, start, inf, px, py, cap, counters, stats):
         if tri[3 * t] == inf or tri[3 * t + 1] == inf or tri[3 * t + 2] == inf:
             return t
     raise RuntimeError("incremental: point location walk exceeded its step cap")
+
+
+#: Ghost triangles a hull walk crosses before it hands over to the visibility walk
+_HULL_WALK_STEPS = 128
+
+
+@njit(cache=True, _nrt=False)
+def _walk_hull(pts, tri, opp, start, inf, px, py, counters, stats):
+    """From ghost triangle ``start``, along the hull to a ghost whose edge sees p (in conflict
+    with p, decided exactly); -1 if none within _HULL_WALK_STEPS ghosts (p inside the hull, or
+    far along it). Sites on a convex curve are all inserted outside the hull, and the
+    visibility walk to the edge that sees p crosses every sliver between: along the hull it is
+    a step per hull edge. The direction at each ghost is only a guess (p's projection on the
+    edge falling beyond one end), so floats suffice for it."""
+    t = start
+    for _ in range(_HULL_WALK_STEPS):
+        stats[1] += 1
+        if _in_conflict(pts, tri, t, inf, px, py, counters):
+            return t
+        k = 0
+        while tri[3 * t + k] != inf:
+            k += 1
+        u = tri[3 * t + (k + 1) % 3]
+        v = tri[3 * t + (k + 2) % 3]
+        ex = pts[v, 0] - pts[u, 0]
+        ey = pts[v, 1] - pts[u, 1]
+        along = (px - pts[u, 0]) * ex + (py - pts[u, 1]) * ey
+        if along > ex * ex + ey * ey:
+            t = opp[3 * t + (k + 2) % 3] // 3      # across v -> inf: the next hull edge from v
+        elif along < 0.0:
+            t = opp[3 * t + k] // 3                # across inf -> u: the hull edge ending at u
+        else:
+            return -1
+    return -1
 
 
 @njit(cache=True, inline='always')
@@ -203,8 +242,12 @@ def _insert_all(pts, order, counters, tri, opp, mark, fan_from, vertex_tri):
     # into p's cell of a coarse grid when that site is nearer. Space-filling orders jump
     # (between the arms of a parabola, say), and a straight walk across slivers is long; the
     # grid hands the walk a nearby vertex. ``vertex_tri[v]``: a finite triangle at vertex v.
+    # After a site inserted on the hull, the walk first goes along the hull from one of its
+    # ghosts (:func:`_walk_hull`); the grid keeps the ghost of each cell's last site too.
     side, x0, y0, cell_scale, cell_vertex = _walk_grid(pts, seed)
     last = 0
+    last_ghost = -1             # a ghost at the previous site, if it was inserted on the hull
+    cell_ghost = np.full(side * side, -1, dtype=np.int64)   # the same for each cell's last site
     previous = i2
     for m in range(2, n):
         if m == third:
@@ -220,7 +263,12 @@ def _insert_all(pts, order, counters, tri, opp, mark, fan_from, vertex_tri):
             start = vertex_tri[w]
         # the located triangle contains p (or is the ghost beyond the hull edge p sees), so
         # its circle contains p strictly: it is in conflict without a test
-        t0 = _locate(pts, tri, opp, start, inf, px, py, _WALK_CAP_FACTOR * ntri + 64, counters, stats)
+        t0 = -1
+        g = last_ghost if start == last else cell_ghost[cell]
+        if g >= 0 and _is_ghost(tri, g, inf):       # (a cell's ghost may have been reused since)
+            t0 = _walk_hull(pts, tri, opp, g, inf, px, py, counters, stats)
+        if t0 < 0:
+            t0 = _locate(pts, tri, opp, start, inf, px, py, _WALK_CAP_FACTOR * ntri + 64, counters, stats)
         # ---- grow the cavity: triangles in conflict, connected to t0
         inside = 2 * m
         mark[t0] = inside
@@ -253,6 +301,7 @@ def _insert_all(pts, order, counters, tri, opp, mark, fan_from, vertex_tri):
         if nb != ncav + 2:
             raise RuntimeError("incremental: the conflict region is not a topological disc")
         # ---- fill it with the fan from p: triangle (u, v, p) on each boundary edge u -> v
+        last_ghost = -1
         for j in range(nb):
             if j < ncav:
                 s = cavity[j]
@@ -266,7 +315,9 @@ def _insert_all(pts, order, counters, tri, opp, mark, fan_from, vertex_tri):
             opp[3 * s] = bnd_o[j]
             opp[bnd_o[j]] = 3 * s
             fan_from[u] = s
-            if u != inf and bnd_v[j] != inf:
+            if u == inf or bnd_v[j] == inf:
+                last_ghost = s
+            else:
                 last = s
                 # every vertex of the cavity is on its boundary, so this renews all pointers
                 # into the triangles just reused
@@ -296,6 +347,7 @@ def _insert_all(pts, order, counters, tri, opp, mark, fan_from, vertex_tri):
                     last = cavity[j] if j < ncav else ntri - (nb - j)
                     break
         cell_vertex[cell] = p
+        cell_ghost[cell] = last_ghost
         previous = p
         stats[0] += 1
         stats[2] += ncav

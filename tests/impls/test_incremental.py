@@ -177,6 +177,18 @@ def test_walks_stay_short_on_dense_cores(dataset):
     assert stats["walk_steps"] / stats["insertions"] < 10
 
 
+def test_sites_on_a_convex_curve_are_located_along_the_hull():
+    """Every site of ``parabola`` is inserted outside the hull: the walk goes along the hull's
+    ghost triangles to the edge that sees it (about 5 steps a site at 20,000; the visibility
+    walk alone, across the slivers between the parabola's arms, took 8), and the diagram is
+    still fortune's exactly."""
+    pts = datasets_gen.generate("parabola", 20000, seed=0)
+    stats = {}
+    diagram = impls.build("incremental", pts, stats)
+    assert stats["walk_steps"] / stats["insertions"] < 6.5
+    assert compare(diagram, impls.build("fortune", pts)).verdict == "exact"
+
+
 def test_brio_order_is_a_permutation_with_random_rounds():
     pts = datasets_gen.generate("sorted", 5000, seed=0)
     order = brio_order(pts)
