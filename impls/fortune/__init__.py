@@ -145,7 +145,7 @@ def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
         named = dict(zip(COUNTER_NAMES, counters.tolist()))
         stats.update({k: int(named[k]) for k in _STATS_KEPT})
     d = assemble(swept, vertices, edge_sites, edge_vertices)
-    return Diagram(sites, d.vertices, d.origin, d.twin, d.next, order[d.site])
+    return Diagram(sites, d.vertices, d.origin, d.twin, d.next, order.astype(d.site.dtype)[d.site])
 
 
 def _shift_table(sites: NDArray[np.float64], weights: NDArray[np.float64]) -> NDArray[np.float64]:

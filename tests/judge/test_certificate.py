@@ -308,14 +308,14 @@ def test_probe_ties_within_roundings_of_the_lifts_are_near_degenerate():
 
 def test_the_kernels_are_compiled_once_whatever_kind_of_arrays_the_diagram_holds():
     # numba compiles a kernel again for each kind of argument (read-only or not, int32 or
-    # int64): every process of a run would pay that. Fortune's DCEL is int64 and read-only,
-    # incremental's int32; a diagram rebuilt from writable copies is a third kind.
+    # int64): every process of a run would pay that. The constructions' DCELs are int32 and
+    # read-only; a diagram rebuilt from writable int64 copies is another kind.
     from vorobench.judge import certificate as cert
 
     sites = datasets_gen.generate("uniform", 40, seed=3)
     fortune, incremental = impls.build("fortune", sites), impls.build("incremental", sites)
-    rebuilt = Diagram(*(np.array(x) for x in (fortune.sites, fortune.vertices, fortune.origin, fortune.twin,
-                                               fortune.next, fortune.site)))
+    rebuilt = Diagram(np.array(fortune.sites), np.array(fortune.vertices),
+                      *(np.array(x, dtype=np.int64) for x in (fortune.origin, fortune.twin, fortune.next, fortune.site)))
     for d in (fortune, incremental, rebuilt):
         assert certify(d).ok
     for kernel in (cert._vertex_kernel, cert._edge_kernel, cert._probe_kernel, cert._site_probe_kernel):

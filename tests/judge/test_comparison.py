@@ -328,13 +328,14 @@ def test_compare_forgives_a_merge_within_rounding_and_not_beyond(scale):
 
 
 def test_the_kernels_are_compiled_once_whatever_kind_of_arrays_the_diagrams_hold():
-    # as for the certificate: int64 read-only (fortune), int32 (incremental), writable copies
+    # as for the certificate: the constructions' int32 read-only DCELs, writable int64 copies
     from vorobench.judge import comparison as cmp
 
     for sites in (datasets_gen.generate("uniform", 40, seed=5), datasets_gen.generate("grid", 36)):
         fortune, incremental = impls.build("fortune", sites), impls.build("incremental", sites)
-        rebuilt = Diagram(*(np.array(x) for x in (fortune.sites, fortune.vertices, fortune.origin, fortune.twin,
-                                                   fortune.next, fortune.site)))
+        rebuilt = Diagram(np.array(fortune.sites), np.array(fortune.vertices),
+                          *(np.array(x, dtype=np.int64) for x in (fortune.origin, fortune.twin, fortune.next,
+                                                                  fortune.site)))
         for a, b in ((fortune, incremental), (incremental, rebuilt), (rebuilt, fortune), (fortune, fortune)):
             assert compare(a, b).verdict == "exact"
     for kernel in (cmp._matched_kernel, cmp._coincident_kernel, cmp._flat_vertex_kernel):

@@ -43,15 +43,19 @@ def link_edges(n: int, vertices: NDArray[np.float64], ab: NDArray[np.int64], se:
         se = np.where(se >= 0, new_id[np.maximum(se, 0)], -1)
         vertices = vertices[used]
     H = 2 * ab.shape[0]
-    site = ab.reshape(H)                      # half-edge 2e: cell a; 2e + 1: cell b
-    origin = se.reshape(H).copy()             # 2e starts at `start`, 2e + 1 starts at `end`
-    twin = np.arange(H, dtype=np.int64) ^ 1
+    # int32 ids wherever they fit: half the memory of int64 (the DCEL of 10^6 sites is 6 million
+    # half-edges, and linking them needs as many again in scratch)
+    ids = np.int32 if max(H, n, vertices.shape[0]) < 2**31 - 1 else np.int64
+    site = ab.astype(ids, copy=False).reshape(H)    # half-edge 2e: cell a; 2e + 1: cell b
+    origin = se.astype(ids).reshape(H)              # 2e starts at `start`, 2e + 1 at `end` (a copy)
+    twin = np.arange(H, dtype=ids) ^ 1
     nxt = _link_next(site, origin, twin, n, vertices.shape[0], hint=oriented)
     return vertices, origin, twin, nxt, site
 
 
-def index_pairs(values: ArrayLike, name: str) -> NDArray[np.int64]:
-    """An (E, 2) int64 array of ids; a ValueError naming ``name`` for anything else."""
+def index_pairs(values: ArrayLike, name: str) -> NDArray[np.integer]:
+    """An (E, 2) int64 array of ids (int32 ones are kept as they are, not copied); a ValueError
+    naming ``name`` for anything else."""
     arr = np.asarray(values)
     if arr.size == 0:
         return np.zeros((0, 2), dtype=np.int64)
@@ -59,6 +63,8 @@ def index_pairs(values: ArrayLike, name: str) -> NDArray[np.int64]:
         raise ValueError(f"{name} must hold integer ids, got dtype {arr.dtype}")
     if arr.ndim != 2 or arr.shape[1] != 2:
         raise ValueError(f"{name} must have shape (E, 2), got {arr.shape}")
+    if arr.dtype == np.int32:
+        return arr
     return arr.astype(np.int64, copy=False)
 
 
@@ -155,7 +161,7 @@ def _link_next_compiled(site, origin, twin, n, V, first, from_infinity, fill, me
         if v >= 0:
             first[v + 1] += 1
         elif from_infinity[site[h]] >= 0:
-            return np.empty(0, dtype=np.int64), False
+            return nxt, False
         else:
             from_infinity[site[h]] = h
     for v in range(V):
@@ -214,7 +220,7 @@ def _link_next(site: NDArray[np.int64], origin: NDArray[np.int64], twin: NDArray
     if 0 < H < 2**31 - 1 and site.min() >= 0 and site.max() < n and origin.min() >= -1 and origin.max() < V:
         nxt, ok = _link_next_compiled(site, origin, twin, n, V, np.zeros(V + 1, np.int32), np.full(n, -1, np.int32),
                                       np.empty(V, np.int32), np.empty(H, np.int32), np.empty(H, np.int32),
-                                      np.empty(H, np.int64), np.zeros(H, np.bool_))
+                                      np.empty(H, site.dtype), np.zeros(H, np.bool_))
         if ok:
             return nxt
     key = site * (V + 1) + (origin + 1)       # (cell, start vertex); infinity sorts first
