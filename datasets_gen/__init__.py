@@ -13,7 +13,9 @@ float64 arrays on every run and machine (a fresh ``numpy.random.default_rng(seed
 passed to the family's generator, which uses only platform-stable operations).
 
 ``weights(family, points, seed)`` draws site weights for power diagrams from one of
-``WEIGHT_FAMILIES`` (``radii``, ``equal``, ``integer``, ``hidden``), just as deterministic.
+``WEIGHT_FAMILIES`` (``radii``, ``equal``, ``integer``, ``hidden``), just as deterministic;
+``radii(family, points, seed)`` draws disk radii for Apollonius diagrams from one of
+``RADIUS_FAMILIES``, and ``load_disks(PATH)`` reads disks from an ``x y r`` file.
 
 A name of the form ``file:PATH`` loads points with ``load(PATH)`` and returns its first
 ``min(n, rows)`` rows; the seed is ignored.
@@ -27,13 +29,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .loaders import load, load_weights
+from .loaders import load, load_disks, load_weights
+from .radius_families import RADIUS_FAMILIES, radii
 from .registry import DATASETS, Dataset, Family, get
 from .weight_families import WEIGHT_FAMILIES, weights
 
 __all__ = [
     "DATASETS",
     "FILE_PREFIX",
+    "RADIUS_FAMILIES",
     "WEIGHT_FAMILIES",
     "Dataset",
     "Family",
@@ -42,7 +46,9 @@ __all__ = [
     "describe",
     "generate",
     "load",
+    "load_disks",
     "load_weights",
+    "radii",
     "weights",
 ]
 

@@ -26,7 +26,7 @@ from typing import BinaryIO, Optional
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["TEXT_SUFFIXES", "MAX_FILE_BYTES", "load", "load_weights", "open_regular_file", "read_text", "read_npy", "exact_float",
+__all__ = ["TEXT_SUFFIXES", "MAX_FILE_BYTES", "load", "load_weights", "load_disks", "open_regular_file", "read_text", "read_npy", "exact_float",
            "first_inexact_integer", "number_table"]
 
 #: Suffixes read as whitespace-separated text (any suffix other than .npy/.csv is too).
@@ -74,6 +74,57 @@ def load_weights(path: str | os.PathLike[str]) -> NDArray[np.float64]:
     if w.ndim != 1:
         raise ValueError(f"{path}: weights must be one number per point, got an array of shape {w.shape}")
     return w
+
+
+def load_disks(path: str | os.PathLike[str]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``(centres (m, 2), radii (m,))`` of the disks in ``path``: ``.npy`` of shape (m, 3), or text
+    with one disk ``x y r`` per line (fields separated by spaces, tabs or commas; blank lines and
+    ``#`` comments skipped). Read as :func:`load` reads points; a radius must be finite and
+    >= 0 (a ValueError names the file and the line, or the row, otherwise)."""
+    path = Path(path)
+    try:
+        if path.suffix == ".npy":
+            table = read_npy(path, "disk file")
+            if table.dtype.kind not in "iuf":
+                raise ValueError(f"{path}: expected a real numeric array, got dtype {table.dtype}")
+            inexact = first_inexact_integer(table)
+            if inexact is not None:
+                raise ValueError(f"{path}: integer {inexact[1]} at index {', '.join(map(str, inexact[0]))} "
+                                 f"has no exact float64 value (it would be read as {float(inexact[1])!r})")
+            table = np.asarray(table, dtype=np.float64)
+            if table.size == 0:
+                table = table.reshape(0, 3)
+            if table.ndim != 2 or table.shape[1] != 3:
+                raise ValueError(f"{path}: expected an array of shape (m, 3) (x, y, r per disk), got {table.shape}")
+            where = [f"{path}: row {i}" for i in range(table.shape[0])]
+        else:
+            table, where = _disk_rows(read_text(path, "disk file"), path)
+    except FileNotFoundError:
+        raise ValueError(f"{path}: no such disk file") from None
+    for row, place in zip(table, where):
+        if not np.isfinite(row).all():
+            raise ValueError(f"{place}: non-finite value")
+        if row[2] < 0:
+            raise ValueError(f"{place}: negative radius {float(row[2])!r}")
+    return np.ascontiguousarray(table[:, :2]), np.ascontiguousarray(table[:, 2])
+
+
+def _disk_rows(text: str, path: Path) -> tuple[NDArray[np.float64], list[str]]:
+    """The ``x y r`` rows of a disk file's text, and where each came from (file:line)."""
+    rows: list[list[float]] = []
+    where: list[str] = []
+    for line_no, line in enumerate(text.splitlines(), start=1):
+        fields = line.split("#", 1)[0].replace(",", " ").split()
+        if not fields:
+            continue
+        if len(fields) != 3:
+            raise ValueError(f"{path}:{line_no}: expected 3 numbers (x y r), found {len(fields)}")
+        try:
+            rows.append([_field_value(f, col) for col, f in enumerate(fields)])
+        except ValueError as exc:
+            raise ValueError(f"{path}:{line_no}: {exc}") from None
+        where.append(f"{path}:{line_no}")
+    return np.array(rows, dtype=np.float64).reshape(len(rows), 3), where
 
 
 def open_regular_file(path: str | os.PathLike[str], what: str = "point file") -> BinaryIO:
