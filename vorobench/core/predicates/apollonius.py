@@ -1,0 +1,229 @@
+"""Exact predicates for disks as sites (Apollonius diagrams), in rational arithmetic.
+
+A disk is (x, y, r), r >= 0; the distance from a point v to it is |v - p| - r
+(docs/apollonius.md). The vertex of three disks i, j, k is the centre v of a circle of
+radius R with |v - p_m| - r_m = R for m = i, j, k (R may be negative where the disks
+overlap); it is a vertex of the diagram for the ordered triple (i, j, k) when the centres
+p_i, p_j, p_k lie counter-clockwise around v, each in the direction of its own cell.
+
+Derivation (translated so that p_i is the origin: u = v - p_i, a_m = p_m - p_i,
+s_m = r_m - r_i, rho = R + r_i = |u|): subtracting |u|^2 = rho^2 from
+|u - a_m|^2 = (rho + s_m)^2 leaves two planes in (u_x, u_y, rho),
+
+    a_m . u + s_m rho = (|a_m|^2 - s_m^2) / 2        (m = j, k),
+
+whose common line X0 + t d (d = n_j x n_k, X0 a rational point of it) meets the cone
+u_x^2 + u_y^2 = rho^2 where t solves a quadratic with rational coefficients. So every
+coordinate of a vertex is a + b sqrt(D) with rationals a, b and one D per triple, and each
+sign below is decided exactly by :class:`QuadraticNumber` (squaring once). A root is a vertex
+when rho + s_m = R + r_m >= 0 for all three disks (the circle touches each from outside) and
+the centres turn counter-clockwise around it.
+
+This is the exact stage, written for clarity: Python rationals (``gmpy2.mpq`` where installed,
+``fractions.Fraction`` otherwise), used by the oracle and by tests. Float filters in front of
+it come with the constructions that need speed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Optional, Sequence
+
+try:  # GMP's rationals, several times faster; the answers are the same
+    from gmpy2 import mpq as rational
+except ImportError:  # pragma: no cover - gmpy2 is a dependency
+    rational = Fraction
+
+__all__ = ["Disk", "QuadraticNumber", "ApolloniusVertex", "hidden_by", "vertex", "conflict", "rational"]
+
+#: A disk as the caller gives it: (x, y, r), floats or rationals
+Disk = Sequence[float]
+
+
+@dataclass(frozen=True)
+class QuadraticNumber:
+    """The real number a + b sqrt(d), with rationals a, b and d >= 0."""
+
+    a: object
+    b: object
+    d: object
+
+    def _same_field(self, other: "QuadraticNumber") -> None:
+        if other.d != self.d and self.b != 0 and other.b != 0:
+            raise ValueError("numbers of different quadratic fields")
+
+    def __add__(self, other: "QuadraticNumber") -> "QuadraticNumber":
+        self._same_field(other)
+        return QuadraticNumber(self.a + other.a, self.b + other.b, self.d if self.b != 0 else other.d)
+
+    def __sub__(self, other: "QuadraticNumber") -> "QuadraticNumber":
+        self._same_field(other)
+        return QuadraticNumber(self.a - other.a, self.b - other.b, self.d if self.b != 0 else other.d)
+
+    def __mul__(self, other: "QuadraticNumber") -> "QuadraticNumber":
+        self._same_field(other)
+        d = self.d if self.b != 0 else other.d
+        return QuadraticNumber(self.a * other.a + self.b * other.b * d, self.a * other.b + self.b * other.a, d)
+
+    def scaled(self, c) -> "QuadraticNumber":
+        """This number times the rational c."""
+        return QuadraticNumber(self.a * c, self.b * c, self.d)
+
+    def sign(self) -> int:
+        """The exact sign: of a + b sqrt(d), from the signs of a and b and, where they differ,
+        a^2 against b^2 d."""
+        sa = (self.a > 0) - (self.a < 0)
+        sb = (self.b > 0) - (self.b < 0) if self.d != 0 else 0
+        if sb == 0 or sa == sb:
+            return sa if sa != 0 else sb
+        if sa == 0:
+            return sb
+        # a and b sqrt(d) of opposite signs: the one of larger magnitude wins
+        diff = self.a * self.a - self.b * self.b * self.d
+        return sa * ((diff > 0) - (diff < 0))
+
+    def __float__(self) -> float:
+        """The value to a few ulps: a + b sqrt(d) where the two terms have one sign, else
+        (a^2 - b^2 d) / (a - b sqrt(d)), whose numerator is exact, so nothing cancels."""
+        if self.b == 0 or self.d == 0:
+            return float(self.a)
+        root = float(self.b) * float(self.d) ** 0.5
+        if (self.a >= 0) == (self.b > 0):
+            return float(self.a) + root
+        return float(self.a * self.a - self.b * self.b * self.d) / (float(self.a) - root)
+
+
+def _q(value) -> QuadraticNumber:
+    return QuadraticNumber(rational(value), rational(0), rational(0))
+
+
+@dataclass(frozen=True)
+class ApolloniusVertex:
+    """The vertex of the ordered triple ``sites``: centre (x, y) and radius R (the common
+    distance |v - p_m| - r_m), each exact as a + b sqrt(d)."""
+
+    sites: tuple[int, int, int]
+    x: QuadraticNumber
+    y: QuadraticNumber
+    radius: QuadraticNumber
+
+    def as_floats(self) -> tuple[float, float, float]:
+        """(x, y, R) each to a few ulps (see :meth:`QuadraticNumber.__float__`)."""
+        return float(self.x), float(self.y), float(self.radius)
+
+
+def _disk(disk: Disk) -> tuple:
+    x, y, r = (rational(v) for v in disk)
+    if r < 0:
+        raise ValueError(f"a disk's radius must be >= 0, got {float(r)!r}")
+    return x, y, r
+
+
+def hidden_by(small: Disk, big: Disk) -> bool:
+    """Whether disk ``small`` lies inside disk ``big`` (|p_s - p_b| + r_s <= r_b, touching
+    included): then no point is closer to it, and its cell is empty (or has no interior)."""
+    sx, sy, sr = _disk(small)
+    bx, by, br = _disk(big)
+    gap = br - sr
+    return gap >= 0 and gap * gap >= (sx - bx) ** 2 + (sy - by) ** 2
+
+
+def _cross(ax, ay, bx, by):
+    return ax * by - ay * bx
+
+
+def _turn(u_x: QuadraticNumber, u_y: QuadraticNumber, a, b) -> tuple[int, int]:
+    """Signs of (a - u) x (b - u) and (a - u) . (b - u): whether centre b is counter-clockwise
+    of centre a as seen from u, and whether the two lie on one side (a, b rational points
+    relative to p_i)."""
+    ax, ay = _q(a[0]) - u_x, _q(a[1]) - u_y
+    bx, by = _q(b[0]) - u_x, _q(b[1]) - u_y
+    return (ax * by - ay * bx).sign(), (ax * bx + ay * by).sign()
+
+
+def _counter_clockwise(u_x: QuadraticNumber, u_y: QuadraticNumber, centres) -> bool:
+    """Whether the directions from u to the three centres (relative to p_i) turn counter-
+    clockwise: at least two of the three consecutive turns positive (in clockwise order at
+    most one is). Two centres may lie in opposite directions (the centre of a right
+    triangle's circle is on its hypotenuse); two in one direction cannot both have a cell
+    at u (the nearer disk lies inside the farther one), and are refused."""
+    positive = 0
+    for m in range(3):
+        cross, dot = _turn(u_x, u_y, centres[m], centres[(m + 1) % 3])
+        if cross == 0 and dot >= 0:
+            return False
+        positive += cross > 0
+    return positive >= 2
+
+
+def vertex(disks: Sequence[Disk], i: int, j: int, k: int) -> Optional[ApolloniusVertex]:
+    """The vertex of the diagram of disks i, j, k in that counter-clockwise order, exactly, or
+    None if there is none (no circle touches the three from outside with their centres
+    counter-clockwise around it; the centres' planes parallel: the triple has no single vertex)."""
+    px, py, pr = _disk(disks[i])
+    rel = []
+    for m in (j, k):
+        x, y, r = _disk(disks[m])
+        rel.append((x - px, y - py, r - pr))
+    (ajx, ajy, sj), (akx, aky, sk) = rel
+    # the planes n_m . X = h_m in X = (u_x, u_y, rho)
+    n1, n2 = (ajx, ajy, sj), (akx, aky, sk)
+    h1 = (ajx * ajx + ajy * ajy - sj * sj) / 2
+    h2 = (akx * akx + aky * aky - sk * sk) / 2
+    d = (n1[1] * n2[2] - n1[2] * n2[1], n1[2] * n2[0] - n1[0] * n2[2], n1[0] * n2[1] - n1[1] * n2[0])
+    dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+    if dd == 0:
+        return None
+    # the point of the line nearest the origin: a combination of n1 and n2
+    n11 = sum(c * c for c in n1)
+    n22 = sum(c * c for c in n2)
+    n12 = sum(a * b for a, b in zip(n1, n2))
+    c1 = (h1 * n22 - h2 * n12) / dd
+    c2 = (h2 * n11 - h1 * n12) / dd
+    x0 = tuple(c1 * a + c2 * b for a, b in zip(n1, n2))
+    # X0 + t d on the cone u_x^2 + u_y^2 - rho^2 = 0
+    qa = d[0] * d[0] + d[1] * d[1] - d[2] * d[2]
+    qb = 2 * (x0[0] * d[0] + x0[1] * d[1] - x0[2] * d[2])
+    qc = x0[0] * x0[0] + x0[1] * x0[1] - x0[2] * x0[2]
+    zero = rational(0)
+    if qa == 0:
+        if qb == 0:
+            return None
+        roots = [QuadraticNumber(-qc / qb, zero, zero)]
+    else:
+        disc = qb * qb - 4 * qa * qc
+        if disc < 0:
+            return None
+        half = 1 / (2 * qa)
+        roots = [QuadraticNumber(-qb * half, sign * half, disc) for sign in (1, -1)] if disc > 0 else \
+            [QuadraticNumber(-qb * half, zero, zero)]
+    centres = ((zero, zero), (ajx, ajy), (akx, aky))
+    found = []
+    for t in roots:
+        ux, uy, rho = (_q(x0[c]) + t.scaled(d[c]) for c in range(3))
+        # the circle touches each disk from outside: R + r_m = rho + s_m >= 0
+        if rho.sign() < 0 or (rho + _q(sj)).sign() < 0 or (rho + _q(sk)).sign() < 0:
+            continue
+        if _counter_clockwise(ux, uy, centres):
+            found.append((ux, uy, rho))
+    if not found:
+        return None
+    if len(found) > 1:
+        # two circles with the centres counter-clockwise around both cannot both bound cells
+        # of three disks; it would be a bug in the derivation, not an input to round away
+        raise ArithmeticError(f"disks {i}, {j}, {k}: two Apollonius circles qualify")
+    ux, uy, rho = found[0]
+    return ApolloniusVertex((i, j, k), ux + _q(px), uy + _q(py), rho - _q(pr))
+
+
+def conflict(disks: Sequence[Disk], v: ApolloniusVertex, m: int) -> int:
+    """Sign of (distance from v's centre to disk m) - R, exactly: -1 when disk m is strictly
+    closer than v's three disks (v is not a vertex of a diagram with m: a conflict), 0 when it
+    touches v's circle too (a vertex of degree four or more), +1 when it is farther."""
+    x, y, r = _disk(disks[m])
+    reach = v.radius + _q(r)                  # R + r_m: the distance |v - p_m| would have at a tie
+    if reach.sign() < 0:
+        return 1
+    dx, dy = v.x - _q(x), v.y - _q(y)
+    return (dx * dx + dy * dy - reach * reach).sign()
