@@ -15,6 +15,9 @@ def test_impls_and_datasets_list_their_names(capsys):
     out = capsys.readouterr().out
     for name in ("uniform", "cocircular", "near_grid"):
         assert name in out
+    assert "weight families" in out and "radius families" in out
+    for name in (*datasets_gen.WEIGHT_FAMILIES, *datasets_gen.RADIUS_FAMILIES):
+        assert name in out
 
 
 @pytest.mark.parametrize("dataset", datasets_gen.available())

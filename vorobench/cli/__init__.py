@@ -93,6 +93,13 @@ def cmd_datasets(args: argparse.Namespace) -> int:
     for name, text in datasets_gen.WEIGHT_FAMILIES.items():
         weights.add_row(name, text)
     _console().print(weights)
+    radii = Table(title="radius families (datasets_gen.radii: disks as sites, docs/apollonius.md; "
+                        "no construction takes disks yet)")
+    for col in ("name", "description"):
+        radii.add_column(col)
+    for name, text in datasets_gen.RADIUS_FAMILIES.items():
+        radii.add_row(name, text)
+    _console().print(radii)
     return 0
 
 
