@@ -58,7 +58,7 @@ def load_weights(path: str | os.PathLike[str]) -> NDArray[np.float64]:
     bounded size, and no integer float64 cannot hold exactly (it is refused, never rounded)."""
     path = Path(path)
     try:
-        if path.suffix == ".npy":
+        if path.suffix.lower() == ".npy":
             w = read_npy(path, "weights file")
             inexact = first_inexact_integer(w)
             if inexact is not None:
@@ -83,7 +83,7 @@ def load_disks(path: str | os.PathLike[str]) -> tuple[NDArray[np.float64], NDArr
     >= 0 (a ValueError names the file and the line, or the row, otherwise)."""
     path = Path(path)
     try:
-        if path.suffix == ".npy":
+        if path.suffix.lower() == ".npy":
             table = read_npy(path, "disk file")
             if table.dtype.kind not in "iuf":
                 raise ValueError(f"{path}: expected a real numeric array, got dtype {table.dtype}")
@@ -114,9 +114,11 @@ def _disk_rows(text: str, path: Path) -> tuple[NDArray[np.float64], list[str]]:
     rows: list[list[float]] = []
     where: list[str] = []
     for line_no, line in enumerate(text.splitlines(), start=1):
-        fields = line.split("#", 1)[0].replace(",", " ").split()
-        if not fields:
+        content = line.split("#", 1)[0].strip()
+        if not content:
             continue
+        # commas separate fields where there are any (an empty field is an error), else spaces
+        fields = [f.strip() for f in content.split(",")] if "," in content else content.split()
         if len(fields) != 3:
             raise ValueError(f"{path}:{line_no}: expected 3 numbers (x y r), found {len(fields)}")
         try:

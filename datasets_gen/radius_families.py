@@ -22,29 +22,33 @@ from numpy.typing import ArrayLike, NDArray
 from ._sampling import permutation
 from .weight_families import local_spacing, mean_spacing
 
-__all__ = ["RADIUS_FAMILIES", "NESTING_FRACTION", "radii", "nearest_distance"]
+__all__ = ["RADIUS_FAMILIES", "NESTING_FRACTION", "MAX_COORDINATE", "radii", "nearest_distance"]
 
 #: ``nested``: the fraction of disks (at least one) that are grown over their neighbours.
 NESTING_FRACTION = 0.125
+#: Larger coordinates are refused: an area or a squared distance of them overflows a double.
+MAX_COORDINATE = 1e150
 
 Radii = NDArray[np.float64]
 
 
 def nearest_distance(points: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Per point, the distance to its nearest other row (correctly rounded from the
-    coordinates); :func:`mean_spacing` where that is 0 (a copy) or there is no other row."""
-    n = points.shape[0]
-    if n < 2:
-        return np.full(n, mean_spacing(points))
+    """Per point, the distance to the nearest point at another place (copies of a point share
+    its distance; correctly rounded from the coordinates); :func:`mean_spacing` where every
+    row is at one place."""
+    distinct, where = np.unique(points, axis=0, return_inverse=True)
+    m = distinct.shape[0]
+    if m < 2:
+        return np.full(points.shape[0], mean_spacing(points))
     from scipy.spatial import cKDTree  # imported here: generating points does not need scipy
 
-    _, nearest = cKDTree(points).query(points, 2)
-    # the tree's second hit is the nearest other row (or a copy at distance 0); the distance is
-    # recomputed here so that it does not depend on the tree's arithmetic
-    other = np.where(nearest[:, 0] == np.arange(n), nearest[:, 1], nearest[:, 0])
-    delta = points[other] - points
+    _, nearest = cKDTree(distinct).query(distinct, 2)
+    # the tree's second hit is the nearest other point; the distance is recomputed here so
+    # that it does not depend on the tree's arithmetic
+    other = np.where(nearest[:, 0] == np.arange(m), nearest[:, 1], nearest[:, 0])
+    delta = distinct[other] - distinct
     d = np.sqrt(delta[:, 0] * delta[:, 0] + delta[:, 1] * delta[:, 1])
-    return np.where(d > 0, d, mean_spacing(points))
+    return d[where.reshape(-1)]
 
 
 def _random(points: NDArray[np.float64], rng: np.random.Generator) -> Radii:
@@ -54,9 +58,10 @@ def _random(points: NDArray[np.float64], rng: np.random.Generator) -> Radii:
 
 
 def _separate(points: NDArray[np.float64], rng: np.random.Generator) -> Radii:
-    # r below 0.499 of the nearest distance: r_i + r_j < d_ij for every pair (d_ij is at least
-    # both nearest distances, and 0.499 leaves room for the roundings), so no two disks meet and
-    # no site is hidden
+    # r below 0.499 of the nearest distance: r_i + r_j < d_ij for every pair at different
+    # centres (d_ij is at least both nearest distances, and 0.499 leaves room for the
+    # roundings), so no two such disks meet and none hides another (copies of a point share
+    # its centre: the larger hides the smaller, as a heavier copy does in a power diagram)
     return 0.499 * nearest_distance(points) * rng.random(points.shape[0])
 
 
@@ -118,7 +123,8 @@ def _last_bit(points: NDArray[np.float64], rng: np.random.Generator) -> Radii:
 _FAMILIES: dict[str, tuple[str, Callable[[NDArray[np.float64], np.random.Generator], Radii]]] = {
     "random": ("r uniform in [0, local spacing) (mean distance to the 6 nearest points): overlapping disks, "
                "some inside others (hidden)", _random),
-    "separate": ("r uniform in [0, 0.499 nearest distance): disjoint disks, none hidden", _separate),
+    "separate": ("r uniform in [0, 0.499 nearest distance): disks at different centres never meet, none hidden",
+                 _separate),
     "equal": ("every r = s/4 (s = sqrt(box area / n)): exactly the ordinary Voronoi diagram", _equal),
     "nested": (f"small disks (r < local spacing / 4) and {NESTING_FRACTION:g} of them grown to 1.5-3 local "
                "spacings: the small disks they cover are hidden", _nested),
@@ -146,9 +152,16 @@ def radii(family: str, points: ArrayLike, seed: int = 0) -> Radii:
         raise ValueError(f"unknown radius family {family!r}; available: {', '.join(_FAMILIES)}")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
-    pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    pts = np.asarray(points, dtype=np.float64)
+    if pts.size == 0:
+        pts = pts.reshape(0, 2)
+    if pts.ndim != 2 or pts.shape[1] != 2:
+        raise ValueError(f"points must have shape (n, 2), got {pts.shape}")
     if not np.isfinite(pts).all():
         raise ValueError("points must be finite to draw radii for them")
+    if pts.size and np.abs(pts).max() > MAX_COORDINATE:
+        raise ValueError(f"coordinates beyond {MAX_COORDINATE:g} in magnitude: the spacings the radii are drawn from "
+                         "would overflow")
     rng = np.random.default_rng([int(seed), _STREAM[family]])
     r = _FAMILIES[family][1](pts, rng)
     return np.ascontiguousarray(r, dtype=np.float64).reshape(pts.shape[0])

@@ -125,6 +125,29 @@ def test_builder_reports_cells_that_do_not_close():
         assemble(sites, [[1.0, 1.0]], [[0, 1], [1, 2], [2, 0]], [[-1, 0], [0, -1], [-1, 0]])
 
 
+def test_a_cell_that_does_not_close_is_reported_among_many_sites():
+    # 65,539 sites and 65,535 vertices: (cell, start vertex) keys pass 2**31, where int32 keys
+    # wrapped and paired the open cells 2 and 65,538 with each other
+    n, rng = 65_539, np.random.default_rng(0)
+    vertices = np.zeros((65_535, 2))
+    vertices[0] = (0.5, 0.5)
+    with pytest.raises(InvalidDiagramError, match="cell 2 does not close"):
+        assemble(rng.random((n, 2)), vertices, np.array([[0, 1], [1, 2], [n - 1, 0]]), [[-1, 0]] * 3)
+
+
+@pytest.mark.parametrize("dtype", [np.int32, np.int64])
+def test_the_diagram_shares_no_memory_with_the_callers_edges(dtype):
+    sites = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]])
+    ab = np.array([[0, 1], [1, 2], [2, 0]], dtype=dtype)
+    se = np.array([[-1, 0], [-1, 0], [-1, 0]], dtype=dtype)
+    d = assemble(sites, [[1.0, 1.0]], ab, se)
+    site, origin = d.site.copy(), d.origin.copy()
+    ab[:] = 0                                   # the caller reuses its buffers
+    se[:] = 7
+    assert np.array_equal(d.site, site) and np.array_equal(d.origin, origin)
+    d.validate()
+
+
 def test_two_cycles_in_one_cell_are_reported():
     # Collinear 3 sites, then make the middle cell's two lines each point to itself.
     d = collinear_diagram(np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]))

@@ -148,3 +148,20 @@ def test_quadratic_numbers_decide_their_sign_exactly():
     assert (QuadraticNumber(close - Fraction(1, 10 ** 16), 0, 0) - two).sign() == -1
     assert (two * two - QuadraticNumber(2, 0, 0)).sign() == 0
     assert float(QuadraticNumber(Fraction(10 ** 8), Fraction(-1), Fraction(10 ** 16 - 1))) == pytest.approx(5e-9)
+
+
+@pytest.mark.parametrize("scale", [2.0 ** -200, 2.0 ** -60, 2.0 ** 60, 2.0 ** 200])
+def test_vertices_in_floats_scale_with_the_disks_far_outside_the_double_range_of_their_parts(scale):
+    # the discriminant grows like the sixth power of the coordinates: 2**1200 at 2**200
+    disks = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.5)]
+    unit = vertex(disks, 0, 1, 2).as_floats()
+    scaled = vertex([tuple(scale * c for c in d) for d in disks], 0, 1, 2).as_floats()
+    assert scaled == pytest.approx(tuple(scale * c for c in unit), rel=1e-15)
+
+
+def test_numpy_integers_and_float32_are_taken_as_the_numbers_they_hold():
+    rows = [[0, 0, 0], [4, 0, 0], [0, 4, 1]]
+    expected = vertex(rows, 0, 1, 2).as_floats()
+    for dtype in (np.int64, np.int32, np.float32, np.float64):
+        assert vertex(np.array(rows, dtype=dtype), 0, 1, 2).as_floats() == expected
+    assert hidden_by(np.array([1, 0, 1], dtype=np.int64), np.array([0, 0, 3], dtype=np.int32))

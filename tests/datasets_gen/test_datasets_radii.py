@@ -66,14 +66,27 @@ def test_bad_arguments_are_refused_with_the_reason() -> None:
         dg.radii("random", points, seed=-1)
     with pytest.raises(ValueError, match="finite"):
         dg.radii("random", np.array([[0.0, np.nan]]))
+    with pytest.raises(ValueError, match=r"shape \(n, 2\), got \(2, 3\)"):
+        dg.radii("random", np.zeros((2, 3)))
+    with pytest.raises(ValueError, match="beyond 1e.150 in magnitude"):
+        dg.radii("separate", points * 1e160)
 
 
-@pytest.mark.parametrize("dataset", ["uniform", "clusters", "grid"])
-def test_separate_disks_never_meet(dataset: str) -> None:
+@pytest.mark.parametrize("dataset", ["uniform", "clusters", "grid", "duplicates"])
+def test_separate_disks_at_different_centres_never_meet(dataset: str) -> None:
     points = dg.generate(dataset, 60, seed=4)
     r = dg.radii("separate", points, seed=4)
     for i, j, d2, ri, rj in _pairs(points, r):
-        assert (ri + rj) ** 2 < d2, (i, j)
+        assert d2 == 0 or (ri + rj) ** 2 < d2, (i, j)
+
+
+def test_copies_of_a_point_take_the_distance_to_the_nearest_other_place() -> None:
+    # a copy is at distance 0 from its twin: the spacing must come from the next point, or
+    # the disk spreads over its neighbours
+    points = np.array([(0, 0), (0, 0), (0.01, 0), (1, 1), (1, 0), (0, 1)], dtype=float)
+    assert np.array_equal(nearest_distance(points)[:3], [0.01, 0.01, 0.01])
+    r = dg.radii("tangent", points)
+    assert r[0] == r[1] == r[2] == 0.005
 
 
 def test_equal_radii_are_one_value_and_last_bit_two_adjacent_floats() -> None:
@@ -103,13 +116,14 @@ def test_tangent_disks_on_a_lattice_touch_every_neighbour_exactly() -> None:
     assert len(touching) == 2 * 7 * 6 and not overlapping
 
 
-def test_tangent_disks_elsewhere_touch_their_nearest_neighbour_to_within_rounding() -> None:
-    points = dg.generate("uniform", 200, seed=8)
+@pytest.mark.parametrize("dataset", ["uniform", "duplicates"])
+def test_tangent_disks_elsewhere_touch_their_nearest_neighbour_to_within_rounding(dataset: str) -> None:
+    points = dg.generate(dataset, 200, seed=8)
     r = dg.radii("tangent", points)
     assert np.array_equal(r, 0.5 * nearest_distance(points))
     for i, j, d2, ri, rj in _pairs(points, r):
         gap = float(d2) ** 0.5 - float(ri + rj)
-        assert gap > -1e-15, (i, j, gap)
+        assert d2 == 0 or gap > -1e-15, (i, j, gap)
 
 
 def test_integer_radii_on_the_unit_lattice_put_point_disks_on_circles() -> None:
@@ -141,6 +155,10 @@ def test_disk_files_read_in_text_and_npy(tmp_path) -> None:
     np.save(npy, np.array([[1, 2, 3], [4, 5, 6]], dtype=np.int32))
     centres, r = dg.load_disks(npy)
     assert centres.dtype == np.float64 and np.array_equal(centres, [[1, 2], [4, 5]]) and np.array_equal(r, [3, 6])
+    upper = tmp_path / "DISKS.NPY"                       # the suffix in capitals is .npy too
+    with open(upper, "wb") as f:
+        np.save(f, np.array([[1.0, 2.0, 3.0]]))
+    assert np.array_equal(dg.load_disks(upper)[1], [3.0])
     empty = tmp_path / "none.txt"
     empty.write_text("# nothing\n")
     centres, r = dg.load_disks(empty)
@@ -153,6 +171,8 @@ def test_disk_files_read_in_text_and_npy(tmp_path) -> None:
     ("0 0 1\n0 nan 1\n", r"disks.txt:2: non-finite value"),
     ("0 zero 1\n", r"disks.txt:1: non-numeric value 'zero' in column 2"),
     ("0 0 9007199254740993\n", r"disks.txt:1: integer 9007199254740993 has no exact float64 value"),
+    ("1,,2\n", r"disks.txt:1: non-numeric value '' in column 2"),
+    ("1, 2, 3, 4\n", r"disks.txt:1: expected 3 numbers \(x y r\), found 4"),
 ])
 def test_bad_disk_files_name_the_file_and_line(tmp_path, content: str, message: str) -> None:
     path = tmp_path / "disks.txt"

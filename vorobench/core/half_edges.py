@@ -46,8 +46,9 @@ def link_edges(n: int, vertices: NDArray[np.float64], ab: NDArray[np.int64], se:
     # int32 ids wherever they fit: half the memory of int64 (the DCEL of 10^6 sites is 6 million
     # half-edges, and linking them needs as many again in scratch)
     ids = np.int32 if max(H, n, vertices.shape[0]) < 2**31 - 1 else np.int64
-    site = ab.astype(ids, copy=False).reshape(H)    # half-edge 2e: cell a; 2e + 1: cell b
-    origin = se.astype(ids).reshape(H)              # 2e starts at `start`, 2e + 1 at `end` (a copy)
+    # copies: the Diagram must not share memory with arrays the caller may change afterwards
+    site = ab.astype(ids).reshape(H)                # half-edge 2e: cell a; 2e + 1: cell b
+    origin = se.astype(ids).reshape(H)              # 2e starts at `start`, 2e + 1 at `end`
     twin = np.arange(H, dtype=ids) ^ 1
     nxt = _link_next(site, origin, twin, n, vertices.shape[0], hint=oriented)
     return vertices, origin, twin, nxt, site
@@ -223,10 +224,13 @@ def _link_next(site: NDArray[np.int64], origin: NDArray[np.int64], twin: NDArray
                                       np.empty(H, site.dtype), np.zeros(H, np.bool_))
         if ok:
             return nxt
-    key = site * (V + 1) + (origin + 1)       # (cell, start vertex); infinity sorts first
+    # (cell, start vertex) as one int64 key (n (V + 1) passes 2**31 from about 46,000 sites);
+    # infinity sorts first
+    site64, origin64 = site.astype(np.int64), origin.astype(np.int64)
+    key = site64 * (V + 1) + (origin64 + 1)
     order = np.argsort(key, kind="stable")
     sorted_key = key[order]
-    want = site * (V + 1) + (origin[twin] + 1)
+    want = site64 * (V + 1) + (origin64[twin] + 1)
     pos = np.searchsorted(sorted_key, want)
     pos_ok = np.minimum(pos, H - 1)
     found = (pos < H) & (sorted_key[pos_ok] == want)
@@ -239,7 +243,7 @@ def _link_next(site: NDArray[np.int64], origin: NDArray[np.int64], twin: NDArray
             f"and no half-edge of the cell starts there"
             + (" (ridges whose two vertices come in either order, as scipy's do, need "
                "assemble(..., oriented=False))" if hint else ""))
-    nxt = order[pos_ok].astype(np.int64)
+    nxt = order[pos_ok].astype(site.dtype)
     # Repeated (cell, start) keys: legal only for a strip cell's two full lines.
     repeated = np.flatnonzero(sorted_key[1:] == sorted_key[:-1])
     if repeated.size:

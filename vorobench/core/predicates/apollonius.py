@@ -26,6 +26,7 @@ it come with the constructions that need speed.
 
 from __future__ import annotations
 
+import decimal
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Optional, Sequence
@@ -84,14 +85,29 @@ class QuadraticNumber:
         return sa * ((diff > 0) - (diff < 0))
 
     def __float__(self) -> float:
-        """The value to a few ulps: a + b sqrt(d) where the two terms have one sign, else
-        (a^2 - b^2 d) / (a - b sqrt(d)), whose numerator is exact, so nothing cancels."""
-        if self.b == 0 or self.d == 0:
-            return float(self.a)
-        root = float(self.b) * float(self.d) ** 0.5
-        if (self.a >= 0) == (self.b > 0):
-            return float(self.a) + root
-        return float(self.a * self.a - self.b * self.b * self.d) / (float(self.a) - root)
+        """The value to an ulp: evaluated in 60-digit decimals with an exponent range no input
+        leaves (d grows like the sixth power of the coordinates, so it leaves the double
+        range long before they do), as a + b sqrt(d) where the two terms have one sign, else
+        as (a^2 - b^2 d) / (a - b sqrt(d)), whose numerator is exact: nothing cancels."""
+        with decimal.localcontext(_DECIMALS):
+            a = _decimal(self.a)
+            if self.b == 0 or self.d == 0:
+                return float(a)
+            root = _decimal(self.b) * _decimal(self.d).sqrt()
+            if (self.a >= 0) == (self.b > 0):
+                return float(a + root)
+            return float(_decimal(self.a * self.a - self.b * self.b * self.d) / (a - root))
+
+
+#: Decimal arithmetic for :meth:`QuadraticNumber.__float__`: 60 digits, and exponents far beyond
+#: any product of the predicates' inputs
+_DECIMALS = decimal.Context(prec=60, Emax=10**9, Emin=-10**9)
+
+
+def _decimal(q) -> decimal.Decimal:
+    """A rational as a Decimal of the current context (one rounding)."""
+    q = Fraction(int(q.numerator), int(q.denominator))
+    return decimal.Decimal(q.numerator) / decimal.Decimal(q.denominator)
 
 
 def _q(value) -> QuadraticNumber:
@@ -113,8 +129,15 @@ class ApolloniusVertex:
         return float(self.x), float(self.y), float(self.radius)
 
 
+def _rational(value):
+    """A float, an int or a numpy scalar of either, as an exact rational."""
+    if hasattr(value, "item"):           # numpy scalars: gmpy2 takes Python numbers only
+        value = value.item()
+    return rational(value)
+
+
 def _disk(disk: Disk) -> tuple:
-    x, y, r = (rational(v) for v in disk)
+    x, y, r = (_rational(v) for v in disk)
     if r < 0:
         raise ValueError(f"a disk's radius must be >= 0, got {float(r)!r}")
     return x, y, r
