@@ -59,11 +59,6 @@ def _strictly_between(pts, u, v, px, py):
 
 
 @njit(cache=True, _nrt=False)
-def _is_ghost(tri, t, inf):
-    return tri[3 * t] == inf or tri[3 * t + 1] == inf or tri[3 * t + 2] == inf
-
-
-@njit(cache=True, _nrt=False)
 def _in_conflict(pts, tri, t, inf, px, py, counters):
     u, v = _ghost_edge(tri, t, inf)
     if u < 0:
@@ -265,7 +260,7 @@ def _insert_all(pts, order, counters, tri, opp, mark, fan_from, vertex_tri):
         # its circle contains p strictly: it is in conflict without a test
         t0 = -1
         g = last_ghost if start == last else cell_ghost[cell]
-        if g >= 0 and _is_ghost(tri, g, inf):       # (a cell's ghost may have been reused since)
+        if g >= 0 and _ghost_edge(tri, g, inf)[0] >= 0:   # (a cell's ghost may have been reused since)
             t0 = _walk_hull(pts, tri, opp, g, inf, px, py, counters, stats)
         if t0 < 0:
             t0 = _locate(pts, tri, opp, start, inf, px, py, _WALK_CAP_FACTOR * ntri + 64, counters, stats)

@@ -25,7 +25,7 @@ def _circumcentre(a, b, c):
 
 def _value(q: QuadraticNumber) -> Fraction:
     """A QuadraticNumber known to be rational."""
-    assert q.b == 0 or q.d == 0 or QuadraticNumber(0, q.b, q.d).sign() == 0 or _is_square(q.d)
+    assert q.b == 0 or q.d == 0 or _is_square(q.d)
     root = _sqrt_rational(q.d) if q.b != 0 else 0
     return Fraction(q.a) + Fraction(q.b) * root
 

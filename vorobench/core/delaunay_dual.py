@@ -373,7 +373,7 @@ CENTRES_AHEAD = 8
 
 
 @njit(cache=True)
-def _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, twin, nxt, site, tests, parent,
+def _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, twin, nxt, site, counters, parent,
                    first):
     """Fill the DCEL of the triangulation with one vertex per finite triangle, in one pass over
     the triangles from triangle ``first``: (stop, merged).
@@ -430,7 +430,7 @@ def _unmerged_dcel(pts, ids, tri, opp, ntri, number, finite, vertices, origin, t
                                                      pts[tri[e], 0], pts[tri[e], 1]):
                         d = tri[3 * t2 + (oe - 3 * t2 + 2) % 3]   # t2's corner off the shared edge
                         if incircle_counted(pts[a, 0], pts[a, 1], pts[b, 0], pts[b, 1], pts[c, 0], pts[c, 1],
-                                            pts[d, 0], pts[d, 1], tests) == 0:
+                                            pts[d, 0], pts[d, 1], counters) == 0:
                             if parent.size == 0:
                                 return t, 0
                             r1 = find(parent, v)
@@ -481,18 +481,15 @@ def _merged_dcel(pts, ids, tri, ntri, number, parent, vertices, origin, twin, nx
     diagonal is one edge of zero length (two half-edges) to drop. A group's vertex is numbered
     by its root (its first triangle) and computed from the three smallest site ids on its circle,
     as for any vertex; around each cell a kept half-edge is followed by the next kept one.
-    ``low`` (rows of three points), ``vnew`` (a number per vertex) and ``newh`` (per half-edge)
-    are scratch. Returns the number of vertices written.
+    ``low`` (rows of three points), ``vnew`` (a number per vertex, zeroed) and ``newh`` (per
+    half-edge) are scratch. Returns the number of vertices written.
     """
     finite = parent.size
-    inf = pts.shape[0]
     # every entry on its root: a root is the smallest number of its set, so parent[v] <= v and
     # an ascending pass finds parent[parent[v]] already a root
     for v in range(finite):
         parent[v] = parent[parent[v]]
-    # vnew[r] = 1 marks the roots of groups of two or more
-    for v in range(finite):
-        vnew[v] = 0
+    # vnew[r] = 1 marks the roots of groups of two or more (vnew comes zeroed)
     for v in range(finite):
         if parent[v] != v:
             vnew[parent[v]] = 1
@@ -596,7 +593,7 @@ def voronoi_dcel(pts, ids, tri, opp, ntri, counters):
     out_vertices = np.empty((finite - merged, 2), dtype=np.float64)
     out = [np.empty(H - 2 * merged, dtype=np.int32) for _ in range(4)]
     low = np.empty((finite, 3), dtype=np.int32)
-    vnew = np.empty(finite, dtype=np.int32)
+    vnew = np.zeros(finite, dtype=np.int32)
     newh = np.empty(H, dtype=np.int32)
     _merged_dcel(pts, ids, tri, ntri, number, parent, vertices, origin, twin, nxt, site, low, vnew, newh,
                  out_vertices, *out)
