@@ -477,3 +477,68 @@ def test_at_equal_heights_the_side_of_the_midpoint_is_exact(px, qx, ulps, y):
     truth = 2 * F(sx) - (F(px) + F(qx))
     expected = (truth > 0) - (truth < 0)
     assert breakpoint_side(px, y, qx, y, sx, y + 1.0) == expected
+
+
+def _near_row_triples(rng, k, noise, offset):
+    """Triples of nearly collinear sites on a row (a perturbed lattice row), in either turn:
+    circles of radius ~1/noise whose centre lies far above or far below the row."""
+    out = []
+    while len(out) < k:
+        xs = offset + np.sort(rng.choice(np.arange(8.0), 3, replace=False))
+        t = np.column_stack([xs, offset + noise * (2.0 * rng.random(3) - 1.0)])
+        rng.shuffle(t)
+        if orient2d(*t.ravel()) != 0:
+            out.append(t)
+    return out
+
+
+def test_circle_top_relative_is_tight_for_huge_circles_below_their_sites():
+    # Nearly collinear sites on a lattice row (near_grid) make circles of radius ~1e12 whose
+    # top, when the centre lies below the row, is within ~1e-12 of the row: the float top must
+    # be a few ulps of q, not the ulps of the radius that the sum -|c_y - a_y| + r leaves after
+    # cancellation, or every such event is compared with the next sites in exact arithmetic.
+    rng = np.random.default_rng(7)
+    below = 0
+    for noise, offset in ((1e-12, 500.0), (1e-9, 0.0), (1e-6, 1e6), (1e-13, 3.0)):
+        for t in _near_row_triples(rng, 60, noise, offset):
+            q, errq, _, vy = circle_top_relative(*t.ravel())
+            top = reference_circle_top(*t)
+            assert errq < np.inf
+            with localcontext() as ctx:
+                ctx.prec = _DIGITS
+                assert abs(Decimal(t[0, 1]) + Decimal(q) - top) <= Decimal(errq)
+            if vy < t[0, 1]:
+                below += 1
+                # the top is within ~noise of the row: its bound is a few ulps of the sites'
+                # differences, so a site on the row one noise away is ordered in floats
+                assert errq <= 1e-3 * noise
+                sy = float(top) + (noise if rng.random() < 0.5 else -noise)
+                assert tops_order_filter(t[0, 1], q, errq, sy, 0.0, 0.0) != UNDECIDED
+    assert below > 60
+
+
+def test_circle_top_relative_gives_a_centre_only_within_its_trust_of_the_radius():
+    from vorobench.core.predicates.sweep import CENTRE_TRUST
+    rng = np.random.default_rng(8)
+    cases = _triples(rng, 200) + _triples(rng, 50, 1e-3, 1e9) + _near_row_triples(rng, 100, 1e-12, 500.0)
+    # nearly collinear: the orientation cancels to ~eps, its rounding errors are ~1e-16
+    slivers = []
+    for eps in (1e-8, 1e-10, 1e-12, 1e-14):
+        for _ in range(10):
+            a, u = rng.random(2), rng.random(2)
+            slivers.append(np.array([a, a + 0.5 * u + eps * np.array([-u[1], u[0]]), a + u]))
+    given_up = 0
+    for t in cases + slivers:
+        _, _, vx, vy = circle_top_relative(*t.ravel())
+        if np.isnan(vx):
+            given_up += 1
+            continue
+        ax, ay, bx, by, cx, cy = map(F, t.ravel())
+        d = 2 * (ax * (by - cy) + bx * (cy - ay) + cx * (ay - by))
+        ux = ((ax * ax + ay * ay) * (by - cy) + (bx * bx + by * by) * (cy - ay) + (cx * cx + cy * cy) * (ay - by)) / d
+        uy = ((ax * ax + ay * ay) * (cx - bx) + (bx * bx + by * by) * (ax - cx) + (cx * cx + cy * cy) * (bx - ax)) / d
+        radius = float((ax - ux) ** 2 + (ay - uy) ** 2) ** 0.5
+        # the offset from a within the trust of the radius, then one rounding to a float
+        for got, exact in ((vx, ux), (vy, uy)):
+            assert abs(F(got) - exact) <= CENTRE_TRUST * radius + float(np.spacing(abs(got)))
+    assert given_up >= 30               # the slivers' orientations are mostly rounding error

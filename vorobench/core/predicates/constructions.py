@@ -66,6 +66,8 @@ def _circle_parts_in_floats(ax, ay, bx, by, cx, cy):
     p0, r0 = two_product(bx_, cy_)
     p1, r1 = two_product(by_, cx_)
     d, r2 = two_diff(p0, p1)
+    if abs(t0) + abs(t1) + abs(t2) + abs(t3) + abs(r0) + abs(r1) + abs(r2) != 0.0:
+        return False, 0.0, 0.0, 0.0     # off a lattice the orientation already rounds
     p2, r3 = two_product(bx_, bx_)
     p3, r4 = two_product(by_, by_)
     b2, r5 = two_sum(p2, p3)

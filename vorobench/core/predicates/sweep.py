@@ -45,6 +45,10 @@ UNDECIDED = _UNDECIDED
 BREAKPOINT_ERRBOUND = (8.0 + 64.0 * EPSILON) * EPSILON
 
 
+#: Relative error (of the radius) above which :func:`circle_top_relative` gives no float
+#: circumcentre: the sweep then computes it exactly (nearly collinear sites).
+CENTRE_TRUST = 1e-12
+
 # Safety factor applied to the running error bound of circle_top (covers the O(eps**2)
 # terms dropped in its derivation and the rounding of the bound itself).
 _CIRCLE_TOP_SAFETY = 2.0
@@ -172,7 +176,8 @@ def circle_top_relative(ax, ay, bx, by, cx, cy):
     ``q`` approximates y_top - a_y, where y_top is the top of the circle (the circle event's
     sweep position), with ``|q - exact| <= err_q`` (a running error bound, times a safety
     factor 2); ``err_q`` is ``inf`` when the float orientation cannot be trusted (nearly
-    collinear). ``(vx, vy)`` is the circumcentre, computed relative to a (not exact).
+    collinear). ``(vx, vy)`` is the circumcentre, computed relative to a (not exact), or NaN
+    when its error bound exceeds :data:`CENTRE_TRUST` of the radius.
     """
     u = EPSILON
     bx_ = bx - ax
@@ -199,13 +204,36 @@ def circle_top_relative(ax, ay, bx, by, cx, cy):
     ae = abs(e)
     err_e = 2.0 * err_d
     if not ae > err_e:
-        return np.inf, np.inf, vx, vy
+        return np.inf, np.inf, np.nan, np.nan
     r = np.sqrt(nx * nx + ny * ny)
     err_r = err_nx + err_ny + 2.1 * u * r
-    m = (ny if e > 0.0 else -ny) + r
-    err_m = err_ny + err_r + u * abs(m)
+    # m = |e| (y_top - a_y) = ny_s + r, with ny_s / |e| = c_y - a_y
+    ny_s = ny if e > 0.0 else -ny
+    if ny_s >= 0.0:
+        m = ny_s + r
+        err_m = err_ny + err_r + u * abs(m)
+    else:
+        # centre below a: the sum cancels (to nothing for the huge circles of nearly collinear
+        # sites, whose top lies just above them), so take the equal nx^2 / (r - ny_s), in which
+        # every term is a few ulps of its own size
+        num = nx * nx
+        err_num = err_nx * (2.0 * abs(nx) + err_nx) + u * num
+        den = r - ny_s
+        err_den = err_r + err_ny + u * den
+        if not den > err_den:
+            return np.inf, np.inf, np.nan, np.nan
+        m = num / den
+        err_m = (num * err_den + den * err_num) / (den * (den - err_den)) + u * m
     q = m / ae
     err_q = (abs(m) * err_e + ae * err_m) / (ae * (ae - err_e)) + u * abs(q)
+    # the centre is a + (nx, ny) / e: trusted when both offsets are within CENTRE_TRUST of the
+    # radius r / |e| (else NaN: nearly collinear sites, whose centre needs exact arithmetic);
+    # adding a then rounds once, as any float centre must
+    err_ox = (err_nx * ae + abs(nx) * err_e) / (ae * (ae - err_e)) + u * abs(nx) / ae
+    err_oy = (err_ny * ae + abs(ny) * err_e) / (ae * (ae - err_e)) + u * abs(ny) / ae
+    if not (_CIRCLE_TOP_SAFETY * max(err_ox, err_oy) <= CENTRE_TRUST * (r / ae)):
+        vx = np.nan
+        vy = np.nan
     return q, _CIRCLE_TOP_SAFETY * err_q, vx, vy
 
 
