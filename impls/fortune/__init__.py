@@ -15,7 +15,9 @@ spacing 1e-9 near 0, are well inside.
 
 Structure (three separate files, as in Boost.Polygon's builder / predicates / output):
 * ``sweep.py``: the sweep. Sites are pre-sorted by (y, x); the sweep line moves upward. A
-  site event finds the arc above the new site, splits it into (q, s, q), starts one edge
+  site event finds the arc above the new site (first by a walk of at most two arcs from the
+  arc of the recent site nearest in x, while such walks keep succeeding: lattice rows and
+  the two ends of a convex curve; else from the treap's root), splits it into (q, s, q), starts one edge
   traced by the two new breakpoints, cancels the split arc's circle event and checks the
   two new triples. A circle event puts a vertex at the circumcentre, removes the vanishing
   arc, closes the two edges its breakpoints traced, starts the edge of the new breakpoint,
@@ -23,7 +25,8 @@ Structure (three separate files, as in Boost.Polygon's builder / predicates / ou
 * ``beach_line.py``: the arcs in a treap over one int32 array (insert next to an arc,
   delete, search), keyed by breakpoints evaluated at the current sweep position.
 * ``event_queue.py``: circle events in an indexed binary heap (removal of cancelled events
-  in O(log n)); site events are the pre-sorted array.
+  in O(log n); a removal's hole goes down to a leaf, one comparison per level, before the
+  last event settles into it); site events are the pre-sorted array.
 The DCEL is filled by the shared :func:`vorobench.core.builder.assemble` from the recorded edges
 (a, b, start, end); unbounded edges keep -1 (no clipping box).
 
@@ -117,12 +120,40 @@ _STATS_KEPT = ("site_events", "circle_events", "false_alarms", "vertices", "max_
 
 
 def _event_order(sites: NDArray[np.float64]) -> NDArray[np.int64]:
-    """Indices of the sites sorted by y, then x (one quicksort unless some y values repeat)."""
+    """Indices of the sites sorted by y, then x, then index: one quicksort of y, then each run
+    of equal y sorted on its own (lattice rows; a lexsort of 10^6 sites costs ten quicksorts)."""
     order = np.argsort(sites[:, 1])
     y = sites[order, 1]
     if np.any(y[1:] == y[:-1]):
-        order = np.lexsort((sites[:, 0], sites[:, 1]))
+        _order_runs_by_x(order, sites[:, 0], y)
     return order
+
+
+#: Runs of equal y up to this length are sorted by insertion, longer ones by numpy.
+_SHORT_RUN = 16
+
+
+@njit(cache=True)
+def _order_runs_by_x(order, x, y_sorted):
+    # within each run of equal y (y_sorted = y[order]), order the indices by (x, index)
+    n = order.shape[0]
+    i = 0
+    while i < n:
+        j = i + 1
+        while j < n and y_sorted[j] == y_sorted[i]:
+            j += 1
+        if j - i <= _SHORT_RUN:
+            for k in range(i + 1, j):
+                v = order[k]
+                m = k - 1
+                while m >= i and (x[order[m]] > x[v] or (x[order[m]] == x[v] and order[m] > v)):
+                    order[m + 1] = order[m]
+                    m -= 1
+                order[m + 1] = v
+        elif j - i > 1:
+            run = np.sort(order[i:j])                          # by index, then stably by x
+            order[i:j] = run[np.argsort(x[run], kind='mergesort')]
+        i = j
 
 
 def build(sites: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:

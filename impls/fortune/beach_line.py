@@ -19,7 +19,7 @@ from vorobench.core.predicates import UNDECIDED, breakpoint_side_exact, breakpoi
 __all__ = [
     "LEFT", "RIGHT", "PARENT", "PREV", "NEXT", "SITE", "EDGE", "EVENT", "PRIO", "ARC_FIELDS",
     "BP_CALLS", "BP_EXACT",
-    "new_arcs", "add_arc", "insert_after", "remove", "locate", "depth",
+    "new_arcs", "add_arc", "insert_after", "remove", "locate", "locate_near", "depth",
 ]
 
 LEFT, RIGHT, PARENT, PREV, NEXT, SITE, EDGE, EVENT, PRIO = range(9)
@@ -174,6 +174,43 @@ def locate(arcs, root, sites, sx, sy, counters):
             if side >= 0:
                 x = arcs[x, RIGHT]
                 continue
+        return x
+    return -1
+
+
+@njit(cache=True, inline='always')
+def _side(arcs, sites, p, x, sx, sy, counters):
+    # exact side of (sx, sy) against the breakpoint of arcs p (left) and x (right)
+    a = arcs[p, SITE]
+    b = arcs[x, SITE]
+    counters[BP_CALLS] += 1
+    side = breakpoint_side_filter(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sx, sy)
+    if side == UNDECIDED:
+        counters[BP_EXACT] += 1
+        side = breakpoint_side_exact(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sx, sy)
+    return side
+
+
+@njit(cache=True)
+def locate_near(arcs, sites, x, sx, sy, steps, counters):
+    """:func:`locate`'s arc, looked for by walking along the beach line from arc x, at most
+    ``steps`` arcs; -1 if it is further. The arc is the one whose left breakpoint is not right
+    of the site and whose right breakpoint is right of it, so the answer is locate's."""
+    went = 0                    # -1: came from the right neighbour, +1: from the left one
+    for _ in range(steps + 1):
+        if went <= 0:
+            p = arcs[x, PREV]
+            if p != -1 and _side(arcs, sites, p, x, sx, sy, counters) < 0:
+                x = p
+                went = -1
+                continue
+            if went < 0:
+                return x        # its right breakpoint was the one just passed
+        q = arcs[x, NEXT]
+        if q != -1 and _side(arcs, sites, x, q, sx, sy, counters) >= 0:
+            x = q
+            went = 1
+            continue
         return x
     return -1
 

@@ -240,74 +240,67 @@ def before_site(sites, ev_i, ev_f, ye, erre, e, sy, counters):
 
 
 @njit(cache=True, inline='always')
-def _sift_up(sites, ev_i, ev_f, heap, hkey, k, counters):
-    e = heap[k]
-    ye = hkey[k, 0]
-    erre = hkey[k, 1]
-    while k > 0:
-        parent = (k - 1) >> 1
-        counters[ORDER_CALLS] += 1
-        o = _float_order(ye, erre, hkey[parent, 0], hkey[parent, 1])
-        if o == 0:
-            g = heap[parent]
-            if _same_exact_key(ev_i, ev_f, e, g):
-                o = -1 if ev_i[e, SEQ] < ev_i[g, SEQ] else 1
-            else:
-                o = -1 if _exact_before(sites, ev_i, ev_f, e, g, counters) else 1
-        if o > 0:
-            break
-        g = heap[parent]
-        heap[k] = g
-        hkey[k, 0] = hkey[parent, 0]
-        hkey[k, 1] = hkey[parent, 1]
-        ev_i[g, POS] = k
-        k = parent
-    heap[k] = e
-    hkey[k, 0] = ye
-    hkey[k, 1] = erre
-    ev_i[e, POS] = k
+def _precedes(sites, ev_i, ev_f, ye, erre, e, yg, errg, g, counters):
+    # the heap's comparison: event e (float top ye +- erre) before g, exactly (ties by SEQ);
+    # the float keys first, then equal exact keys, then the refinements of _exact_before
+    counters[ORDER_CALLS] += 1
+    o = _float_order(ye, erre, yg, errg)
+    if o != 0:
+        return o < 0
+    if _same_exact_key(ev_i, ev_f, e, g):
+        return ev_i[e, SEQ] < ev_i[g, SEQ]
+    return _exact_before(sites, ev_i, ev_f, e, g, counters)
 
 
 @njit(cache=True, inline='always')
-def _sift_down(sites, ev_i, ev_f, heap, hkey, size, k, counters):
-    e = heap[k]
-    ye = hkey[k, 0]
-    erre = hkey[k, 1]
+def _move(ev_i, heap, hkey, src, dst):
+    # heap slot src's event (and its key copy) goes to slot dst
+    g = heap[src]
+    heap[dst] = g
+    hkey[dst, 0] = hkey[src, 0]
+    hkey[dst, 1] = hkey[src, 1]
+    ev_i[g, POS] = dst
+
+
+@njit(cache=True, inline='always')
+def _settle(sites, ev_i, ev_f, heap, hkey, hole, top, e, ye, erre, counters):
+    # put event e (key ye +- erre) into the hole at slot `hole`, moving it up while it
+    # precedes its parent but never above slot `top`
+    while hole > top:
+        parent = (hole - 1) >> 1
+        if not _precedes(sites, ev_i, ev_f, ye, erre, e, hkey[parent, 0], hkey[parent, 1], heap[parent], counters):
+            break
+        _move(ev_i, heap, hkey, parent, hole)
+        hole = parent
+    heap[hole] = e
+    hkey[hole, 0] = ye
+    hkey[hole, 1] = erre
+    ev_i[e, POS] = hole
+
+
+@njit(cache=True, inline='always')
+def _sift_up(sites, ev_i, ev_f, heap, hkey, k, counters):
+    _settle(sites, ev_i, ev_f, heap, hkey, k, 0, heap[k], hkey[k, 0], hkey[k, 1], counters)
+
+
+@njit(cache=True, inline='always')
+def _refill(sites, ev_i, ev_f, heap, hkey, size, k, e, ye, erre, counters):
+    # slot k is empty and e (key ye +- erre, no earlier than k's parent) must go into the
+    # subtree below it: the earlier child moves up into the hole until the hole is a leaf,
+    # then e settles up from there. One comparison per level on the way down instead of two:
+    # the element that fills a hole is usually one of the latest, so it belongs near a leaf
+    # (bottom-up deletion, as in bottom-up heapsort)
+    hole = k
     while True:
-        child = 2 * k + 1
+        child = 2 * hole + 1
         if child >= size:
             break
-        if child + 1 < size:
-            counters[ORDER_CALLS] += 1
-            o = _float_order(hkey[child + 1, 0], hkey[child + 1, 1], hkey[child, 0], hkey[child, 1])
-            if o == 0:
-                f, g = heap[child + 1], heap[child]
-                if _same_exact_key(ev_i, ev_f, f, g):
-                    o = -1 if ev_i[f, SEQ] < ev_i[g, SEQ] else 1
-                else:
-                    o = -1 if _exact_before(sites, ev_i, ev_f, f, g, counters) else 1
-            if o < 0:
-                child += 1
-        counters[ORDER_CALLS] += 1
-        o = _float_order(hkey[child, 0], hkey[child, 1], ye, erre)
-        if o == 0:
-            g = heap[child]
-            if _same_exact_key(ev_i, ev_f, g, e):
-                o = -1 if ev_i[g, SEQ] < ev_i[e, SEQ] else 1
-            else:
-                o = -1 if _exact_before(sites, ev_i, ev_f, g, e, counters) else 1
-        if o > 0:
-            break
-        g = heap[child]
-        heap[k] = g
-        hkey[k, 0] = hkey[child, 0]
-        hkey[k, 1] = hkey[child, 1]
-        ev_i[g, POS] = k
-        k = child
-    heap[k] = e
-    hkey[k, 0] = ye
-    hkey[k, 1] = erre
-    ev_i[e, POS] = k
+        if child + 1 < size and _precedes(sites, ev_i, ev_f, hkey[child + 1, 0], hkey[child + 1, 1], heap[child + 1],
+                                          hkey[child, 0], hkey[child, 1], heap[child], counters):
+            child += 1
+        _move(ev_i, heap, hkey, child, hole)
+        hole = child
+    _settle(sites, ev_i, ev_f, heap, hkey, hole, k, e, ye, erre, counters)
 
 
 @njit(cache=True, inline='always')
@@ -327,12 +320,7 @@ def pop(sites, ev_i, ev_f, heap, hkey, size, counters):
     e = heap[0]
     size -= 1
     if size > 0:
-        last = heap[size]
-        heap[0] = last
-        hkey[0, 0] = hkey[size, 0]
-        hkey[0, 1] = hkey[size, 1]
-        ev_i[last, POS] = 0
-        _sift_down(sites, ev_i, ev_f, heap, hkey, size, 0, counters)
+        _refill(sites, ev_i, ev_f, heap, hkey, size, 0, heap[size], hkey[size, 0], hkey[size, 1], counters)
     ev_i[e, POS] = -1
     return e, size
 
@@ -344,14 +332,12 @@ def discard(sites, ev_i, ev_f, heap, hkey, size, e, counters):
     size -= 1
     if k != size:
         last = heap[size]
-        heap[k] = last
-        hkey[k, 0] = hkey[size, 0]
-        hkey[k, 1] = hkey[size, 1]
-        ev_i[last, POS] = k
+        ye = hkey[size, 0]
+        erre = hkey[size, 1]
         p = (k - 1) >> 1
-        if k > 0 and before(sites, ev_i, ev_f, hkey[k, 0], hkey[k, 1], last, hkey[p, 0], hkey[p, 1], heap[p], counters):
-            _sift_up(sites, ev_i, ev_f, heap, hkey, k, counters)
+        if k > 0 and _precedes(sites, ev_i, ev_f, ye, erre, last, hkey[p, 0], hkey[p, 1], heap[p], counters):
+            _settle(sites, ev_i, ev_f, heap, hkey, k, 0, last, ye, erre, counters)
         else:
-            _sift_down(sites, ev_i, ev_f, heap, hkey, size, k, counters)
+            _refill(sites, ev_i, ev_f, heap, hkey, size, k, last, ye, erre, counters)
     ev_i[e, POS] = -1
     return size

@@ -38,9 +38,11 @@ COUNTER_NAMES = (
     "site_events", "circle_events", "false_alarms", "vertices", "max_beach_line", "exact_keys",
 )
 
-#: Relative error bound of a float circle top above which its float circumcentre is replaced
-#: by :func:`~vorobench.core.circumcentre.circumcentre` (nearly collinear triples).
-ILL_CONDITIONED = 1e-12
+#: Arcs a site event walks from each of the last two sites' arcs before searching the tree,
+#: and the longest wait (in site events) after failed walks.
+FINGER_STEPS = 2
+N_FINGERS = 4
+FINGER_BACKOFF = 255
 
 OK = 0
 ERR_LOCATE = 1
@@ -95,14 +97,15 @@ def sweep(sites, counters):
     edge_vertices = np.full((edge_cap, 2), -1, dtype=np.int32)
     vertices = np.empty((2 * n + 2, 2), dtype=np.float64)
     touched = np.empty(2, dtype=np.int64)
+    fingers = np.full(N_FINGERS, -1, dtype=np.int32)
     status, ne, nv = _run(sites, counters, arcs, arc_free, ev_i, ev_f, heap, hkey, free, edge_sites, edge_vertices,
-                          vertices, touched)
+                          vertices, touched, fingers)
     return status, edge_sites[:ne], edge_vertices[:ne], vertices[:nv]
 
 
 @njit(cache=True, _nrt=False)
 def _run(sites, counters, arcs, arc_free, ev_i, ev_f, heap, hkey, free, edge_sites, edge_vertices, vertices,
-         touched):
+         touched, fingers):
     """The sweep's events, in tables that :func:`sweep` allocates; returns (status, number of
     edges, number of vertices). Compiled without reference counting (``_nrt=False``): the
     helpers inlined here would otherwise count references to the tables at every event, with
@@ -125,6 +128,9 @@ def _run(sites, counters, arcs, arc_free, ev_i, ev_f, heap, hkey, free, edge_sit
     serial = 0
     root = -1
     status = OK
+    nsite = 0
+    wait = 0
+    backoff = 0
 
     # First sweep position: every site with the lowest y is an arc; consecutive ones are
     # separated by vertical bisectors coming up from infinity.
@@ -192,6 +198,10 @@ def _run(sites, counters, arcs, arc_free, ev_i, ev_f, heap, hkey, free, edge_sit
             arcs[a, bl.EDGE] = ne
             ne += 1
             root = bl.remove(arcs, root, b)
+            # a removed arc's row may be reused: a finger on it moves to its left neighbour
+            for f in range(N_FINGERS):
+                if fingers[f] == b:
+                    fingers[f] = a
             arc_free[nafree] = b
             nafree += 1
             beach -= 1
@@ -204,7 +214,33 @@ def _run(sites, counters, arcs, arc_free, ev_i, ev_f, heap, hkey, free, edge_sit
             counters[SITE_EVENTS] += 1
             sx = sites[s, 0]
             sy = sites[s, 1]
-            x = bl.locate(arcs, root, sites, sx, sy, counters)
+            # Sites that follow each other along the beach line (a row of a lattice taken in x
+            # order, the two ends of a convex curve) lie under or next to the arcs of the last
+            # sites: walk from those first. After a miss the next try waits twice as long, so
+            # scattered sites pay one short walk in hundreds.
+            x = -1
+            if wait == 0:
+                # the finger whose site is nearest in x (a guess: the walk decides exactly)
+                best = -1
+                gap = np.inf
+                for f in range(N_FINGERS):
+                    finger = fingers[f]
+                    if finger != -1:
+                        d = abs(sites[arcs[finger, bl.SITE], 0] - sx)
+                        if d < gap:
+                            gap = d
+                            best = finger
+                if best != -1:
+                    x = bl.locate_near(arcs, sites, best, sx, sy, FINGER_STEPS, counters)
+                if x < 0:
+                    backoff = min(2 * backoff + 1, FINGER_BACKOFF)
+                    wait = backoff
+                else:
+                    backoff = 0
+            else:
+                wait -= 1
+            if x < 0:
+                x = bl.locate(arcs, root, sites, sx, sy, counters)
             if x < 0:
                 status = ERR_LOCATE
                 break
@@ -229,6 +265,8 @@ def _run(sites, counters, arcs, arc_free, ev_i, ev_f, heap, hkey, free, edge_sit
                 na += 1
             root = bl.insert_after(arcs, root, x, xs)
             root = bl.insert_after(arcs, root, xs, x2)
+            fingers[nsite % N_FINGERS] = xs
+            nsite += 1
             edge_sites[ne, 0] = q
             edge_sites[ne, 1] = s
             arcs[x2, bl.EDGE] = arcs[x, bl.EDGE]
@@ -275,8 +313,6 @@ def _run(sites, counters, arcs, arc_free, ev_i, ev_f, heap, hkey, free, edge_sit
                 break
             q, errq, vx, vy = circle_top_relative(ax, ay, bx, by, cx, cy)
             yt, err = circle_top_to_y(ay, q, errq)
-            if not (errq < np.inf and errq <= ILL_CONDITIONED * abs(q)):
-                vx = np.nan        # nearly collinear: the vertex will come from exact arithmetic
             ev_i[g, eq.A] = sa
             ev_i[g, eq.B] = sb
             ev_i[g, eq.C] = sc

@@ -229,9 +229,39 @@ def test_the_sweep_stops_on_inconsistent_input():
         assert edge_sites.shape[0] <= 3 * 200 + 2 and vertices.shape[0] <= 2 * 200 + 2
 
 
-def test_treap_stays_shallow_on_a_long_beach_line():
-    # sites on a parabola give a beach line of ~2n arcs; the treap keeps searches logarithmic
+def test_treap_stays_shallow_when_arcs_are_appended_in_order():
+    # arcs added each after the last (the worst case of an unbalanced tree): the random
+    # priorities keep the depth logarithmic
+    from impls.fortune import beach_line as bl
+    from impls.fortune.sweep import _priority
+    n = 30000
+    arcs = bl.new_arcs(n)
+    root, last = -1, -1
+    for k in range(n):
+        x = bl.add_arc(arcs, k, k, _priority(k + 1))
+        root = bl.insert_after(arcs, root, last, x)
+        last = x
+    assert bl.depth(arcs, root) < 3 * np.log2(n)
+
+
+def test_sites_along_a_convex_curve_are_located_from_the_recent_arcs():
+    # sites on a parabola give a beach line of ~2n arcs, and each new site lies at one of its
+    # two ends, next to the arc of the last site on that side: a walk of a few breakpoints
+    # finds it, where a search from the treap's root takes ~2 log2(2n) (30 here)
     stats = {}
     fortune(datasets_gen.generate("parabola", 20000, seed=0), stats)
     assert stats["max_beach_line"] > 20000
-    assert stats["breakpoint_tests"] / stats["site_events"] < 4 * np.log2(stats["max_beach_line"])
+    assert stats["breakpoint_tests"] / stats["site_events"] < 8
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(st.integers(-3, 3), st.integers(-2, 2)), min_size=1, max_size=80),
+       st.integers(0, 40))
+def test_event_order_is_y_then_x_then_index(points, long_row):
+    # small integers: runs of equal y, repeated points, and one row long enough for the
+    # runs sorted by numpy rather than by insertion
+    from impls.fortune import _SHORT_RUN, _event_order
+    rows = [(x, 7) for x in np.random.default_rng(long_row).integers(-5, 5, size=_SHORT_RUN + long_row)]
+    sites = np.array(points + rows, dtype=float)
+    want = np.lexsort((np.arange(len(sites)), sites[:, 0], sites[:, 1]))
+    assert np.array_equal(_event_order(sites), want)
