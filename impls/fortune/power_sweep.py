@@ -110,10 +110,11 @@ def _earlier_overlapping(G, counters, ev, evf, e1, e2):
     return ev[e1, _SEQ] < ev[e2, _SEQ]
 
 
-@njit(cache=True, _nrt=False)
-def _sift_up(G, counters, ev, evf, heap, pos):
-    e = heap[pos]
-    while pos > 0:
+@njit(cache=True, inline='always')
+def _settle(G, counters, ev, evf, heap, pos, top, e):
+    # put event e into the hole at pos, moving it up while it is earlier than its parent,
+    # never above slot top
+    while pos > top:
         parent = (pos - 1) >> 1
         p = heap[parent]
         if not _earlier(G, counters, ev, evf, e, p):
@@ -126,8 +127,17 @@ def _sift_up(G, counters, ev, evf, heap, pos):
 
 
 @njit(cache=True, _nrt=False)
+def _sift_up(G, counters, ev, evf, heap, pos):
+    _settle(G, counters, ev, evf, heap, pos, 0, heap[pos])
+
+
+@njit(cache=True, _nrt=False)
 def _sift_down(G, counters, ev, evf, heap, n, pos):
+    # e = heap[pos] goes into the subtree below pos (bottom-up, as the ordinary sweep's heap
+    # does): the earlier child moves up into the hole until the hole is a leaf, one
+    # comparison per level, then e settles up from there, never above pos
     e = heap[pos]
+    top = pos
     while True:
         child = 2 * pos + 1
         if child >= n:
@@ -135,13 +145,10 @@ def _sift_down(G, counters, ev, evf, heap, n, pos):
         if child + 1 < n and _earlier(G, counters, ev, evf, heap[child + 1], heap[child]):
             child += 1
         c = heap[child]
-        if not _earlier(G, counters, ev, evf, c, e):
-            break
         heap[pos] = c
         ev[c, _HPOS] = pos
         pos = child
-    heap[pos] = e
-    ev[e, _HPOS] = pos
+    _settle(G, counters, ev, evf, heap, pos, top, e)
 
 
 @njit(cache=True, _nrt=False)
