@@ -654,3 +654,26 @@ def test_incircle_properties(a, b, c, d, perm):
     # "d inside the circle" is independent of the orientation of a, b, c
     o = P.orient2d(*a, *b, *c)
     assert P.incircle(*b, *a, *c, *d) * P.orient2d(*b, *a, *c) == s * o
+
+
+def test_fused_multiply_add_rounds_once():
+    from vorobench.core.predicates.expansion import fused_multiply_add
+    from numba import njit
+
+    @njit
+    def fma(a, b, c):
+        return fused_multiply_add(a, b, c)
+
+    # (1 + 2^-52)(1 - 2^-52) - 1 = -2^-104 exactly; a product rounded first gives 0
+    assert fma(1.0 + 2.0 ** -52, 1.0 - 2.0 ** -52, -1.0) == -(2.0 ** -104)
+    assert fma(3, 2.0, 1.0) == 7.0                  # integer arguments are converted
+
+
+@settings(max_examples=300, deadline=None)
+@given(finite, finite)
+def test_two_product_fused_and_split_agree(a, b):
+    # two_product takes whichever the CPU allows (HAS_FMA); both must give the exact error
+    # (finite's magnitudes, 1e-30 to 1e30, keep every error above the subnormal range)
+    from vorobench.core.predicates.expansion import _two_product_fused, _two_product_split
+    for x, y in (_two_product_fused(a, b), _two_product_split(a, b)):
+        assert x == a * b and Fraction(x) + Fraction(y) == Fraction(a) * Fraction(b)

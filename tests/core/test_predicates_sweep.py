@@ -517,6 +517,21 @@ def test_circle_top_relative_is_tight_for_huge_circles_below_their_sites():
     assert below > 60
 
 
+def test_circle_top_relative_bound_holds_at_the_bottom_of_the_range():
+    # differences of ~2**-115 near 2**-100 (inside the range fortune is exact on): a bound
+    # that multiplies two degree-6 terms underflows to nothing there and claimed an error
+    # thousands of times too small (a helper's review found this triple)
+    t = np.array([[7.888609077909799e-31, 7.888609104855964e-31], [7.88860910920781e-31, 7.88860906738047e-31],
+                  [7.888609104241103e-31, 7.88860905520583e-31]])
+    rng = np.random.default_rng(9)
+    cases = [t] + [2.0 ** -100 * (1.0 + 2.0 ** -20 * rng.random((3, 2))) for _ in range(100)]
+    for t in cases:
+        q, errq, _, _ = circle_top_relative(*t.ravel())
+        with localcontext() as ctx:
+            ctx.prec = _DIGITS
+            assert errq == np.inf or abs(Decimal(t[0, 1]) + Decimal(q) - reference_circle_top(*t)) <= Decimal(errq)
+
+
 def test_circle_top_relative_gives_a_centre_only_within_its_trust_of_the_radius():
     from vorobench.core.predicates.sweep import CENTRE_TRUST
     rng = np.random.default_rng(8)

@@ -6,9 +6,14 @@ certified error bounds. Every exact predicate is built from these."""
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
+from llvmlite import binding as llvm_binding
+from llvmlite import ir
 from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 __all__ = ["EPSILON", "SPLITTER", "ORIENT2D_EXPANSION_MAX", "INCIRCLE_EXPANSION_MAX", "two_sum", "fast_two_sum", "two_diff", "split", "two_product", "grow_expansion", "expansion_sum", "expansion_diff", "scale_expansion", "expansion_product", "expansion_negate", "compress_expansion", "expansion_sign", "estimate", "float_expansion", "diff_expansion", "product_expansion", "det2_expansion", "diff_product_expansion"]
 
@@ -83,14 +88,40 @@ def split(a):
     return ahi, a - ahi
 
 
-@njit(cache=True)
-def two_product(a, b):
-    """Return ``(x, y)`` with ``x = fl(a * b)`` and ``x + y == a * b`` exactly (Dekker/Veltkamp).
+@intrinsic
+def fused_multiply_add(typingctx, a, b, c):
+    """``a * b + c`` rounded once (LLVM's ``llvm.fma``; numba has no ``math.fma`` before
+    Python 3.13). Exact fused arithmetic on every CPU: one instruction where the CPU has FMA,
+    a library call where it has not."""
+    sig = types.float64(a, b, c)
 
-    Exact unless ``a*b`` overflows or the rounding error is below the subnormal
-    range (i.e. needs ``ulp(a) * ulp(b) >= 2**-1074``).
-    (``math.fma`` is not available in numba for Python < 3.13, hence the split.)
-    """
+    def codegen(context, builder, signature, args):
+        values = [context.cast(builder, v, t, types.float64) for v, t in zip(args, signature.args)]
+        double = ir.DoubleType()
+        fma = cgutils.get_or_insert_function(builder.module, ir.FunctionType(double, [double] * 3), "llvm.fma.f64")
+        return builder.call(fma, values)
+
+    return sig, codegen
+
+
+def _host_has_fma() -> bool:
+    """Whether numba compiles for a CPU with fused multiply-add (the host's, unless
+    ``NUMBA_CPU_NAME`` names another target: then the portable split is kept)."""
+    if os.environ.get("NUMBA_CPU_NAME"):
+        return False
+    features = llvm_binding.get_host_cpu_features()
+    return bool(features.get("fma", False))
+
+
+#: :func:`two_product` takes the error from one fused multiply-add (2 operations instead of
+#: the split's 17) where the CPU has the instruction.
+HAS_FMA = _host_has_fma()
+
+
+@njit(cache=True)
+def _two_product_split(a, b):
+    # Dekker/Veltkamp: exact unless a*b overflows, |a| or |b| >= 2**996, or the error is
+    # below the subnormal range
     x = a * b
     ahi, alo = split(a)
     bhi, blo = split(b)
@@ -98,6 +129,36 @@ def two_product(a, b):
     err2 = err1 - alo * bhi
     err3 = err2 - ahi * blo
     return x, alo * blo - err3
+
+
+@njit(cache=True)
+def _two_product_fused(a, b):
+    # the rounding error of a*b is itself a float (barring underflow), and fma(a, b, -x)
+    # computes it with one rounding, so exactly
+    x = a * b
+    return x, fused_multiply_add(a, b, -x)
+
+
+if HAS_FMA:
+    @njit(cache=True)
+    def two_product(a, b):
+        """Return ``(x, y)`` with ``x = fl(a * b)`` and ``x + y == a * b`` exactly.
+
+        Exact unless ``a*b`` overflows or the rounding error is below the subnormal range
+        (i.e. needs ``ulp(a) * ulp(b) >= 2**-1074``). One fused multiply-add here
+        (:data:`HAS_FMA`), else Dekker's split.
+        """
+        return _two_product_fused(a, b)
+else:
+    @njit(cache=True)
+    def two_product(a, b):
+        """Return ``(x, y)`` with ``x = fl(a * b)`` and ``x + y == a * b`` exactly.
+
+        Exact unless ``a*b`` overflows or the rounding error is below the subnormal range
+        (i.e. needs ``ulp(a) * ulp(b) >= 2**-1074``). Dekker's split here (no fused
+        multiply-add: :data:`HAS_FMA`).
+        """
+        return _two_product_split(a, b)
 
 
 @njit(cache=True)

@@ -223,7 +223,10 @@ def circle_top_relative(ax, ay, bx, by, cx, cy):
         if not den > err_den:
             return np.inf, np.inf, np.nan, np.nan
         m = num / den
-        err_m = (num * err_den + den * err_num) / (den * (den - err_den)) + u * m
+        # |num / den - exact| <= (m err_den + err_num) / (den - err_den), with m for num / den
+        # (the 2 u m covers that and the division's rounding); no product of two degree-6
+        # terms, which underflowed for differences below 2**-114 and dropped every error
+        err_m = (m * err_den + err_num) / (den - err_den) + 2.0 * u * m
     q = m / ae
     err_q = (abs(m) * err_e + ae * err_m) / (ae * (ae - err_e)) + u * abs(q)
     # the centre is a + (nx, ny) / e: trusted when both offsets are within CENTRE_TRUST of the
