@@ -165,3 +165,79 @@ def test_numpy_integers_and_float32_are_taken_as_the_numbers_they_hold():
     for dtype in (np.int64, np.int32, np.float32, np.float64):
         assert vertex(np.array(rows, dtype=dtype), 0, 1, 2).as_floats() == expected
     assert hidden_by(np.array([1, 0, 1], dtype=np.int64), np.array([0, 0, 3], dtype=np.int32))
+
+
+def _decimal_value(q: QuadraticNumber):
+    from decimal import Decimal, localcontext
+    with localcontext() as ctx:
+        ctx.prec = 80
+        a, b, d = (Fraction(int(v.numerator), int(v.denominator)) for v in (q.a, q.b, q.d))
+        dec = lambda f: Decimal(f.numerator) / Decimal(f.denominator)
+        return dec(a) + dec(b) * dec(d).sqrt()
+
+
+_small = st.fractions(min_value=-20, max_value=20, max_denominator=8)
+
+
+@settings(max_examples=300, deadline=None)
+@given(_small, _small, st.integers(0, 30), _small, _small, st.integers(0, 30))
+def test_compare_across_quadratic_fields(a1, b1, d1, a2, b2, d2):
+    from decimal import Decimal, localcontext
+    from vorobench.core.predicates.apollonius import compare, rational
+    x = QuadraticNumber(rational(a1), rational(b1), rational(d1))
+    y = QuadraticNumber(rational(a2), rational(b2), rational(d2))
+    with localcontext() as ctx:
+        ctx.prec = 80
+        gap = _decimal_value(x) - _decimal_value(y)
+    want = 0 if abs(gap) < Decimal(10) ** -60 else (1 if gap > 0 else -1)
+    assert compare(x, y) == want and compare(y, x) == -want
+
+
+def test_compare_finds_ties_written_in_different_fields():
+    from vorobench.core.predicates.apollonius import compare, rational
+    q = lambda a, b, d: QuadraticNumber(rational(a), rational(b), rational(d))
+    assert compare(q(0, 1, 8), q(0, 2, 2)) == 0                 # sqrt(8) = 2 sqrt(2)
+    assert compare(q(1, 3, 12), q(1, 2, 27)) == 0               # 3 sqrt(12) = 2 sqrt(27)
+    assert compare(q(5, 0, 3), q(2, 1, 9)) == 0                 # 5 = 2 + sqrt(9)
+    assert compare(q(0, 1, 2), q(rational(99, 70), 0, 0)) == -1     # 140/99 < sqrt(2) < 99/70
+    assert compare(q(0, 1, 2), q(rational(140, 99), 0, 0)) == 1
+    assert compare(q(1, 1, 2), q(0, 1, 3)) == 1 and compare(q(0, 1, 3), q(1, 1, 2)) == -1
+
+
+def _vertex_on_branch(disks, i, j, k):
+    """The vertex of disks i, j, k on the bisector branch of i and j, in whichever turn exists."""
+    return vertex(disks, i, j, k) or vertex(disks, i, k, j)
+
+
+@pytest.mark.parametrize("radii", [(1.0, 1.0), (1.0, 0.0), (0.0, 1.5)])
+def test_branch_order_runs_with_cell_i_on_the_left(radii):
+    # i at the origin, j at (4, 0): perp(p_j - p_i) points up, and cell i (left of the
+    # upward direction) is the side of i; a third disk far below gives a vertex before one
+    # from a third disk far above, whatever the radii bend the branch to
+    from vorobench.core.predicates.apollonius import branch_order
+    disks = [(0.0, 0.0, radii[0]), (4.0, 0.0, radii[1]), (2.0, -9.0, 0.5), (2.0, 9.0, 0.25)]
+    below, above = _vertex_on_branch(disks, 0, 1, 2), _vertex_on_branch(disks, 0, 1, 3)
+    assert below is not None and above is not None
+    assert branch_order(disks, 0, 1, below, above) == -1
+    assert branch_order(disks, 0, 1, above, below) == 1
+    assert branch_order(disks, 1, 0, below, above) == 1           # cell j on the left: downwards
+    assert branch_order(disks, 0, 1, below, below) == 0
+
+
+def test_branch_order_agrees_with_the_floats_of_random_vertices():
+    from vorobench.core.predicates.apollonius import branch_order
+    rng = np.random.default_rng(11)
+    checked = 0
+    for _ in range(40):
+        disks = [tuple(v) for v in np.column_stack([rng.random((6, 2)) * 10, rng.random(6)])]
+        points = [v for k in range(2, 6) if (v := _vertex_on_branch(disks, 0, 1, k)) is not None]
+        (xi, yi, _), (xj, yj, _) = disks[0], disks[1]
+        for u in points:
+            for w in points:
+                ux, uy, _ = u.as_floats()
+                wx, wy, _ = w.as_floats()
+                gap = -(yj - yi) * (ux - wx) + (xj - xi) * (uy - wy)
+                if abs(gap) > 1e-9 * (1 + abs(ux) + abs(uy) + abs(wx) + abs(wy)):
+                    assert branch_order(disks, 0, 1, u, w) == (1 if gap > 0 else -1)
+                    checked += 1
+    assert checked > 50

@@ -36,7 +36,7 @@ try:  # GMP's rationals, several times faster; the answers are the same
 except ImportError:  # pragma: no cover - gmpy2 is a dependency
     rational = Fraction
 
-__all__ = ["Disk", "QuadraticNumber", "ApolloniusVertex", "hidden_by", "vertex", "conflict", "rational"]
+__all__ = ["Disk", "QuadraticNumber", "ApolloniusVertex", "hidden_by", "vertex", "conflict", "compare", "branch_order", "rational"]
 
 #: A disk as the caller gives it: (x, y, r), floats or rationals
 Disk = Sequence[float]
@@ -250,3 +250,41 @@ def conflict(disks: Sequence[Disk], v: ApolloniusVertex, m: int) -> int:
         return 1
     dx, dy = v.x - _q(x), v.y - _q(y)
     return (dx * dx + dy * dy - reach * reach).sign()
+
+
+def compare(x: QuadraticNumber, y: QuadraticNumber) -> int:
+    """The exact sign of x - y, for numbers of any two quadratic fields (two vertices of
+    different triples): -1, 0 or +1."""
+    bx = x.b if x.d != 0 else 0                       # a root of 0 is no root
+    by = y.b if y.d != 0 else 0
+    a = x.a - y.a
+    if by == 0:
+        return QuadraticNumber(a, bx, x.d).sign()
+    if bx == 0:
+        return QuadraticNumber(a, -by, y.d).sign()
+    if x.d == y.d:
+        return QuadraticNumber(a, bx - by, x.d).sign()
+    # a + bx sqrt(dx) - by sqrt(dy): the sign of the first part against that of the second
+    first = QuadraticNumber(a, bx, x.d)
+    s1 = first.sign()
+    s2 = -1 if by > 0 else 1
+    if s1 == 0 or s1 == s2:
+        return s2 if s1 == 0 else s1
+    # opposite signs: the larger magnitude wins, and (a + bx sqrt(dx))^2 - by^2 dy is again
+    # one number of the first field
+    gap = QuadraticNumber(a * a + bx * bx * x.d - by * by * y.d, 2 * a * bx, x.d).sign()
+    return s1 if gap > 0 else s2 if gap < 0 else 0
+
+
+def branch_order(disks: Sequence[Disk], i: int, j: int, u: ApolloniusVertex, w: ApolloniusVertex) -> int:
+    """The order of two points u, w of the bisector branch of disks i and j, along the
+    direction in which cell i lies on the left: -1 if u comes first, 0 if they are one point,
+    +1 if w comes first. Points of one branch are in order of their coordinate along
+    perp(p_j - p_i): a branch is a graph over the perpendicular of its focal axis
+    (docs/apollonius.md, "The DCEL of disks")."""
+    xi, yi, _ = _disk(disks[i])
+    xj, yj, _ = _disk(disks[j])
+    px, py = -(yj - yi), xj - xi                      # perp(p_j - p_i), rational
+    position_u = u.x.scaled(px) + u.y.scaled(py)
+    position_w = w.x.scaled(px) + w.y.scaled(py)
+    return compare(position_u, position_w)
