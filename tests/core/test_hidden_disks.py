@@ -75,3 +75,34 @@ def test_bad_input_is_refused():
         hidden_disks(np.zeros((2, 2)), np.array([1.0, -1.0]))
     with pytest.raises(ValueError, match="finite"):
         hidden_disks(np.zeros((2, 2)), np.array([1.0, np.nan]))
+
+
+def test_far_scales_give_the_same_disks_hidden():
+    # scaled by powers of two (exact) far from 1: squares would overflow or underflow there
+    points = datasets_gen.generate("grid", 144, seed=3)
+    r = datasets_gen.radii("integer", points, seed=4)
+    want = hidden_disks(points, r)
+    assert want.any()
+    for k in (-1000, -520, 500, 1000):
+        assert np.array_equal(hidden_disks(np.ldexp(points, k), np.ldexp(r, k)), want)
+    # found by a review: a margin below the subnormal range, and one that overflowed to nan
+    g, d = np.sqrt(2.6) * 2.0**-537, np.sqrt(1.4) * 2.0**-537
+    centres, radii = np.array([[0.0, 0.0], [d, d]]), np.array([0.0, g])
+    assert np.array_equal(hidden_disks(centres, radii), brute_force(centres, radii))
+    centres, radii = np.array([[0.0, 0.0], [1e200, 0.0]]), np.array([3e200, 1e200])
+    assert hidden_disks(centres, radii).tolist() == [False, True]
+
+
+def test_disks_all_tangent_at_one_point():
+    # x = 1..n on a line, r = x: each disk touches all the bigger ones at the origin, so
+    # every pair is an exact tie and only the biggest stays visible
+    x = np.arange(1.0, 301.0) * 0.1
+    centres = np.column_stack([x, np.zeros_like(x)])
+    got = hidden_disks(centres, x.copy())
+    assert np.array_equal(got, brute_force(centres, x))
+
+
+def test_inputs_outside_the_exact_range_are_refused():
+    from vorobench.core.scaling import OutsideExactRange
+    with pytest.raises(OutsideExactRange, match="hidden_disks"):
+        hidden_disks(np.array([[0.0, 0.0], [1e-170, 0.0]]), np.array([1.0, 1.0]))

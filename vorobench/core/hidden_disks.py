@@ -6,14 +6,14 @@ point than the bigger one, so its cell has no interior; a disk inside no other h
 (docs/apollonius.md). Identical disks hide each other: the one with the smallest index stays
 visible, as ``prepare`` keeps the first of duplicated points.
 
-Disk i is hidden when some disk j has r_j - |p_i - p_j| >= r_i. The centres go into a grid of
-2^k x 2^k cells (about one centre per cell) under a pyramid of coarser grids, each cell keeping
-the largest radius below it; the search for disk i descends from the top and enters a cell
-only when that radius minus the cell's distance could reach r_i, and stops at the first disk
-that covers i. So a disk among small ones looks at its neighbours, a point disk under a huge
-one stops at the first disk that covers it, and a disk far from the huge one leaves it at a
-coarse level. Each pair is decided by a float test with an error bound; the pairs it cannot
-tell go to :func:`vorobench.core.predicates.apollonius.hidden_by`, in rationals.
+Disk i is hidden when some disk j has r_j - |p_i - p_j| >= r_i. The centres go into a
+balanced k-d tree (median splits, so clustered centres cost what spread ones do) whose nodes
+keep the box of their centres and their largest radius; the search for disk i enters a node
+only when that radius minus the box's distance could reach r_i, and stops at the first disk
+that covers i. Each pair is decided by a float test with an error bound and, where it cannot
+tell, by the exact sign of (r_j - r_i)^2 - |p_i - p_j|^2 in expansion arithmetic. Both need
+the input scaled by a power of two into the exact range (docs/dcel.md), where no square
+overflows or underflows; an input no power of two brings there is refused.
 """
 
 from __future__ import annotations
@@ -24,7 +24,8 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from vorobench.core.predicates.apollonius import hidden_by
+from vorobench.core.predicates.expansion import diff_product_expansion, expansion_diff, expansion_sign
+from vorobench.core.scaling import EXACT_EXPONENT_SPAN, EXACT_MIN_EXPONENT, RANGE_TEXT, OutsideExactRange, magnitude_range
 
 __all__ = ["hidden_disks"]
 
@@ -33,19 +34,23 @@ __all__ = ["hidden_disks"]
 #: g^2 + d^2: each of g, dx, dy is rounded once and squared, and the sums add two more.
 _FILTER_ULPS = 16.0 * 2.0**-53
 
-#: Relative slack on the grid's pruning distances, far above their rounding: pruning may
-#: only skip cells that certainly hold no covering disk.
-_PRUNE_SLACK = 1e-9
+#: Relative slack on a node's pruning test (its radius minus its box's distance against r_i),
+#: of the magnitudes in that test: far above their few roundings, far below a node's size.
+_PRUNE_SLACK = 2.0**-45
 
-# answers of the compiled pass, per disk
-_VISIBLE, _HIDDEN, _UNSURE = 0, 1, 2
+#: Centres per leaf of the k-d tree
+_LEAF = 8
 
 
 def hidden_disks(centres: NDArray[np.float64], radii: NDArray[np.float64]) -> NDArray[np.bool_]:
     """Boolean mask of the disks (``centres`` (n, 2), ``radii`` (n,), finite, >= 0) that lie
-    inside another disk, touching included; of identical disks all but the first."""
-    centres = np.ascontiguousarray(centres, dtype=np.float64)
-    radii = np.ascontiguousarray(radii, dtype=np.float64)
+    inside another disk, touching included; of identical disks all but the first.
+
+    Raises ``ValueError`` on a bad shape, a non-finite value or a negative radius, and
+    :class:`~vorobench.core.scaling.OutsideExactRange` when the nonzero magnitudes of the
+    centres and radii together span more than the exact range."""
+    centres = np.asarray(centres, dtype=np.float64)
+    radii = np.asarray(radii, dtype=np.float64)
     if centres.ndim != 2 or centres.shape[1] != 2:
         raise ValueError(f"centres must have shape (n, 2), got {centres.shape}")
     if radii.shape != (centres.shape[0],):
@@ -57,116 +62,177 @@ def hidden_disks(centres: NDArray[np.float64], radii: NDArray[np.float64]) -> ND
     n = centres.shape[0]
     if n < 2:
         return np.zeros(n, dtype=bool)
-    lo = centres.min(axis=0)
-    span = float(max(centres.max(axis=0) - lo))
-    levels = max(0, int(math.ceil(math.log2(max(n, 1)) / 2)))      # 2^levels cells a side
-    side = 1 << levels
-    cell = span / side if span > 0 else 1.0
-    ix = np.minimum((centres[:, 0] - lo[0]) / cell, side - 1).astype(np.int64)
-    iy = np.minimum((centres[:, 1] - lo[1]) / cell, side - 1).astype(np.int64)
-    key = iy * side + ix
-    order = np.argsort(key, kind="stable")
-    start = np.searchsorted(key[order], np.arange(side * side + 1))
-    pyramid = _pyramid(key, radii, levels)
-    state = np.zeros(n, dtype=np.int8)
-    pairs = np.empty((0, 2), dtype=np.int64)
-    args = (centres, radii, order, start, pyramid, levels, cell, lo[0], lo[1], state)
-    unsure = _search(*args, pairs, 0)
-    if unsure > 0:
-        # the pass counted the pairs its filter could not tell; run it again to list them
-        pairs = np.empty((unsure, 2), dtype=np.int64)
-        state[:] = _VISIBLE
-        _search(*args, pairs, unsure)
-    hidden = state == _HIDDEN
-    for i, j in pairs:
-        if not hidden[i] and hidden_by((centres[i, 0], centres[i, 1], radii[i]), (centres[j, 0], centres[j, 1], radii[j])):
-            hidden[i] = True
-    return hidden
+    centres, radii = _scaled(centres, radii)
+    order, boxes, reach, children = _kd_tree(centres, radii)
+    return _search(centres, radii, order, boxes, reach, children)
 
 
-def _pyramid(key: NDArray[np.int64], radii: NDArray[np.float64], levels: int) -> NDArray[np.float64]:
-    """The largest radius in each cell of each level, level L (cells 2^L fine cells wide) at
-    offset sum over l < L of 4^(levels - l), row-major."""
-    side = 1 << levels
-    finest = np.zeros(side * side)
-    np.maximum.at(finest, key, radii)
-    out = [finest]
-    grid = finest.reshape(side, side)
-    while grid.shape[0] > 1:
-        grid = np.maximum(np.maximum(grid[0::2, 0::2], grid[0::2, 1::2]), np.maximum(grid[1::2, 0::2], grid[1::2, 1::2]))
-        out.append(grid.ravel())
-    return np.concatenate(out)
+def _scaled(centres: NDArray[np.float64], radii: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Centres and radii times one power of two that puts the largest magnitude in [0.5, 1)
+    (raised if the smallest nonzero one needs it): containment does not change, and every
+    square and product of differences below is then exact in expansions."""
+    hi, lo = magnitude_range(np.concatenate([centres.ravel(), radii]))
+    if hi == 0:
+        return np.ascontiguousarray(centres), np.ascontiguousarray(radii)
+    top, bottom = math.frexp(hi)[1], math.frexp(lo)[1]
+    if top - bottom > EXACT_EXPONENT_SPAN:
+        raise OutsideExactRange(f"hidden_disks: centres and radii span more than {RANGE_TEXT}: magnitudes from "
+                                f"{lo:.6g} to {hi:.6g}")
+    k = max(-top, EXACT_MIN_EXPONENT - bottom)
+    return np.ascontiguousarray(np.ldexp(centres, k)), np.ascontiguousarray(np.ldexp(radii, k))
+
+
+def _kd_tree(centres: NDArray[np.float64], radii: NDArray[np.float64]):
+    """A balanced k-d tree over the centres: (order, boxes, reach, children). Node v holds the
+    centres ``order[start:end]`` (``children[v] = (left, right, start, end)``, left = -1 for a
+    leaf), the box of those centres ``boxes[v] = (xmin, ymin, xmax, ymax)`` and their largest
+    radius ``reach[v]``. Node 0 is the root; each split is at the median of the box's longer
+    side."""
+    n = centres.shape[0]
+    capacity = 4 * (n // _LEAF + 1) + 1
+    order = np.arange(n)
+    boxes = np.empty((capacity, 4))
+    reach = np.empty(capacity)
+    children = np.full((capacity, 4), -1, dtype=np.int64)
+    count = _build(centres, radii, order, boxes, reach, children)
+    return order, boxes[:count], reach[:count], children[:count]
 
 
 @njit(cache=True)
-def _search(centres, radii, order, start, pyramid, levels, cell, x0, y0, state, pairs, capacity):
-    """Mark each disk HIDDEN when a filtered test finds a disk that covers it; count the pairs
-    the filter cannot tell (and list them in ``pairs`` when ``capacity`` allows)."""
+def _build(centres, radii, order, boxes, reach, children):
+    # the nodes of _kd_tree, depth first with an explicit stack; returns their number
     n = centres.shape[0]
-    offset = np.zeros(levels + 2, dtype=np.int64)
-    for level in range(levels + 1):
-        width = 1 << (levels - level)
-        offset[level + 1] = offset[level] + width * width
-    top = pyramid[offset[levels]]
-    stack = np.empty((4 * (levels + 1) + 4, 3), dtype=np.int64)
-    unsure = 0
+    stack = np.empty((children.shape[0], 3), dtype=np.int64)
+    stack[0, 0], stack[0, 1], stack[0, 2] = 0, 0, n
+    depth = 1
+    count = 1
+    while depth > 0:
+        depth -= 1
+        v, start, end = stack[depth, 0], stack[depth, 1], stack[depth, 2]
+        xmin = ymin = np.inf
+        xmax = ymax = -np.inf
+        big = 0.0
+        for t in range(start, end):
+            j = order[t]
+            xmin = min(xmin, centres[j, 0])
+            xmax = max(xmax, centres[j, 0])
+            ymin = min(ymin, centres[j, 1])
+            ymax = max(ymax, centres[j, 1])
+            big = max(big, radii[j])
+        boxes[v, 0], boxes[v, 1], boxes[v, 2], boxes[v, 3] = xmin, ymin, xmax, ymax
+        reach[v] = big
+        children[v, 2], children[v, 3] = start, end
+        if end - start <= _LEAF:
+            continue
+        axis = 0 if xmax - xmin >= ymax - ymin else 1
+        middle = start + (end - start) // 2
+        _select(order, start, end, middle, centres, axis)
+        left, right = count, count + 1
+        count += 2
+        children[v, 0], children[v, 1] = left, right
+        stack[depth, 0], stack[depth, 1], stack[depth, 2] = left, start, middle
+        stack[depth + 1, 0], stack[depth + 1, 1], stack[depth + 1, 2] = right, middle, end
+        depth += 2
+    return count
+
+
+@njit(cache=True)
+def _select(order, start, end, k, centres, axis):
+    # order[start:end] rearranged so that position k holds the centre of rank k - start along
+    # the axis, none after it smaller and none before it larger (Hoare's quickselect)
+    lo, hi = start, end - 1
+    while lo < hi:
+        pivot = centres[order[(lo + hi) // 2], axis]
+        i, j = lo, hi
+        while i <= j:
+            while centres[order[i], axis] < pivot:
+                i += 1
+            while centres[order[j], axis] > pivot:
+                j -= 1
+            if i <= j:
+                order[i], order[j] = order[j], order[i]
+                i += 1
+                j -= 1
+        if k <= j:
+            hi = j
+        elif k >= i:
+            lo = i
+        else:
+            return
+
+
+@njit(cache=True)
+def _covers(cx, cy, r, px, py, ri):
+    """Whether the disk (cx, cy, r) contains the disk (px, py, ri), r >= ri, exactly: the sign
+    of (r - ri)^2 - (px - cx)^2 - (py - cy)^2, a float filter first, expansions where it
+    cannot tell (exact for inputs in the exact range)."""
+    g = r - ri
+    dx = px - cx
+    dy = py - cy
+    d2 = dx * dx + dy * dy
+    margin = g * g - d2
+    bound = _FILTER_ULPS * (g * g + d2)
+    if margin > bound:
+        return True
+    if margin < -bound:
+        return False
+    h = np.empty(24)
+    g2 = np.empty(8)
+    x2 = np.empty(8)
+    y2 = np.empty(8)
+    ng = diff_product_expansion(r, ri, r, ri, g2)
+    nx = diff_product_expansion(px, cx, px, cx, x2)
+    ny = diff_product_expansion(py, cy, py, cy, y2)
+    t = np.empty(16)
+    nt = expansion_diff(g2, ng, x2, nx, t)
+    nh = expansion_diff(t, nt, y2, ny, h)
+    return expansion_sign(h, nh) >= 0
+
+
+@njit(cache=True)
+def _search(centres, radii, order, boxes, reach, children):
+    """The mask of hidden disks: each disk searches the tree, depth first, nearest child first,
+    and stops at the first disk that covers it."""
+    n = centres.shape[0]
+    hidden = np.zeros(n, dtype=np.bool_)
+    stack = np.empty(2 * children.shape[0] + 2, dtype=np.int64)
     for i in range(n):
         px = centres[i, 0]
         py = centres[i, 1]
         ri = radii[i]
-        slack = _PRUNE_SLACK * (abs(px) + abs(py) + top + cell)
         depth = 1
-        stack[0, 0] = levels
-        stack[0, 1] = 0
-        stack[0, 2] = 0
-        while depth > 0 and state[i] != _HIDDEN:
+        stack[0] = 0
+        while depth > 0 and not hidden[i]:
             depth -= 1
-            level = stack[depth, 0]
-            cx = stack[depth, 1]
-            cy = stack[depth, 2]
-            width = 1 << (levels - level)
-            size = cell * (1 << level)
-            # distance from p_i to the cell's box, against the largest radius under it
-            bx = max(x0 + cx * size - px, px - (x0 + (cx + 1) * size), 0.0)
-            by = max(y0 + cy * size - py, py - (y0 + (cy + 1) * size), 0.0)
-            if pyramid[offset[level] + cy * width + cx] - math.sqrt(bx * bx + by * by) < ri - slack:
+            v = stack[depth]
+            # distance from p_i to the node's box, against the largest radius in it
+            bx = max(boxes[v, 0] - px, px - boxes[v, 2], 0.0)
+            by = max(boxes[v, 1] - py, py - boxes[v, 3], 0.0)
+            dist = math.sqrt(bx * bx + by * by)
+            slack = _PRUNE_SLACK * (reach[v] + dist + ri + abs(px) + abs(py))
+            if reach[v] - dist < ri - slack:
                 continue
-            if level > 0:
-                # the four children, the one nearest p_i on top of the stack (searched first)
-                half = size / 2.0
-                nx = 1 if px >= x0 + cx * size + half else 0
-                ny = 1 if py >= y0 + cy * size + half else 0
-                for q in range(4):
-                    kx = (q & 1) ^ nx ^ 1
-                    ky = (q >> 1) ^ ny ^ 1
-                    stack[depth, 0] = level - 1
-                    stack[depth, 1] = 2 * cx + kx
-                    stack[depth, 2] = 2 * cy + ky
-                    depth += 1
+            left = children[v, 0]
+            if left >= 0:
+                right = children[v, 1]
+                # the child whose box is nearer p_i goes on top of the stack
+                lx = max(boxes[left, 0] - px, px - boxes[left, 2], 0.0) + max(boxes[left, 1] - py, py - boxes[left, 3], 0.0)
+                rx = max(boxes[right, 0] - px, px - boxes[right, 2], 0.0) + max(boxes[right, 1] - py, py - boxes[right, 3], 0.0)
+                near, far = (left, right) if lx <= rx else (right, left)
+                stack[depth] = far
+                stack[depth + 1] = near
+                depth += 2
                 continue
-            c = cy * width + cx
-            for t in range(start[c], start[c + 1]):
+            for t in range(children[v, 2], children[v, 3]):
                 j = order[t]
                 if j == i or radii[j] < ri:
                     continue
-                g = radii[j] - ri
-                dx = px - centres[j, 0]
-                dy = py - centres[j, 1]
-                d2 = dx * dx + dy * dy
-                margin = g * g - d2
-                bound = _FILTER_ULPS * (g * g + d2)
-                if margin > bound:
-                    state[i] = _HIDDEN
+                if radii[j] == ri and centres[j, 0] == px and centres[j, 1] == py:
+                    if j < i:                       # identical disks: the later one is hidden
+                        hidden[i] = True
+                        break
+                    continue
+                if _covers(centres[j, 0], centres[j, 1], radii[j], px, py, ri):
+                    hidden[i] = True
                     break
-                if margin >= -bound:
-                    if g == 0.0 and d2 == 0.0:
-                        # identical disks: the later one is hidden
-                        if j < i:
-                            state[i] = _HIDDEN
-                            break
-                        continue
-                    if unsure < capacity:
-                        pairs[unsure, 0] = i
-                        pairs[unsure, 1] = j
-                    unsure += 1
-    return unsure
+    return hidden

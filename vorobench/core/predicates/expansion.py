@@ -6,7 +6,6 @@ certified error bounds. Every exact predicate is built from these."""
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
 from llvmlite import binding as llvm_binding
@@ -105,10 +104,10 @@ def fused_multiply_add(typingctx, a, b, c):
 
 
 def _host_has_fma() -> bool:
-    """Whether numba compiles for a CPU with fused multiply-add (the host's, unless
-    ``NUMBA_CPU_NAME`` names another target: then the portable split is kept)."""
-    if os.environ.get("NUMBA_CPU_NAME"):
-        return False
+    """Whether this machine's CPU has fused multiply-add. Either way of :func:`two_product`
+    is exact, so the choice only costs speed: on a host without it ``llvm.fma`` is a library
+    call; compiled for another target (``NUMBA_CPU_NAME``), the fused form stays exact too.
+    numba's cache keys carry the CPU's features, so a cache never mixes the two."""
     features = llvm_binding.get_host_cpu_features()
     return bool(features.get("fma", False))
 
