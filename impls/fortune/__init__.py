@@ -17,8 +17,8 @@ Structure (three separate files, as in Boost.Polygon's builder / predicates / ou
 * ``sweep.py``: the sweep. Sites are pre-sorted by (y, x); the sweep line moves upward. A
   site event finds the arc above the new site (first by a walk of at most two arcs from the
   arc of the recent site nearest in x, while such walks keep succeeding: lattice rows and
-  the two ends of a convex curve; else from the treap's root), splits it into (q, s, q), starts one edge
-  traced by the two new breakpoints, cancels the split arc's circle event and checks the
+  the two ends of a convex curve; else from the treap's root), splits it into (q, s, q),
+  starts one edge traced by the two new breakpoints, cancels the split arc's circle event and checks the
   two new triples. A circle event puts a vertex at the circumcentre, removes the vanishing
   arc, closes the two edges its breakpoints traced, starts the edge of the new breakpoint,
   cancels the neighbours' stale events (false alarms) and checks the two new triples.

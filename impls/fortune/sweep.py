@@ -38,8 +38,9 @@ COUNTER_NAMES = (
     "site_events", "circle_events", "false_alarms", "vertices", "max_beach_line", "exact_keys",
 )
 
-#: Arcs a site event walks from each of the last two sites' arcs before searching the tree,
-#: and the longest wait (in site events) after failed walks.
+#: A site event first walks at most FINGER_STEPS arcs from the arc of whichever of the last
+#: N_FINGERS sites is nearest in x, before searching the tree; after failed walks it waits
+#: (in site events) twice as long each time, up to FINGER_BACKOFF.
 FINGER_STEPS = 2
 N_FINGERS = 4
 FINGER_BACKOFF = 255

@@ -25,7 +25,13 @@ from numba import njit
 from numpy.typing import NDArray
 
 from vorobench.core.predicates.expansion import diff_product_expansion, expansion_diff, expansion_sign
-from vorobench.core.scaling import EXACT_EXPONENT_SPAN, EXACT_MIN_EXPONENT, RANGE_TEXT, OutsideExactRange, magnitude_range
+from vorobench.core.scaling import (
+    EXACT_EXPONENT_SPAN,
+    EXACT_MIN_EXPONENT,
+    RANGE_TEXT,
+    OutsideExactRange,
+    magnitude_range,
+)
 
 __all__ = ["hidden_disks"]
 
@@ -67,7 +73,8 @@ def hidden_disks(centres: NDArray[np.float64], radii: NDArray[np.float64]) -> ND
     return _search(centres, radii, order, boxes, reach, children)
 
 
-def _scaled(centres: NDArray[np.float64], radii: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _scaled(centres: NDArray[np.float64],
+            radii: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Centres and radii times one power of two that puts the largest magnitude in [0.5, 1)
     (raised if the smallest nonzero one needs it): containment does not change, and every
     square and product of differences below is then exact in expansions."""
@@ -189,6 +196,12 @@ def _covers(cx, cy, r, px, py, ri):
     return expansion_sign(h, nh) >= 0
 
 
+@njit(cache=True, inline='always')
+def _gap(boxes, v, px, py):
+    # how far p lies outside node v's box, in the L1 norm (to pick the nearer child)
+    return max(boxes[v, 0] - px, px - boxes[v, 2], 0.0) + max(boxes[v, 1] - py, py - boxes[v, 3], 0.0)
+
+
 @njit(cache=True)
 def _search(centres, radii, order, boxes, reach, children):
     """The mask of hidden disks: each disk searches the tree, depth first, nearest child first,
@@ -216,9 +229,7 @@ def _search(centres, radii, order, boxes, reach, children):
             if left >= 0:
                 right = children[v, 1]
                 # the child whose box is nearer p_i goes on top of the stack
-                lx = max(boxes[left, 0] - px, px - boxes[left, 2], 0.0) + max(boxes[left, 1] - py, py - boxes[left, 3], 0.0)
-                rx = max(boxes[right, 0] - px, px - boxes[right, 2], 0.0) + max(boxes[right, 1] - py, py - boxes[right, 3], 0.0)
-                near, far = (left, right) if lx <= rx else (right, left)
+                near, far = (left, right) if _gap(boxes, left, px, py) <= _gap(boxes, right, px, py) else (right, left)
                 stack[depth] = far
                 stack[depth + 1] = near
                 depth += 2
