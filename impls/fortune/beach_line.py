@@ -134,6 +134,19 @@ def remove(arcs, root, x):
     return root
 
 
+@njit(cache=True, inline='always')
+def _side(arcs, sites, p, x, sx, sy, counters):
+    # exact side of (sx, sy) against the breakpoint of arcs p (left) and x (right)
+    a = arcs[p, SITE]
+    b = arcs[x, SITE]
+    counters[BP_CALLS] += 1
+    side = breakpoint_side_filter(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sx, sy)
+    if side == UNDECIDED:
+        counters[BP_EXACT] += 1
+        side = breakpoint_side_exact(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sx, sy)
+    return side
+
+
 @njit(cache=True)
 def locate(arcs, root, sites, sx, sy, counters):
     """The arc directly above the new site (sx, sy) at sweep position y = sy.
@@ -149,46 +162,16 @@ def locate(arcs, root, sites, sx, sy, counters):
         steps += 1
         if steps > limit:
             return -1
-        b = arcs[x, SITE]
-        bx = sites[b, 0]
-        by = sites[b, 1]
         p = arcs[x, PREV]
-        if p != -1:
-            a = arcs[p, SITE]
-            counters[BP_CALLS] += 1
-            side = breakpoint_side_filter(sites[a, 0], sites[a, 1], bx, by, sx, sy)
-            if side == UNDECIDED:
-                counters[BP_EXACT] += 1
-                side = breakpoint_side_exact(sites[a, 0], sites[a, 1], bx, by, sx, sy)
-            if side < 0:
-                x = arcs[x, LEFT]
-                continue
+        if p != -1 and _side(arcs, sites, p, x, sx, sy, counters) < 0:
+            x = arcs[x, LEFT]
+            continue
         q = arcs[x, NEXT]
-        if q != -1:
-            c = arcs[q, SITE]
-            counters[BP_CALLS] += 1
-            side = breakpoint_side_filter(bx, by, sites[c, 0], sites[c, 1], sx, sy)
-            if side == UNDECIDED:
-                counters[BP_EXACT] += 1
-                side = breakpoint_side_exact(bx, by, sites[c, 0], sites[c, 1], sx, sy)
-            if side >= 0:
-                x = arcs[x, RIGHT]
-                continue
+        if q != -1 and _side(arcs, sites, x, q, sx, sy, counters) >= 0:
+            x = arcs[x, RIGHT]
+            continue
         return x
     return -1
-
-
-@njit(cache=True, inline='always')
-def _side(arcs, sites, p, x, sx, sy, counters):
-    # exact side of (sx, sy) against the breakpoint of arcs p (left) and x (right)
-    a = arcs[p, SITE]
-    b = arcs[x, SITE]
-    counters[BP_CALLS] += 1
-    side = breakpoint_side_filter(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sx, sy)
-    if side == UNDECIDED:
-        counters[BP_EXACT] += 1
-        side = breakpoint_side_exact(sites[a, 0], sites[a, 1], sites[b, 0], sites[b, 1], sx, sy)
-    return side
 
 
 @njit(cache=True)

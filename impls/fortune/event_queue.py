@@ -196,13 +196,18 @@ def _exact_before(sites, ev_i, ev_f, e, g, counters):
     return ev_i[e, SEQ] < ev_i[g, SEQ]
 
 
-@njit(cache=True)
+@njit(cache=True, inline='always')
 def before(sites, ev_i, ev_f, ye, erre, e, yg, errg, g, counters):
-    """True if circle event e (float top ye +- erre) must be processed before g (exact; ties by SEQ)."""
+    """True if circle event e (float top ye +- erre) must be processed before g (exact; ties by SEQ).
+
+    The heap's comparison: the float keys first, then equal exact keys (a lattice tie, four
+    floats, inlined into the heap's loops), then the refinements of ``_exact_before``."""
     counters[ORDER_CALLS] += 1
     o = _float_order(ye, erre, yg, errg)
     if o != 0:
         return o < 0
+    if _same_exact_key(ev_i, ev_f, e, g):
+        return ev_i[e, SEQ] < ev_i[g, SEQ]
     return _exact_before(sites, ev_i, ev_f, e, g, counters)
 
 
@@ -240,19 +245,6 @@ def before_site(sites, ev_i, ev_f, ye, erre, e, sy, counters):
 
 
 @njit(cache=True, inline='always')
-def _precedes(sites, ev_i, ev_f, ye, erre, e, yg, errg, g, counters):
-    # the heap's comparison: event e (float top ye +- erre) before g, exactly (ties by SEQ);
-    # the float keys first, then equal exact keys, then the refinements of _exact_before
-    counters[ORDER_CALLS] += 1
-    o = _float_order(ye, erre, yg, errg)
-    if o != 0:
-        return o < 0
-    if _same_exact_key(ev_i, ev_f, e, g):
-        return ev_i[e, SEQ] < ev_i[g, SEQ]
-    return _exact_before(sites, ev_i, ev_f, e, g, counters)
-
-
-@njit(cache=True, inline='always')
 def _move(ev_i, heap, hkey, src, dst):
     # heap slot src's event (and its key copy) goes to slot dst
     g = heap[src]
@@ -268,7 +260,7 @@ def _settle(sites, ev_i, ev_f, heap, hkey, hole, top, e, ye, erre, counters):
     # precedes its parent but never above slot `top`
     while hole > top:
         parent = (hole - 1) >> 1
-        if not _precedes(sites, ev_i, ev_f, ye, erre, e, hkey[parent, 0], hkey[parent, 1], heap[parent], counters):
+        if not before(sites, ev_i, ev_f, ye, erre, e, hkey[parent, 0], hkey[parent, 1], heap[parent], counters):
             break
         _move(ev_i, heap, hkey, parent, hole)
         hole = parent
@@ -295,7 +287,7 @@ def _refill(sites, ev_i, ev_f, heap, hkey, size, k, e, ye, erre, counters):
         child = 2 * hole + 1
         if child >= size:
             break
-        if child + 1 < size and _precedes(sites, ev_i, ev_f, hkey[child + 1, 0], hkey[child + 1, 1], heap[child + 1],
+        if child + 1 < size and before(sites, ev_i, ev_f, hkey[child + 1, 0], hkey[child + 1, 1], heap[child + 1],
                                           hkey[child, 0], hkey[child, 1], heap[child], counters):
             child += 1
         _move(ev_i, heap, hkey, child, hole)
@@ -335,7 +327,7 @@ def discard(sites, ev_i, ev_f, heap, hkey, size, e, counters):
         ye = hkey[size, 0]
         erre = hkey[size, 1]
         p = (k - 1) >> 1
-        if k > 0 and _precedes(sites, ev_i, ev_f, ye, erre, last, hkey[p, 0], hkey[p, 1], heap[p], counters):
+        if k > 0 and before(sites, ev_i, ev_f, ye, erre, last, hkey[p, 0], hkey[p, 1], heap[p], counters):
             _settle(sites, ev_i, ev_f, heap, hkey, k, 0, last, ye, erre, counters)
         else:
             _refill(sites, ev_i, ev_f, heap, hkey, size, k, last, ye, erre, counters)

@@ -181,9 +181,11 @@ def _remove(G, counters, S, ev, evf, heap, free, e):
         last = heap[n]
         heap[pos] = last
         ev[last, _HPOS] = pos
-        _sift_down(G, counters, ev, evf, heap, n, pos)
-        if heap[pos] == last:
+        # the last event goes up if it is earlier than the hole's parent, else down
+        if pos > 0 and _earlier(G, counters, ev, evf, last, heap[(pos - 1) >> 1]):
             _sift_up(G, counters, ev, evf, heap, pos)
+        else:
+            _sift_down(G, counters, ev, evf, heap, n, pos)
     free[S[_FREE]] = e
     S[_FREE] += 1
 

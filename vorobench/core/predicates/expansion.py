@@ -138,26 +138,17 @@ def _two_product_fused(a, b):
     return x, fused_multiply_add(a, b, -x)
 
 
-if HAS_FMA:
-    @njit(cache=True)
-    def two_product(a, b):
-        """Return ``(x, y)`` with ``x = fl(a * b)`` and ``x + y == a * b`` exactly.
+@njit(cache=True)
+def two_product(a, b):
+    """Return ``(x, y)`` with ``x = fl(a * b)`` and ``x + y == a * b`` exactly.
 
-        Exact unless ``a*b`` overflows or the rounding error is below the subnormal range
-        (i.e. needs ``ulp(a) * ulp(b) >= 2**-1074``). One fused multiply-add here
-        (:data:`HAS_FMA`), else Dekker's split.
-        """
+    Exact unless ``a*b`` overflows or the rounding error is below the subnormal range
+    (i.e. needs ``ulp(a) * ulp(b) >= 2**-1074``). One fused multiply-add where the CPU has it
+    (:data:`HAS_FMA`, a constant when numba compiles this), else Dekker's split.
+    """
+    if HAS_FMA:
         return _two_product_fused(a, b)
-else:
-    @njit(cache=True)
-    def two_product(a, b):
-        """Return ``(x, y)`` with ``x = fl(a * b)`` and ``x + y == a * b`` exactly.
-
-        Exact unless ``a*b`` overflows or the rounding error is below the subnormal range
-        (i.e. needs ``ulp(a) * ulp(b) >= 2**-1074``). Dekker's split here (no fused
-        multiply-add: :data:`HAS_FMA`).
-        """
-        return _two_product_split(a, b)
+    return _two_product_split(a, b)
 
 
 @njit(cache=True)

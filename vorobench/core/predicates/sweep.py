@@ -228,12 +228,15 @@ def circle_top_relative(ax, ay, bx, by, cx, cy):
         # terms, which underflowed for differences below 2**-114 and dropped every error
         err_m = (m * err_den + err_num) / (den - err_den) + 2.0 * u * m
     q = m / ae
-    err_q = (abs(m) * err_e + ae * err_m) / (ae * (ae - err_e)) + u * abs(q)
+    # one division for the three bounds below: |t / e - exact| <= (err_t |e| + |t| err_e) / w,
+    # w = |e| (|e| - err_e) (its rounding is far inside the safety factor)
+    over_w = 1.0 / (ae * (ae - err_e))
+    err_q = (abs(m) * err_e + ae * err_m) * over_w + u * abs(q)
     # the centre is a + (nx, ny) / e: trusted when both offsets are within CENTRE_TRUST of the
     # radius r / |e| (else NaN: nearly collinear sites, whose centre needs exact arithmetic);
     # adding a then rounds once, as any float centre must
-    err_ox = (err_nx * ae + abs(nx) * err_e) / (ae * (ae - err_e)) + u * abs(nx) / ae
-    err_oy = (err_ny * ae + abs(ny) * err_e) / (ae * (ae - err_e)) + u * abs(ny) / ae
+    err_ox = (err_nx * ae + abs(nx) * err_e) * over_w + u * abs(nx) / ae
+    err_oy = (err_ny * ae + abs(ny) * err_e) * over_w + u * abs(ny) / ae
     if not (_CIRCLE_TOP_SAFETY * max(err_ox, err_oy) <= CENTRE_TRUST * (r / ae)):
         vx = np.nan
         vy = np.nan
