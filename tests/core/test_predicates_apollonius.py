@@ -241,3 +241,38 @@ def test_branch_order_agrees_with_the_floats_of_random_vertices():
                     assert branch_order(disks, 0, 1, u, w) == (1 if gap > 0 else -1)
                     checked += 1
     assert checked > 50
+
+
+def test_apex_asymptotes_and_turns_of_branches():
+    """The apex lies on its branch (its two disks tie there exactly, on the segment between the
+    centres); each asymptote u satisfies u . a = -s |u| exactly (|u| = |a|^2); ``turn`` agrees with
+    floats on vectors of two different fields."""
+    import math
+    from vorobench.core.predicates.apollonius import apex, asymptote, turn
+
+    rng = np.random.default_rng(11)
+    for _ in range(200):
+        disks = [tuple(row) for row in np.column_stack([rng.random((4, 2)), 0.3 * rng.random(4)])]
+        (xi, yi, ri), (xj, yj, rj) = (tuple(Fraction(v) for v in disks[m]) for m in (0, 1))
+        ax, ay, s = xj - xi, yj - yi, rj - ri
+        if s * s >= ax * ax + ay * ay:
+            with pytest.raises(ValueError):
+                apex(disks, 0, 1)
+            continue
+        top = apex(disks, 0, 1)
+        assert conflict(disks, top, 0) == 0 and conflict(disks, top, 1) == 0
+        x, y, _ = top.as_floats()
+        assert abs((x - float(xi)) * float(ay) - (y - float(yi)) * float(ax)) < 1e-12   # on the segment
+        for end in (1, -1):
+            ux, uy = asymptote(disks, 0, 1, end)
+            dot = ux.scaled(ax) + uy.scaled(ay)
+            assert dot.b == 0 and dot.a == -s * (ax * ax + ay * ay)
+            assert (ux.scaled(-ay) + uy.scaled(ax)).sign() == end          # the end ahead runs along perp(a)
+        try:
+            u, w = asymptote(disks, 0, 1, 1), asymptote(disks, 2, 3, -1)
+        except ValueError:
+            continue
+        fu, fw = [float(c) for c in u], [float(c) for c in w]
+        cross, dot = fu[0] * fw[1] - fu[1] * fw[0], fu[0] * fw[0] + fu[1] * fw[1]
+        assert turn(u, w) == (int(math.copysign(1, cross)), int(math.copysign(1, dot)))
+

@@ -27,7 +27,7 @@ from vorobench.core.regions import Regions
 __all__ = ["Diagram", "InvalidDiagramError"]
 
 _FIELDS = ("sites", "vertices", "origin", "twin", "next", "site")
-_INPUT_FIELDS = ("input_points", "input_site", "weights")
+_INPUT_FIELDS = ("input_points", "input_site", "weights", "radii")
 _FORMAT_VERSION = 1
 
 
@@ -56,6 +56,9 @@ class Diagram:
 
     ``weights`` (one per site) makes it a power diagram: the power of x with respect to site
     i is |x - p_i|^2 - w_i, and a *hidden* site (its cell is empty) has no half-edge.
+    ``radii`` (one per site) makes it the diagram of disks (docs/apollonius.md): the distance
+    from x to disk i is |x - p_i| - r_i, each edge lies on the bisector branch of its two
+    disks, two cells may share several edges, and a disk inside another is hidden.
     """
 
     sites: NDArray[np.float64]
@@ -67,6 +70,7 @@ class Diagram:
     input_points: Optional[NDArray[np.float64]] = field(default=None, repr=False)
     input_site: Optional[NDArray[np.integer]] = field(default=None, repr=False)
     weights: Optional[NDArray[np.float64]] = field(default=None, repr=False)
+    radii: Optional[NDArray[np.float64]] = field(default=None, repr=False)
 
     #: scipy's ``Voronoi.furthest_site``: these are nearest-site diagrams (read by
     #: ``scipy.spatial.voronoi_plot_2d``).
@@ -83,6 +87,10 @@ class Diagram:
                 raise ValueError(f"input_site has shape {np.shape(self.input_site)}, input_points has {rows} rows")
         if self.weights is not None and np.shape(self.weights) != (np.shape(self.sites)[0],):
             raise ValueError(f"weights has shape {np.shape(self.weights)}, there are {np.shape(self.sites)[0]} sites")
+        if self.radii is not None and np.shape(self.radii) != (np.shape(self.sites)[0],):
+            raise ValueError(f"radii has shape {np.shape(self.radii)}, there are {np.shape(self.sites)[0]} sites")
+        if self.radii is not None and self.weights is not None:
+            raise ValueError("a diagram has weights (power) or radii (disks), not both")
         # Immutable through the diagram: its arrays are read-only views (whoever built them keeps
         # their own, writeable), so the cached views can never go stale.
         for name in _FIELDS + _INPUT_FIELDS:
@@ -100,14 +108,14 @@ class Diagram:
         if inverse.size and (inverse.min() < 0 or inverse.max() >= self.n_sites):
             raise ValueError(f"inverse names sites outside [0, {self.n_sites})")
         return Diagram(self.sites, self.vertices, self.origin, self.twin, self.next, self.site,
-                       _read_only(points.copy()), _read_only(inverse.copy()), self.weights)
+                       _read_only(points.copy()), _read_only(inverse.copy()), self.weights, self.radii)
 
     def with_weights(self, weights: Optional[NDArray[np.float64]]) -> "Diagram":
         """The same DCEL as a power diagram of these site ``weights`` (None: ordinary)."""
         if weights is not None:
             weights = _read_only(np.array(weights, dtype=np.float64).reshape(-1))
         return Diagram(self.sites, self.vertices, self.origin, self.twin, self.next, self.site,
-                       self.input_points, self.input_site, weights)
+                       self.input_points, self.input_site, weights, self.radii)
 
     @classmethod
     def from_scipy(cls, vor: Any) -> "Diagram":
@@ -144,12 +152,14 @@ class Diagram:
 
     # ------------------------------------------------------------------ construction
     @classmethod
-    def empty(cls, sites: NDArray[np.float64], weights: Optional[NDArray[np.float64]] = None) -> "Diagram":
-        """The diagram with no edges (n = 0 or 1; or one visible site of a power diagram)."""
+    def empty(cls, sites: NDArray[np.float64], weights: Optional[NDArray[np.float64]] = None,
+              radii: Optional[NDArray[np.float64]] = None) -> "Diagram":
+        """The diagram with no edges (n = 0 or 1; or one visible site of a power diagram or of disks)."""
         none = np.zeros(0, dtype=np.int64)
         return cls(np.asarray(sites, dtype=np.float64).reshape(-1, 2), np.zeros((0, 2)),
                    none, none.copy(), none.copy(), none.copy(),
-                   weights=None if weights is None else np.asarray(weights, dtype=np.float64).reshape(-1))
+                   weights=None if weights is None else np.asarray(weights, dtype=np.float64).reshape(-1),
+                   radii=None if radii is None else np.asarray(radii, dtype=np.float64).reshape(-1))
 
     # ------------------------------------------------------------------ sizes
     @property
@@ -173,10 +183,15 @@ class Diagram:
         """Whether this is a power diagram (it has site weights)."""
         return self.weights is not None
 
+    @property
+    def is_apollonius(self) -> bool:
+        """Whether this is the diagram of disks (it has site radii)."""
+        return self.radii is not None
+
     @cached_property
     def hidden(self) -> NDArray[np.int64]:
-        """Sites with an empty cell (no half-edge): possible only in a power diagram, and for
-        every site of a diagram of one site or none; read-only."""
+        """Sites with an empty cell (no half-edge): possible only in a power diagram or one of
+        disks, and for every site of a diagram of one site or none; read-only."""
         if self.n_half_edges == 0:
             return _read_only(np.arange(self.n_sites if self.n_sites > 1 else 0, dtype=np.int64))
         has_cell = np.bincount(np.asarray(self.site, dtype=np.int64), minlength=self.n_sites) > 0
@@ -324,6 +339,9 @@ class Diagram:
         bisector's point on the line between them when both ends are at infinity. An edge and
         its twin choose the same point, so neighbouring polygons share their corners exactly.
         """
+        if self.radii is not None:
+            raise NotImplementedError("cells of disks are bounded by branches of hyperbolas, not lines: "
+                                      "polygons of them are not built yet (docs/apollonius.md)")
         direction = self.half_edge_direction(hs)
         a, b = self.sites[self.site[hs]], self.sites[self.site[self.twin[hs]]]
         anchor = 0.5 * (a + b)
@@ -435,11 +453,14 @@ class Diagram:
         if not np.isfinite(v).all():
             raise InvalidDiagramError(f"vertex {_first(~np.isfinite(v).all(axis=1))} is not finite")
         n, V = self.n_sites, self.n_vertices
-        if self.weights is not None:
-            w = np.asarray(self.weights)
-            if w.shape != (n,) or not np.isfinite(w).all():
-                raise InvalidDiagramError(f"weights must be {n} finite numbers, got shape {w.shape}")
-        if n <= 1 or (self.weights is not None and H == 0):
+        for name in ("weights", "radii"):
+            w = getattr(self, name)
+            if w is not None and (np.shape(w) != (n,) or not np.isfinite(w).all()):
+                raise InvalidDiagramError(f"{name} must be {n} finite numbers, got shape {np.shape(w)}")
+        if self.radii is not None and (np.asarray(self.radii) < 0).any():
+            raise InvalidDiagramError(f"radii must be >= 0: disk {_first(np.asarray(self.radii) < 0)} is not")
+        may_hide = self.weights is not None or self.radii is not None
+        if n <= 1 or (may_hide and H == 0):
             if H or V:
                 raise InvalidDiagramError(f"n = {n} must give no half-edges or vertices, got H={H}, V={V}")
             return self
@@ -481,9 +502,9 @@ class Diagram:
                 f"half-edge {k} ends at vertex {int(dest[k])} but next[{k}] = {int(nxt[k])} starts at vertex "
                 f"{int(origin[nxt[k]])} (-1 = infinity)")
         has_cell = np.bincount(site, minlength=n) > 0
-        if not has_cell.all() and self.weights is None:
+        if not has_cell.all() and not may_hide:
             raise InvalidDiagramError(f"site {_first(~has_cell)} has no cell (no half-edge bounds it)")
-        visible = int(has_cell.sum())      # a power diagram's hidden sites have no cell
+        visible = int(has_cell.sum())      # hidden sites (power, disks) have no cell
         cycles, labels = _cycle_labels(nxt)
         if cycles != visible:
             _, first_of_cycle = np.unique(labels, return_index=True)

@@ -27,6 +27,7 @@ it come with the constructions that need speed.
 from __future__ import annotations
 
 import decimal
+import math
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Optional, Sequence
@@ -36,7 +37,8 @@ try:  # GMP's rationals, several times faster; the answers are the same
 except ImportError:  # pragma: no cover - gmpy2 is a dependency
     rational = Fraction
 
-__all__ = ["Disk", "QuadraticNumber", "ApolloniusVertex", "hidden_by", "vertex", "conflict", "compare", "branch_order", "rational"]
+__all__ = ["Disk", "QuadraticNumber", "ApolloniusVertex", "hidden_by", "vertex", "conflict", "compare", "branch_order",
+           "apex", "asymptote", "turn", "rational"]
 
 #: A disk as the caller gives it: (x, y, r), floats or rationals
 Disk = Sequence[float]
@@ -123,6 +125,8 @@ class ApolloniusVertex:
     x: QuadraticNumber
     y: QuadraticNumber
     radius: QuadraticNumber
+    #: a double root: the bisector branches of the three disks touch here without crossing
+    double: bool = False
 
     def as_floats(self) -> tuple[float, float, float]:
         """(x, y, R) each to a few ulps (see :meth:`QuadraticNumber.__float__`)."""
@@ -180,6 +184,86 @@ def _counter_clockwise(u_x: QuadraticNumber, u_y: QuadraticNumber, centres) -> b
     return positive >= 2
 
 
+#: The unit roundoff of doubles, for the float filters' error bounds.
+_EPS = 2.0 ** -53
+
+
+#: The float filters trust magnitudes in [2^-300, 2^300] only: their products and error bounds
+#: then neither overflow nor underflow (a rational that rounds to zero or infinity is no guide).
+_TRUSTED = (2.0 ** -300, 2.0 ** 300)
+
+
+def _float(q) -> Optional[float]:
+    """A rational as a float, or None outside the trusted magnitudes (0 stays 0)."""
+    if q == 0:
+        return 0.0
+    try:
+        value = float(q)
+    except OverflowError:
+        return None
+    return value if _TRUSTED[0] <= abs(value) <= _TRUSTED[1] else None
+
+
+def _approx(q: QuadraticNumber) -> tuple[float, float]:
+    """q in floats and a bound on its error (inf where the floats are not trusted)."""
+    a = _float(q.a)
+    if a is None:
+        return 0.0, math.inf
+    if q.b == 0 or q.d == 0:
+        return a, _EPS * abs(a)
+    b, d = _float(q.b), _float(q.d)
+    if b is None or d is None:
+        return 0.0, math.inf
+    root = b * math.sqrt(d)
+    return a + root, 8 * _EPS * (abs(a) + abs(root))
+
+
+def _float_sign(value: float, err: float) -> Optional[int]:
+    """The sign of a float known within ``err``, or None when the error could flip it."""
+    if value > err:
+        return 1
+    if value < -err:
+        return -1
+    return None
+
+
+def _difference(value: float, err: float, centre) -> tuple[float, float]:
+    """centre - value, and its error bound (the rational centre rounds once)."""
+    c = _float(centre)
+    if c is None or err == math.inf:
+        return 0.0, math.inf
+    d = c - value
+    return d, err + _EPS * (abs(c) + abs(d))
+
+
+def _counter_clockwise_in_floats(ux: tuple[float, float], uy: tuple[float, float], centres) -> Optional[bool]:
+    """:func:`_counter_clockwise` from floats with error bounds, or None where they cannot tell."""
+    offsets = [(_difference(*ux, cx), _difference(*uy, cy)) for cx, cy in centres]
+    positive = 0
+    for m in range(3):
+        ((ax, eax), (ay, eay)), ((bx, ebx), (by, eby)) = offsets[m], offsets[(m + 1) % 3]
+        bound_cross = (abs(ax) * eby + abs(by) * eax + eax * eby + abs(ay) * ebx + abs(bx) * eay + eay * ebx
+                       + 4 * _EPS * (abs(ax * by) + abs(ay * bx)) + 2.0 ** -900)     # (and underflow)
+        cross = _float_sign(ax * by - ay * bx, 2 * bound_cross)
+        if cross is None:                      # (a zero turn needs the exact test's look at the dot product)
+            return None
+        positive += cross > 0
+    return positive >= 2
+
+
+def _touches_from_outside(rho: QuadraticNumber, sj, sk) -> bool:
+    """R + r_m >= 0 for the three disks, with R + r_i = rho: a float filter, then exact."""
+    value, err = _approx(rho)
+    for s in (0, sj, sk):
+        shift = _float(s)
+        sign = None if shift is None else _float_sign(value + shift, 2 * (err + _EPS * (abs(shift) + abs(value + shift))))
+        if sign is None:
+            sign = (rho + _q(s)).sign()
+        if sign < 0:
+            return False
+    return True
+
+
 def vertex(disks: Sequence[Disk], i: int, j: int, k: int) -> Optional[ApolloniusVertex]:
     """The vertex of the diagram of disks i, j, k in that counter-clockwise order, exactly, or
     None if there is none (no circle touches the three from outside with their centres
@@ -226,9 +310,12 @@ def vertex(disks: Sequence[Disk], i: int, j: int, k: int) -> Optional[Apollonius
     for t in roots:
         ux, uy, rho = (_q(x0[c]) + t.scaled(d[c]) for c in range(3))
         # the circle touches each disk from outside: R + r_m = rho + s_m >= 0
-        if rho.sign() < 0 or (rho + _q(sj)).sign() < 0 or (rho + _q(sk)).sign() < 0:
+        if not _touches_from_outside(rho, sj, sk):
             continue
-        if _counter_clockwise(ux, uy, centres):
+        turning = _counter_clockwise_in_floats(_approx(ux), _approx(uy), centres)
+        if turning is None:
+            turning = _counter_clockwise(ux, uy, centres)
+        if turning:
             found.append((ux, uy, rho))
     if not found:
         return None
@@ -237,7 +324,8 @@ def vertex(disks: Sequence[Disk], i: int, j: int, k: int) -> Optional[Apollonius
         # of three disks; it would be a bug in the derivation, not an input to round away
         raise ArithmeticError(f"disks {i}, {j}, {k}: two Apollonius circles qualify")
     ux, uy, rho = found[0]
-    return ApolloniusVertex((i, j, k), ux + _q(px), uy + _q(py), rho - _q(pr))
+    double = qa != 0 and len(roots) == 1
+    return ApolloniusVertex((i, j, k), ux + _q(px), uy + _q(py), rho - _q(pr), double)
 
 
 def conflict(disks: Sequence[Disk], v: ApolloniusVertex, m: int) -> int:
@@ -288,3 +376,71 @@ def branch_order(disks: Sequence[Disk], i: int, j: int, u: ApolloniusVertex, w: 
     position_u = u.x.scaled(px) + u.y.scaled(py)
     position_w = w.x.scaled(px) + w.y.scaled(py)
     return compare(position_u, position_w)
+
+
+def apex(disks: Sequence[Disk], i: int, j: int) -> ApolloniusVertex:
+    """The point of the bisector branch of i and j on the segment between their centres (its
+    vertex, nearest both centres), as a point of the branch with the common distance R; its
+    ``sites`` are (i, j, -1). Neither disk may lie inside the other (then there is no branch).
+
+    With a = p_j - p_i and s = r_j - r_i it is p_i + a (|a| - s) / (2 |a|), where the distance
+    to i, t - r_i, equals |a| - t - r_j: every coordinate is in the field of sqrt(|a|^2)."""
+    xi, yi, ri = _disk(disks[i])
+    xj, yj, rj = _disk(disks[j])
+    ax, ay, s = xj - xi, yj - yi, rj - ri
+    norm2 = ax * ax + ay * ay
+    if s * s >= norm2:
+        raise ValueError(f"disks {i} and {j}: one lies inside the other, they have no bisector branch")
+    half = rational(1) / 2
+    # p_i + a / 2 - a s / (2 |a|), with 1 / |a| = sqrt(|a|^2) / |a|^2
+    x = QuadraticNumber(xi + ax * half, -ax * s * half / norm2, norm2)
+    y = QuadraticNumber(yi + ay * half, -ay * s * half / norm2, norm2)
+    radius = QuadraticNumber(-s * half - ri, half, norm2)
+    return ApolloniusVertex((i, j, -1), x, y, radius)
+
+
+def asymptote(disks: Sequence[Disk], i: int, j: int, end: int) -> tuple[QuadraticNumber, QuadraticNumber]:
+    """The direction (not normalised) in which the bisector branch of i and j runs out to
+    infinity: ``end`` +1 for the end reached going with cell i on the left, -1 for the other.
+
+    Seen from p_i the branch spans the directions u with u . a + s > 0 (a = p_j - p_i, s =
+    r_j - r_i: along them disk j ends up closer); its ends are the two unit u with u . a = -s:
+    (-s a + end sqrt(|a|^2 - s^2) perp(a)) / |a|^2, scaled here by |a|^2."""
+    xi, yi, ri = _disk(disks[i])
+    xj, yj, rj = _disk(disks[j])
+    ax, ay, s = xj - xi, yj - yi, rj - ri
+    root = ax * ax + ay * ay - s * s
+    if root <= 0:
+        raise ValueError(f"disks {i} and {j}: one lies inside the other, they have no bisector branch")
+    return QuadraticNumber(-s * ax, -end * ay, root), QuadraticNumber(-s * ay, end * ax, root)
+
+
+def _sign_across_fields(x: QuadraticNumber, y: QuadraticNumber, d) -> int:
+    """The sign of x + y sqrt(d), x and y of one field, d a rational >= 0."""
+    sx, sy = x.sign(), y.sign() if d != 0 else 0
+    if sy == 0 or sx == sy:
+        return sx if sx != 0 else sy
+    if sx == 0:
+        return sy
+    # opposite signs: the larger magnitude wins
+    return sx * (x * x - (y * y).scaled(d)).sign()
+
+
+def turn(u: tuple[QuadraticNumber, QuadraticNumber], w: tuple[QuadraticNumber, QuadraticNumber]) -> tuple[int, int]:
+    """Signs of u x w and u . w for two vectors whose coordinates may lie in two different
+    quadratic fields (asymptotes of two branches): whether w is counter-clockwise of u, and
+    whether the two point to one side."""
+    (ux, uy), (wx, wy) = u, w
+    fields = {q.d for q in (wx, wy) if q.b != 0 and q.d != 0}
+    if len(fields) > 1:
+        raise ValueError("a vector's two coordinates lie in different fields")
+    if not fields or all(q.b == 0 or q.d == 0 or q.d in fields for q in (ux, uy)):
+        return (ux * wy - uy * wx).sign(), (ux * wx + uy * wy).sign()
+    (d,) = fields
+
+    def combination(p: QuadraticNumber, r: QuadraticNumber, q: QuadraticNumber, t: QuadraticNumber) -> int:
+        # p r + q t with r, t in the field of sqrt(d): (p r.a + q t.a) + (p r.b + q t.b) sqrt(d)
+        return _sign_across_fields(p.scaled(r.a) + q.scaled(t.a), p.scaled(r.b) + q.scaled(t.b), d)
+
+    minus_wx = QuadraticNumber(-wx.a, -wx.b, wx.d)
+    return combination(ux, wy, uy, minus_wx), combination(ux, wx, uy, wy)
