@@ -21,7 +21,7 @@ from impls.base import Implementation, InputMutated, UnsupportedInput
 from vorobench.core.diagram import Diagram
 
 __all__ = ["Implementation", "UnsupportedInput", "InputMutated", "available", "get", "build", "register", "registered",
-           "unregister", "of_kind", "weighted", "is_builtin", "builtin", "ENTRY_POINT_GROUP", "DEFAULT_REFERENCE"]
+           "unregister", "of_kind", "weighted", "apollonius", "is_builtin", "builtin", "ENTRY_POINT_GROUP", "DEFAULT_REFERENCE"]
 
 ENTRY_POINT_GROUP = "vorobench.impls"
 
@@ -172,13 +172,29 @@ def of_kind(kind: str) -> list[str]:
     return out
 
 
+def apollonius() -> list[str]:
+    """The available implementations that take disks (docs/apollonius.md); one that fails to
+    load is left out."""
+    out = []
+    for name in available():
+        try:
+            if get(name).apollonius:
+                out.append(name)
+        except Exception:  # a broken plugin is reported where it is used, not here
+            continue
+    return out
+
+
 def build(name: str, points: ArrayLike, stats: Optional[dict] = None, *,
-          weights: Optional[ArrayLike] = None) -> Diagram:
+          weights: Optional[ArrayLike] = None, radii: Optional[ArrayLike] = None) -> Diagram:
     """Prepare ``points`` and build their Voronoi diagram with implementation ``name``.
 
     ``weights`` (one per point) asks for the power diagram: the power of x with respect to
     site i is |x - p_i|^2 - w_i; equal rows keep the largest of their weights; an
     implementation that does not take weights raises :class:`UnsupportedInput`.
+    ``radii`` (one per point, >= 0) asks for the diagram of disks centred at the points
+    (docs/apollonius.md): rows with one centre keep the largest radius, and an implementation
+    that does not take disks raises :class:`UnsupportedInput`.
     Duplicate rows share one site; the diagram remembers the rows, so its scipy-style
     ``points`` and ``point_region`` have one entry per row. Raises :class:`UnsupportedInput`
     (a ``ValueError``) when the implementation declares it cannot take these points, and
@@ -186,10 +202,18 @@ def build(name: str, points: ArrayLike, stats: Optional[dict] = None, *,
     """
     # Imported here, not at the top: prepare compiles with numba, which adds 0.3 s to every
     # import of the registry (measured); listing implementations does not need it.
-    from vorobench.core.prepare import prepare, prepare_weighted
+    from vorobench.core.prepare import prepare, prepare_disks, prepare_weighted
 
     impl = get(name)
-    if weights is None:
+    if radii is not None:
+        if weights is not None:
+            raise ValueError("weights (power diagram) and radii (disks) go one at a time")
+        if not impl.apollonius:
+            raise UnsupportedInput(f"{name} does not take disks; implementations that do: "
+                                   f"{', '.join(apollonius()) or 'none here'}")
+        sites, site_radii, inverse = prepare_disks(points, radii)
+        diagram = impl.run(sites, stats, radii=site_radii)
+    elif weights is None:
         sites, inverse = prepare(points)
         diagram = impl.run(sites, stats)
     else:

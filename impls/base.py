@@ -55,6 +55,21 @@ class WeightedBuildFunction(Protocol):
         ...
 
 
+@runtime_checkable
+class ApolloniusBuildFunction(Protocol):
+    """The construction of the diagram of disks of an :class:`Implementation` that takes them:
+    ``build_apollonius(centres, radii, stats) -> Diagram``."""
+
+    def __call__(self, sites: NDArray[np.float64], radii: NDArray[np.float64],
+                 stats: Optional[dict[str, int]], /) -> Diagram:
+        """The diagram of the disks (``sites`` their centres, as for :class:`BuildFunction`;
+        ``radii`` (n,) float64, finite, >= 0, read-only, scaled with the sites): the distance
+        from x to disk i is |x - p_i| - r_i (docs/apollonius.md). A hidden disk (inside
+        another) gets no half-edge. Returns a :class:`~vorobench.core.diagram.Diagram` of
+        exactly these sites."""
+        ...
+
+
 #: What an implementation may say it is (``Implementation.kind``).
 KINDS = ("own", "outside", "plugin", "executable")
 
@@ -120,6 +135,7 @@ class Implementation:
     reason it cannot (the runner then skips the case instead of failing it).
     ``build_weighted``: the power-diagram construction, for implementations that take
     weights (``weighted``); the others are refused weighted input as unsupported.
+    ``build_apollonius``: the same for disks (``apollonius``; docs/apollonius.md).
 
     Callers go through :meth:`run`, never ``build`` directly: it is the one place that
     honours ``supports`` and keeps the caller's sites out of the implementation's reach.
@@ -135,6 +151,7 @@ class Implementation:
     supports: Optional[Callable[[NDArray[np.float64]], Optional[str]]] = None
     kind: str = "plugin"
     build_weighted: Optional[WeightedBuildFunction] = None
+    build_apollonius: Optional[ApolloniusBuildFunction] = None
     #: How to read the version of the code behind it (None: its module's package version).
     version: Optional[Callable[[], str]] = None
 
@@ -142,6 +159,11 @@ class Implementation:
     def weighted(self) -> bool:
         """Whether it builds power diagrams (it has a ``build_weighted``)."""
         return self.build_weighted is not None
+
+    @property
+    def apollonius(self) -> bool:
+        """Whether it builds diagrams of disks (it has a ``build_apollonius``)."""
+        return self.build_apollonius is not None
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -157,7 +179,7 @@ class Implementation:
     def run(self, sites: NDArray[np.float64], stats: Optional[dict] = None, *,
             timings: Optional[dict] = None, check_supports: bool = True,
             weights: Optional[NDArray[np.float64]] = None, wrap_build_errors: bool = False,
-            process: Optional[dict] = None) -> Diagram:
+            process: Optional[dict] = None, radii: Optional[NDArray[np.float64]] = None) -> Diagram:
         """Build the diagram of prepared ``sites``.
 
         ``stats`` (a dict) receives the build's counters, ``timings`` the seconds of the parts
@@ -171,7 +193,9 @@ class Implementation:
 
         ``weights`` (one per site) asks for the power diagram, through ``build_weighted``;
         an implementation without one raises :class:`UnsupportedInput`. The diagram
-        returned carries the caller's weights.
+        returned carries the caller's weights. ``radii`` (one per site, >= 0) asks for the
+        diagram of disks, through ``build_apollonius``, in the same way; they are scaled with
+        the sites (the power of two is chosen for both together).
 
         Magnitudes: sites outside the range where the predicates are exact are scaled by a
         power of two into it first (exact; same combinatorics), the implementation builds
@@ -189,7 +213,16 @@ class Implementation:
         """
         if weights is not None and self.build_weighted is None:
             raise UnsupportedInput(f"{self.name} does not support weighted sites (it builds ordinary diagrams only)")
-        shift = exact_shift(sites)
+        if radii is not None and self.build_apollonius is None:
+            raise UnsupportedInput(f"{self.name} does not support disks as sites")
+        if radii is not None and weights is not None:
+            raise ValueError("weights (power diagram) and radii (disks) go one at a time")
+        if radii is not None:
+            radii = _checked_radii(radii, sites.shape[0])
+            shift = exact_shift(np.vstack([np.asarray(sites, dtype=np.float64).reshape(-1, 2),
+                                           np.column_stack([radii, radii])]))
+        else:
+            shift = exact_shift(sites)
         if shift == 0:
             expected = sites
             given = np.array(sites, dtype=np.float64, order="C", copy=True)
@@ -205,13 +238,19 @@ class Implementation:
             expected_weights = scale_weights(weights, shift)
             given_weights = expected_weights.copy()
             given_weights.setflags(write=False)
+        if radii is not None:
+            expected_radii = radii * 2.0 ** shift                  # exact: a power of two, in range
+            given_radii = expected_radii.copy()
+            given_radii.setflags(write=False)
         if check_supports or shift != 0:
             reason = self.unsupported_reason(given)
             if reason:
                 raise UnsupportedInput(f"{self.name} does not support these sites: {reason}")
         with _collecting_times(timings, process):
             try:
-                if weights is None:
+                if radii is not None:
+                    diagram = self.build_apollonius(given, given_radii, stats)
+                elif weights is None:
                     diagram = self.build(given, stats)
                 else:
                     diagram = self.build_weighted(given, given_weights, stats)
@@ -227,6 +266,8 @@ class Implementation:
             raise InputMutated(f"{self.name} changed the sites it was given{where}: inputs are read-only")
         if weights is not None and not np.array_equal(given_weights, expected_weights):
             raise InputMutated(f"{self.name} changed the weights it was given: inputs are read-only")
+        if radii is not None and not np.array_equal(given_radii, expected_radii):
+            raise InputMutated(f"{self.name} changed the radii it was given: inputs are read-only")
         if shift != 0:
             diagram = _scaled_back(diagram, sites, shift)
         if weights is not None:
@@ -234,7 +275,23 @@ class Implementation:
             own = np.array(weights, dtype=np.float64, copy=True)
             own.setflags(write=False)
             diagram = replace(diagram, weights=own)
+        if radii is not None:
+            own = np.array(radii, dtype=np.float64, copy=True)
+            own.setflags(write=False)
+            diagram = replace(diagram, radii=own)
         return diagram
+
+
+def _checked_radii(radii: NDArray[np.float64], n: int) -> NDArray[np.float64]:
+    """The radii as an (n,) float64 array, refused (``ValueError``) unless finite and >= 0."""
+    radii = np.asarray(radii, dtype=np.float64).reshape(-1)
+    if radii.shape != (n,):
+        raise ValueError(f"radii has shape {radii.shape}, there are {n} sites")
+    bad = ~np.isfinite(radii) | (radii < 0)
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"radii must be finite and >= 0: disk {k} has {radii[k]!r}")
+    return radii
 
 
 def _scaled_back(diagram: Diagram, sites: NDArray[np.float64], shift: int) -> Diagram:
@@ -248,5 +305,6 @@ def _scaled_back(diagram: Diagram, sites: NDArray[np.float64], shift: int) -> Di
     else:
         own = scale_back_vertices(built, shift)
     own.setflags(write=False)
+    radii = None if diagram.radii is None else np.asarray(diagram.radii, dtype=np.float64) * 2.0 ** -shift
     return Diagram(own, scale_back_vertices(diagram.vertices, shift), diagram.origin, diagram.twin,
-                   diagram.next, diagram.site, weights=diagram.weights)
+                   diagram.next, diagram.site, weights=diagram.weights, radii=radii)

@@ -684,6 +684,13 @@ def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64], sta
     return assemble(sites, vertices, edge_sites, edge_vertices, weights=weights)
 
 
+def build_disks(centres: NDArray[np.float64], radii: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
+    """The diagram of the disks: :func:`impls.halfplane_disks.build` (exact, in rationals)."""
+    from impls import halfplane_disks        # rationals and their float filters: loaded for disks only
+
+    return halfplane_disks.build(centres, radii, stats)
+
+
 def warmup() -> None:
     """Compile the kernels (or load numba's cache) on tiny inputs covering every code path."""
     rng = np.random.default_rng(0)
@@ -699,7 +706,8 @@ def warmup() -> None:
 
 IMPLEMENTATION = Implementation(
     name="halfplane",
-    description="naive half-plane intersection per cell (the definition; oracle), exact incircle / power-test clipping",
+    description="naive half-plane intersection per cell (the definition; oracle), exact incircle / power-test clipping; "
+                "disks: clipping by bisector branches in rationals",
     complexity="O(n^2)",
     build=build,
     exact=True,
@@ -707,4 +715,5 @@ IMPLEMENTATION = Implementation(
     supports=supports,
     kind="own",
     build_weighted=build_weighted,
+    build_apollonius=build_disks,
 )

@@ -53,6 +53,7 @@ from typing import Optional
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from vorobench.core.branch_reach import RADIUS_PAD, DiskFloats, apart, arc_between, nearest_reach, tail_apart
 from vorobench.core.diagram import Diagram
 from vorobench.core.hidden_disks import hidden_disks
 from vorobench.core.predicates.apollonius import (
@@ -70,11 +71,6 @@ from vorobench.core.predicates.apollonius import (
 from vorobench.core.union_find import find
 
 __all__ = ["build", "cells", "DegenerateDisks", "Edge"]
-
-#: Padding of the filters: angles (radians) and relative radii.
-ANGLE_PAD = 1e-9
-RADIUS_PAD = 1e-9
-
 
 class DegenerateDisks(ValueError):
     """Bisector branches that touch without crossing: the oracle refuses them rather than guess."""
@@ -236,7 +232,7 @@ def _branch_between(ex: _Disks, i: int, j: int, start: Optional[ApolloniusVertex
     return [Edge(j, start, None), Edge(j, None, end)]
 
 
-def _ends_apart(fl: "_Floats", reach: "_Reach", i: int, k: int, j: int) -> bool:
+def _ends_apart(fl: DiskFloats, reach: "_Reach", i: int, k: int, j: int) -> bool:
     """Whether disk j cannot reach edge k, an edge running out to infinity, by its parts: the
     finite part within the radius of its finite end (or of the apex), and each tail beyond."""
     edge = reach.edges[k]
@@ -247,11 +243,11 @@ def _ends_apart(fl: "_Floats", reach: "_Reach", i: int, k: int, j: int) -> bool:
         centre, half = fl.spread(i, j)
         norm, s = fl.norm_and_gap(i, j)
         arc = reach.arcs[k]
-        within = arc is not None and half is not None and _nearest_reach(arc, centre, norm, s) > near * (1 + RADIUS_PAD) + fl.slack
-        return within and _tail_apart(fl, i, edge.site, side, near, j)
+        within = arc is not None and half is not None and nearest_reach(arc, centre, norm, s) > near * (1 + RADIUS_PAD) + fl.slack
+        return within and tail_apart(fl, i, edge.site, side, near, j)
     norm_a, s_a = fl.norm_and_gap(i, edge.site)
     near = (norm_a - s_a) / 2 * (1 - RADIUS_PAD)        # the apex: the branch's nearest point
-    return all(_tail_apart(fl, i, edge.site, side, near, j) for side in (1, -1))
+    return all(tail_apart(fl, i, edge.site, side, near, j) for side in (1, -1))
 
 
 class _Reach:
@@ -259,7 +255,7 @@ class _Reach:
     from p_i (inf for an edge to infinity) and its arc of directions seen from p_i (centre,
     half-width; None where angles are not trustworthy); the same arcs for the gaps."""
 
-    def __init__(self, ex: "_Floats", i: int, edges: list[Edge]) -> None:
+    def __init__(self, ex: DiskFloats, i: int, edges: list[Edge]) -> None:
         self.radius: list[float] = []
         self.arcs: list[Optional[tuple[float, float]]] = []
         self.gap_arcs: list[Optional[tuple[float, float]]] = []
@@ -278,132 +274,28 @@ class _Reach:
                     far = max(far, dist)
                     ends.append(math.atan2(y - py, x - px) if dist > ex.near else None)
             self.radius.append(far)
-            self.arcs.append(_arc(*ends))
+            self.arcs.append(arc_between(*ends))
             if edge.end is None:
                 following = edges[(k + 1) % len(edges)]
-                self.gap_arcs.append(_arc(ends[1], ex.asymptote_angle(i, following.site, -1)))
+                self.gap_arcs.append(arc_between(ends[1], ex.asymptote_angle(i, following.site, -1)))
         self.bounded = not self.gap_arcs
         self.farthest = max(self.radius)
 
 
-def _arc(first: Optional[float], last: Optional[float]) -> Optional[tuple[float, float]]:
-    """The counter-clockwise arc of directions from ``first`` to ``last`` as (centre, half-width)."""
-    if first is None or last is None:
-        return None
-    width = (last - first) % (2 * math.pi)
-    return first + width / 2, width / 2
-
-
-def _apart(arc: Optional[tuple[float, float]], centre: float, half: float) -> bool:
-    """Whether two arcs of directions are disjoint with room to spare."""
-    if arc is None:
-        return False
-    offset = abs((arc[0] - centre + math.pi) % (2 * math.pi) - math.pi)
-    return offset > arc[1] + half + ANGLE_PAD
-
-
-class _Floats:
-    """Float images of the disks and of exact points, for the filters."""
-
-    def __init__(self, centres: NDArray[np.float64], radii: NDArray[np.float64]) -> None:
-        self.centres = centres
-        self.radii = radii
-        scale = float(np.abs(centres).max() + radii.max()) if centres.size else 1.0
-        self.slack = 1e-12 * scale                  # absolute padding of distances
-        self.near = 1e-6 * scale                    # closer than this to p_i, angles are not trusted
-        self._points: dict[int, tuple[float, float]] = {}
-        self._asymptotes: dict[tuple[int, int, int], Optional[float]] = {}
-
-    def point(self, v: ApolloniusVertex) -> tuple[float, float]:
-        if v.sites not in self._points:              # one point per ordered triple (or apex)
-            self._points[v.sites] = (float(v.x), float(v.y))
-        return self._points[v.sites]
-
-    def distance(self, i: int, v: ApolloniusVertex) -> float:
-        x, y = self.point(v)
-        return math.hypot(x - self.centres[i][0], y - self.centres[i][1])
-
-    def norm_and_gap(self, i: int, j: int) -> tuple[float, float]:
-        """|p_j - p_i| and r_j - r_i."""
-        ax, ay = self.centres[j] - self.centres[i]
-        return math.hypot(ax, ay), float(self.radii[j] - self.radii[i])
-
-    def spread(self, i: int, j: int) -> tuple[float, Optional[float]]:
-        """Direction of p_j from p_i and the half-width of the arc of directions j's branch
-        spans (None when the disks nearly nest and the width is ill-conditioned)."""
-        ax, ay = self.centres[j] - self.centres[i]
-        s = float(self.radii[j] - self.radii[i])
-        norm = math.hypot(ax, ay)
-        if norm - abs(s) < 1e-6 * norm:
-            return math.atan2(ay, ax), None
-        return math.atan2(ay, ax), math.atan2(math.sqrt((norm - s) * (norm + s)), -s)
-
-    def asymptote_angle(self, i: int, a: int, side: int) -> Optional[float]:
-        key = (i, a, side)
-        if key not in self._asymptotes:
-            centre, half = self.spread(i, a)
-            self._asymptotes[key] = None if half is None else centre + side * half
-        return self._asymptotes[key]
-
-
-def _nearest_reach(arc: Optional[tuple[float, float]], centre: float, norm: float, s: float) -> float:
-    """A lower bound on how far from p_i disk j's branch lies within an arc of directions: along
-    u it lies at (|a|^2 - s^2) / (2 (s + u . a)) (a = p_j - p_i, s = r_j - r_i), nearest where u
-    is closest to a's direction; inf where it never comes (s + u . a <= 0 on the whole arc)."""
-    if arc is None:
-        cosine = 1.0
-    else:
-        offset = abs((arc[0] - centre + math.pi) % (2 * math.pi) - math.pi)
-        cosine = 1.0 if offset <= arc[1] else math.cos(offset - arc[1])
-    reach = s + norm * min(1.0, cosine + ANGLE_PAD)
-    if reach <= 0:
-        return math.inf
-    return (norm - s) * (norm + s) / (2 * reach)
-
-
-def _tail_apart(fl: "_Floats", i: int, a: int, side: int, near: float, j: int) -> bool:
-    """Whether disk j cannot reach the end of the branch of (i, a) that runs out to infinity on
-    ``side`` (+1: with cell i on the left), beyond distance ``near`` from p_i. Only the part
-    farther than j's nearest reach can be cut, and that part spans fewer directions: repeated,
-    the arc shrinks towards the asymptote, which j reaches or not."""
-    centre_a, half_a = fl.spread(i, a)
-    centre_j, half_j = fl.spread(i, j)
-    if half_a is None or half_j is None:
-        return False
-    norm_a, s_a = fl.norm_and_gap(i, a)
-    norm_j, s_j = fl.norm_and_gap(i, j)
-    offset = 0.0                                   # the arc: offsets from the apex's direction
-    for _ in range(8):
-        arc = _arc(centre_a + side * offset if side > 0 else centre_a - half_a,
-                   centre_a + half_a if side > 0 else centre_a - offset)
-        reach = _nearest_reach(arc, centre_j, norm_j, s_j)
-        if reach == math.inf:
-            return True
-        if reach <= near * (1 + RADIUS_PAD) + fl.slack:
-            return False
-        # along the branch, the distance from p_i grows with the offset from the apex direction
-        cosine = ((norm_a - s_a) * (norm_a + s_a) / (2 * reach) - s_a) / norm_a
-        farther = math.acos(max(-1.0, min(1.0, cosine))) - ANGLE_PAD
-        if farther <= offset * (1 + 1e-3):
-            return False
-        offset = farther
-    return False
-
-
-def _reaches(fl: _Floats, reach: _Reach, i: int, j: int, key: float) -> Optional[set[int]]:
+def _reaches(fl: DiskFloats, reach: _Reach, i: int, j: int, key: float) -> Optional[set[int]]:
     """The edges disk j cannot reach (all of them: j changes nothing), from the filters; None
     when some gap at infinity may hold j's branch, so the exact test must look."""
     centre, half = fl.spread(i, j)
     norm, s = fl.norm_and_gap(i, j)
     keep = set()
     for k, (far, arc) in enumerate(zip(reach.radius, reach.arcs)):
-        if key > far * (1 + RADIUS_PAD) + fl.slack or (half is not None and _apart(arc, centre, half)):
+        if key > far * (1 + RADIUS_PAD) + fl.slack or (half is not None and apart(arc, centre, half)):
             keep.add(k)
-        elif half is not None and _nearest_reach(arc, centre, norm, s) > far * (1 + RADIUS_PAD) + fl.slack:
+        elif half is not None and nearest_reach(arc, centre, norm, s) > far * (1 + RADIUS_PAD) + fl.slack:
             keep.add(k)
         elif far == math.inf and _ends_apart(fl, reach, i, k, j):
             keep.add(k)
-    if reach.gap_arcs and (half is None or not all(_apart(arc, centre, half) for arc in reach.gap_arcs)):
+    if reach.gap_arcs and (half is None or not all(apart(arc, centre, half) for arc in reach.gap_arcs)):
         return keep if len(keep) < len(reach.radius) else None
     return keep
 
@@ -411,7 +303,7 @@ def _reaches(fl: _Floats, reach: _Reach, i: int, j: int, key: float) -> Optional
 def cells(ex: "_Disks", centres: NDArray[np.float64], radii: NDArray[np.float64], visible: NDArray[np.int64],
           stats: Optional[dict] = None) -> dict[int, list[Edge]]:
     """The cell of each visible disk (ids into ``centres``): its edges in counter-clockwise order."""
-    fl = _Floats(centres, radii)
+    fl = DiskFloats(centres, radii)
     counts = dict(clips=0, prefiltered=0, exact_clips=0, cuts=0)
     out = {}
     for i in visible:

@@ -62,16 +62,17 @@ def cmd_impls(args: argparse.Namespace) -> int:
     if "*" in failed:
         raise PluginError(failed["*"].split("\n")[0])
     table = Table(title="implementations")
-    for col in ("name", "kind", "exact", "weights", "complexity", "from", "description"):
+    for col in ("name", "kind", "exact", "weights", "disks", "complexity", "from", "description"):
         table.add_column(col)
     for name in available:
         d = declared.get(name)
         if d is None:        # an outside plugin that fails to load is listed, not fatal
-            table.add_row(escape(name), "?", "?", "?", "?", "?",
+            table.add_row(escape(name), "?", "?", "?", "?", "?", "?",
                           f"[red]failed to load: {escape(failed.get(name, ''))}[/red]")
             continue
         table.add_row(*(escape(clean_text(x, 200)) for x in (d.name, d.kind, "yes" if d.exact else "no",
-                                                            "yes" if d.weighted else "no", d.complexity, d.origin,
+                                                            "yes" if d.weighted else "no",
+                                                            "yes" if d.apollonius else "no", d.complexity, d.origin,
                                                             d.description)))
     _console().print(table)
     return 0
@@ -94,7 +95,7 @@ def cmd_datasets(args: argparse.Namespace) -> int:
         weights.add_row(name, text)
     _console().print(weights)
     radii = Table(title="radius families (datasets_gen.radii: disks as sites, docs/apollonius.md; "
-                        "no construction takes disks yet)")
+                        "impls.build(name, centres, radii=r) with an implementation that takes disks)")
     for col in ("name", "description"):
         radii.add_column(col)
     for name, text in datasets_gen.RADIUS_FAMILIES.items():

@@ -7,9 +7,9 @@ from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from vorobench.core.prefetch import prefetch
-from vorobench.core.scaling import check_span, check_weight_range
+from vorobench.core.scaling import check_exact_range, check_span, check_weight_range
 
-__all__ = ["prepare", "prepare_weighted"]
+__all__ = ["prepare", "prepare_weighted", "prepare_disks"]
 
 
 def _as_real_array(points: ArrayLike, what: str = "points") -> NDArray[np.float64]:
@@ -181,3 +181,31 @@ def prepare_weighted(points: ArrayLike, weights: ArrayLike
         np.maximum.at(site_weights, inverse, w)
     check_weight_range(sites, site_weights)
     return sites, np.ascontiguousarray(site_weights), inverse
+
+
+def prepare_disks(points: ArrayLike, radii: ArrayLike
+                  ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]:
+    """:func:`prepare` for disks: ``(centres, site_radii, inverse)``.
+
+    ``radii`` holds one finite number >= 0 per input row. Rows with one centre become one
+    site, which keeps the largest of their radii: the smaller disks lie inside it and are
+    hidden (docs/apollonius.md). Raises ``ValueError`` naming the problem and the first
+    offending row; the centres and radii together must fit the exact range after one
+    power-of-two scaling.
+    """
+    sites, inverse = prepare(points)
+    r = _as_real_array(radii, "radii")
+    if r.ndim != 1 or r.shape[0] != inverse.shape[0]:
+        raise ValueError(f"radii must have shape ({inverse.shape[0]},), one per point, got shape {r.shape}")
+    r = np.asarray(r, dtype=np.float64)
+    bad = ~np.isfinite(r) | (r < 0)
+    if bad.any():
+        row = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"radii must be finite and >= 0: row {row} is {r[row]} ({int(bad.sum())} such rows in all)")
+    if sites.shape[0] == r.shape[0]:
+        site_radii = r + 0.0
+    else:
+        site_radii = np.zeros(sites.shape[0])
+        np.maximum.at(site_radii, inverse, r)
+    check_exact_range(np.vstack([sites, np.column_stack([site_radii, site_radii])]))
+    return sites, np.ascontiguousarray(site_radii), inverse

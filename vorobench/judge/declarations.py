@@ -3,7 +3,7 @@
 The judge never imports an implementation's module (a plugin file, an entry point's package):
 module-level code would run inside the judge and could replace the judge's own functions.
 So the declarations the judge needs (``exact`` sets the standard a diagram is held to,
-``weighted`` whether weighted cases are its to build) are read in a sandbox, once per run,
+``weighted`` and ``apollonius`` whether weighted cases and disks are its to build) are read in a sandbox, once per run,
 and every later sandbox of that run must declare the same or it is refused
 (:mod:`vorobench.judge.pinning` reads them).
 """
@@ -23,7 +23,8 @@ class DeclarationError(ValueError):
 @dataclass(frozen=True)
 class Declaration:
     """An implementation's declared identity: name, decision standard, weights, complexity,
-    where it comes from (``kind``, ``origin``), what it is, and the version of its module."""
+    where it comes from (``kind``, ``origin``), what it is, the version of its module, and
+    whether it builds diagrams of disks (``apollonius``)."""
 
     name: str
     exact: bool
@@ -36,6 +37,7 @@ class Declaration:
     #: The ``--plugin`` that defines it ("" for a built-in or an entry point): its sandbox
     #: loads that plugin alone, so no plugin's import-time code runs beside another's build.
     plugin: str = ""
+    apollonius: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -70,6 +72,7 @@ def declaration_of(impl: Any, plugin: str = "") -> dict[str, Any]:
     """Runs in the sandbox: ``impl``'s declaration as plain data (``plugin``: the spec that
     defined it, if any)."""
     return {"name": str(impl.name), "exact": bool(impl.exact), "weighted": bool(impl.weighted),
+            "apollonius": bool(getattr(impl, "apollonius", False)),
             "complexity": str(impl.complexity), "kind": str(impl.kind), "origin": str(impl.origin),
             "description": str(impl.description), "version": _module_version(impl), "plugin": str(plugin)}
 
@@ -80,7 +83,7 @@ def declaration_from_data(data: Any, name: str) -> Declaration:
     if not isinstance(data, dict):
         raise DeclarationError(f"{name}: the declaration is not an object")
     fields = {"exact": bool, "weighted": bool, "complexity": str, "kind": str, "origin": str,
-              "description": str, "version": str, "plugin": str, "name": str}
+              "description": str, "version": str, "plugin": str, "name": str, "apollonius": bool}
     for key, kind in fields.items():
         if type(data.get(key)) is not kind:
             raise DeclarationError(f"{name}: the declaration's {key!r} is not a {kind.__name__}")

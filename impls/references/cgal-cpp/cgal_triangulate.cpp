@@ -1,17 +1,21 @@
-// vorobench reference implementation: CGAL 2D Delaunay / regular triangulation as an
-// executable following the vorobench protocol (docs: impl.toml next to this file).
+// vorobench reference implementation: CGAL 2D Delaunay / regular triangulation / Apollonius
+// graph as an executable following the vorobench protocol (docs: impl.toml next to this file).
 //
 // stdin : the sites, text (default) or binary (--binary).
-//   text  : "n" or "n weighted" on the first line, then n rows "x y" or "x y w".
-//   binary: u64 n (little endian), u8 flag (1 = weighted), n rows of 2 or 3 float64 (LE).
-// stdout: one line "i j k" per finite face (0-based input indices), then "time SECONDS"
-//         (the construction only: the range insert of the whole input).
+//   text  : "n", "n weighted" or "n apollonius" on the first line, then n rows "x y",
+//           "x y w" or "x y r".
+//   binary: u64 n (little endian), u8 flag (0 = plain, 1 = weighted, 2 = apollonius),
+//           n rows of 2 or 3 float64 (LE).
+// stdout: Delaunay / regular: one line "i j k" per finite face (0-based input indices);
+//         Apollonius: one line "i j k" per face of the graph, infinite ones included (-1 =
+//         the infinite vertex), counter-clockwise as CGAL stores it;
+//         then "time SECONDS" (the construction only: the insertion of the whole input).
 //
 // Modes (dispatched in main):
-//   Mode::Delaunay  unweighted sites -> Delaunay_triangulation_2<Epick>
-//   Mode::Regular   weighted sites   -> Regular_triangulation_2<Epick>, power |x-p|^2 - w
-// A further mode (e.g. Apollonius_graph_2 for disks "x y r") is meant to be one more
-// run_* function and one more enum value; the reading/writing code is shared.
+//   Mode::Delaunay    unweighted sites -> Delaunay_triangulation_2<Epick>
+//   Mode::Regular     weighted sites   -> Regular_triangulation_2<Epick>, power |x-p|^2 - w
+//   Mode::Apollonius  disks (r >= 0)   -> Apollonius_graph_2, distance |x-p| - r, exact
+//                     filtered predicates (see run_apollonius)
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Delaunay_triangulation_2.h>
@@ -19,6 +23,11 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 #include <CGAL/Regular_triangulation_vertex_base_2.h>
 #include <CGAL/Regular_triangulation_face_base_2.h>
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/Apollonius_graph_2.h>
+#include <CGAL/Apollonius_graph_filtered_traits_2.h>
+#include <CGAL/Apollonius_graph_vertex_base_2.h>
+#include <CGAL/Triangulation_face_base_2.h>
 #include <CGAL/version.h>
 
 #include <charconv>
@@ -28,6 +37,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -47,9 +57,12 @@ struct Input_error : std::runtime_error {
 // ---------------------------------------------------------------------------------------
 // Input
 
+enum class Kind { Plain, Weighted, Disks };
+
 struct Sites {
   std::size_t n = 0;
-  int columns = 2;             // 2: x y; 3: x y w (or, for a future disk mode, x y r)
+  Kind kind = Kind::Plain;
+  int columns = 2;             // 2: x y; 3: x y w (Weighted) or x y r (Disks)
   std::vector<double> values;  // n * columns, row by row
   double at(std::size_t i, int c) const { return values[i * columns + c]; }
 };
@@ -85,7 +98,7 @@ Sites parse_text(const std::string& data) {
   const char* end = p + data.size();
   Sites s;
 
-  // Header line: n [weighted]
+  // Header line: n [weighted | apollonius]
   while (p < end && is_blank(*p)) ++p;
   {
     unsigned long long n = 0;
@@ -99,9 +112,18 @@ Sites parse_text(const std::string& data) {
   const char* word = p;
   while (p < end && !is_space(*p)) ++p;
   std::string w(word, p);
-  if (w.empty()) s.columns = 2;
-  else if (w == "weighted") s.columns = 3;
-  else throw Input_error("text input: unexpected word in header: '" + w + "' (only 'weighted' is allowed)");
+  if (w.empty()) {
+    s.kind = Kind::Plain;
+    s.columns = 2;
+  } else if (w == "weighted") {
+    s.kind = Kind::Weighted;
+    s.columns = 3;
+  } else if (w == "apollonius") {
+    s.kind = Kind::Disks;
+    s.columns = 3;
+  } else {
+    throw Input_error("text input: unexpected word in header: '" + w + "' (only 'weighted' or 'apollonius' is allowed)");
+  }
   while (p < end && is_blank(*p)) ++p;
   if (p < end && *p != '\n')
     throw Input_error("text input: trailing characters in header: " + describe_at(p, end));
@@ -146,12 +168,14 @@ Sites parse_binary(const std::string& data) {
   std::uint64_t n = 0;
   for (int i = 7; i >= 0; --i) n = (n << 8) | b[i];
   unsigned flag = b[8];
-  if (flag > 1) throw Input_error("binary input: flag byte must be 0 or 1, got " + std::to_string(flag));
+  if (flag > 2) throw Input_error("binary input: flag byte must be 0, 1 or 2, got " + std::to_string(flag));
   Sites s;
+  s.kind = flag == 0 ? Kind::Plain : flag == 1 ? Kind::Weighted : Kind::Disks;
   s.columns = flag ? 3 : 2;
   std::uint64_t avail = (data.size() - 9) / (8u * s.columns);
   if ((data.size() - 9) % (8u * s.columns) != 0 || avail != n)
-    throw Input_error("binary input: header says n = " + std::to_string(n) + (flag ? " weighted" : "") +
+    throw Input_error("binary input: header says n = " + std::to_string(n) +
+                      (flag == 1 ? " weighted" : flag == 2 ? " apollonius" : "") +
                       " (" + (n < (std::uint64_t(1) << 56) ? std::to_string(9 + n * 8 * s.columns) : std::string("too many")) +
                       " bytes expected) but got " + std::to_string(data.size()) + " bytes");
   s.n = static_cast<std::size_t>(n);
@@ -168,6 +192,13 @@ Sites parse_binary(const std::string& data) {
     s.values[k] = v;
   }
   return s;
+}
+
+// Disks: the radius (third column) must be >= 0.
+void check_radii(const Sites& s) {
+  for (std::size_t i = 0; i < s.n; ++i)
+    if (!(s.at(i, 2) >= 0.0))
+      throw Input_error("apollonius input: row " + std::to_string(i) + ": radius is negative");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -187,6 +218,21 @@ struct Output {
     index(i, ' ');
     index(j, ' ');
     index(k, '\n');
+  }
+  // A vertex that may be the infinite one (Infinite: printed as -1).
+  static constexpr std::size_t Infinite = std::numeric_limits<std::size_t>::max();
+  void index_or_infinite(std::size_t v, char sep) {
+    if (v == Infinite) {
+      buf.append("-1", 2);
+      buf.push_back(sep);
+    } else {
+      index(v, sep);
+    }
+  }
+  void face(std::size_t i, std::size_t j, std::size_t k) {
+    index_or_infinite(i, ' ');
+    index_or_infinite(j, ' ');
+    index_or_infinite(k, '\n');
   }
   void finish() {
     char tmp[64];
@@ -259,13 +305,115 @@ void run_regular(const Sites& s, Output& out) {
 }
 
 // ---------------------------------------------------------------------------------------
+// Mode::Apollonius (the Apollonius graph: dual of the additively weighted Voronoi diagram of
+// disks, distance from x to disk i = |x - c_i| - r_i)
+//
+// Traits: Apollonius_graph_filtered_traits_2<Simple_cartesian<double>,
+// Integral_domain_without_division_tag>, i.e. with its defaults: the predicates are
+// evaluated first in interval arithmetic (Simple_cartesian<Interval_nt<false>>) and, when
+// that cannot decide, exactly in Simple_cartesian<MP_Float>; the Integral_domain_without_
+// division_tag makes every predicate a sign of a ring expression (+, -, * only, the square
+// roots eliminated by CGAL's algebra), so MP_Float decides it exactly. The constructions
+// (unused here) would be in doubles. Sites are Apollonius_site_2 (point, weight = radius)
+// built from the input doubles unchanged.
+//
+// Insertion: one site at a time in the input order, each walk for the nearest neighbour
+// started at the vertex of the previous visible insertion (a hint only). Not the range
+// insert: that one sorts the sites by decreasing weight (std::sort, unstable) first, which
+// would make the choice among identical disks arbitrary.
+//
+// Hidden sites (a disk inside another, touching included: CGAL's Is_hidden_2 is
+// |c_p - c_q| <= r_q - r_p) get no vertex. Identical disks: CGAL tests "is the new site
+// hidden by the existing nearest one" before "does the new site hide it", so of identical
+// disks the one inserted first stays visible: with the input order, the smallest index
+// (the convention of vorobench.core.hidden_disks too). The hidden sites are not stored
+// (StoreHidden = false): nothing here needs them back (they matter only for removals).
+//
+// Indices: every vertex carries the input index of its site (Ag_vertex_with_index), set
+// from the handle insert() returns (CGAL reuses a vertex for the new site in some cases, the
+// returned handle is always the one holding it). CGAL recreates a surviving vertex in one
+// case without returning it (a new disk hides all but one visible disk: the graph is
+// cleared and rebuilt from two sites); after the construction every vertex's index is
+// checked against its site, and any that does not match is looked up by its site among the
+// input disks (the first index of identical ones), so the mapping never relies on that.
 
-enum class Mode { Delaunay, Regular };
+template <class Gt, class Vb = CGAL::Apollonius_graph_vertex_base_2<Gt, false>>
+class Ag_vertex_with_index : public Vb {
+ public:
+  typedef typename Vb::Site_2 Site_2;
+  typedef typename Vb::Face_handle Face_handle;
+
+  template <typename Tds2>
+  struct Rebind_TDS {
+    typedef typename Vb::template Rebind_TDS<Tds2>::Other Vb2;
+    typedef Ag_vertex_with_index<Gt, Vb2> Other;
+  };
+
+  Ag_vertex_with_index() : Vb() {}
+  Ag_vertex_with_index(const Site_2& p) : Vb(p) {}
+  Ag_vertex_with_index(const Site_2& p, Face_handle f) : Vb(p, f) {}
+
+  std::size_t index = Output::Infinite;  // input index of site(); Infinite = not set
+};
+
+void run_apollonius(const Sites& s, Output& out) {
+  typedef CGAL::Simple_cartesian<double> CK;
+  typedef CGAL::Apollonius_graph_filtered_traits_2<CK, CGAL::Integral_domain_without_division_tag> Gt;
+  typedef Ag_vertex_with_index<Gt> Vb;
+  typedef CGAL::Triangulation_face_base_2<Gt> Fb;
+  typedef CGAL::Triangulation_data_structure_2<Vb, Fb> Agds;
+  typedef CGAL::Apollonius_graph_2<Gt, Agds> AG;
+  typedef AG::Site_2 Site;
+  typedef AG::Point_2 Point;
+  typedef AG::Vertex_handle Vertex_handle;
+
+  std::vector<Site> sites;
+  sites.reserve(s.n);
+  for (std::size_t i = 0; i < s.n; ++i) sites.emplace_back(Point(s.at(i, 0), s.at(i, 1)), s.at(i, 2));
+
+  AG ag;
+  auto t0 = Clock::now();
+  Vertex_handle hint;
+  for (std::size_t i = 0; i < s.n; ++i) {
+    Vertex_handle v = ag.insert(sites[i], hint);  // null when the new site is hidden
+    if (v != Vertex_handle()) {
+      v->index = i;
+      hint = v;  // alive: only an insertion that returns a vertex removes vertices
+    }
+  }
+  auto t1 = Clock::now();
+  out.seconds = seconds_between(t0, t1);
+
+  // Check (and where needed repair) the index of every visible vertex; see above.
+  auto same = [](const Site& a, const Site& b) {
+    return a.x() == b.x() && a.y() == b.y() && a.weight() == b.weight();
+  };
+  for (auto v = ag.finite_vertices_begin(); v != ag.finite_vertices_end(); ++v) {
+    if (v->index < s.n && same(sites[v->index], v->site())) continue;
+    std::size_t found = Output::Infinite;
+    for (std::size_t i = 0; i < s.n && found == Output::Infinite; ++i)
+      if (same(sites[i], v->site())) found = i;
+    if (found == Output::Infinite) throw std::runtime_error("a vertex of the Apollonius graph matches no input disk");
+    v->index = found;
+  }
+
+  if (ag.dimension() < 2) return;  // fewer than three visible disks: no faces
+  out.buf.reserve(out.buf.size() + ag.tds().number_of_faces() * 24 + 64);
+  Vertex_handle inf = ag.infinite_vertex();
+  auto idx = [&](Vertex_handle v) { return v == inf ? Output::Infinite : v->index; };
+  for (auto f = ag.all_faces_begin(); f != ag.all_faces_end(); ++f)
+    out.face(idx(f->vertex(0)), idx(f->vertex(1)), idx(f->vertex(2)));
+}
+
+// ---------------------------------------------------------------------------------------
+
+enum class Mode { Delaunay, Regular, Apollonius };
 
 void usage(std::FILE* f) {
   std::fputs("usage: cgal_triangulate [--binary] [--version] < sites\n"
-             "  text input (default): 'n [weighted]' then n rows 'x y' or 'x y w'\n"
-             "  --binary: u64 n, u8 flag (1 = weighted), n rows of 2 or 3 float64, little endian\n",
+             "  text input (default): 'n [weighted | apollonius]' then n rows 'x y', 'x y w' or 'x y r'\n"
+             "  --binary: u64 n, u8 flag (1 = weighted, 2 = apollonius), n rows of 2 or 3 float64,\n"
+             "            little endian\n",
              f);
 }
 
@@ -295,11 +443,15 @@ int main(int argc, char** argv) {
     Sites sites = binary ? parse_binary(data) : parse_text(data);
     std::string().swap(data);
 
-    Mode mode = sites.columns == 3 ? Mode::Regular : Mode::Delaunay;
+    if (sites.kind == Kind::Disks) check_radii(sites);
+
+    Mode mode = sites.kind == Kind::Disks ? Mode::Apollonius
+              : sites.kind == Kind::Weighted ? Mode::Regular : Mode::Delaunay;
     Output out;
     switch (mode) {
       case Mode::Delaunay: run_delaunay(sites, out); break;
       case Mode::Regular: run_regular(sites, out); break;
+      case Mode::Apollonius: run_apollonius(sites, out); break;
     }
     out.finish();
   } catch (const Input_error& e) {
