@@ -62,6 +62,12 @@ class DiskFloats:
         x, y = self.point(v)
         return math.hypot(x - self.centres[i][0], y - self.centres[i][1])
 
+    def angle(self, i: int, v: ApolloniusVertex) -> Optional[float]:
+        """The direction of v from p_i, None where v is too close to p_i for it to be trusted."""
+        x, y = self.point(v)
+        dx, dy = x - self.centres[i][0], y - self.centres[i][1]
+        return math.atan2(dy, dx) if math.hypot(dx, dy) > self.near else None
+
     def norm_and_gap(self, i: int, j: int) -> tuple[float, float]:
         """|p_j - p_i| and r_j - r_i."""
         ax, ay = self.centres[j] - self.centres[i]

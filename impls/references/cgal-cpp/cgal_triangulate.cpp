@@ -30,6 +30,7 @@
 #include <CGAL/Triangulation_face_base_2.h>
 #include <CGAL/version.h>
 
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -397,7 +398,28 @@ void run_apollonius(const Sites& s, Output& out) {
     v->index = found;
   }
 
-  if (ag.dimension() < 2) return;  // fewer than three visible disks: no faces
+  // No face lines when the diagram has no vertex and its graph is a path: CGAL's dimension
+  // is below 2 only with fewer than three visible disks; three or more visible disks on a
+  // path (e.g. collinear centres, equal radii) give a dimension-2 structure whose faces are
+  // all infinite, each path edge with the infinite vertex on both sides (a doubled edge to
+  // the infinite vertex), which the judge builds itself instead. A graph without finite face
+  // that is not a path (disks can do that: a big disk with narrow cells around it, a star)
+  // is written out like any other.
+  if (ag.dimension() < 2) return;
+  if (ag.finite_faces_begin() == ag.finite_faces_end()) {
+    bool path = true;
+    std::vector<std::size_t> seen;
+    for (auto v = ag.finite_vertices_begin(); path && v != ag.finite_vertices_end(); ++v) {
+      seen.clear();
+      auto c = ag.incident_vertices(v), done = c;
+      do {
+        if (!ag.is_infinite(c) && std::find(seen.begin(), seen.end(), c->index) == seen.end())
+          seen.push_back(c->index);
+      } while (++c != done);
+      path = seen.size() <= 2;
+    }
+    if (path) return;
+  }
   out.buf.reserve(out.buf.size() + ag.tds().number_of_faces() * 24 + 64);
   Vertex_handle inf = ag.infinite_vertex();
   auto idx = [&](Vertex_handle v) { return v == inf ? Output::Infinite : v->index; };
