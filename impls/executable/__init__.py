@@ -191,14 +191,21 @@ def _version(manifest: Manifest) -> str:
 
 
 def _assembled(manifest: Manifest, sites: NDArray[np.float64], weights: Optional[NDArray[np.float64]],
-               data: bytes) -> tuple[Diagram, Optional[float]]:
+               data: bytes, radii: Optional[NDArray[np.float64]] = None) -> tuple[Diagram, Optional[float]]:
     """The program's answer as a diagram of ``sites`` (and the seconds of its time line)."""
     from vorobench.core.builder import assemble
     from vorobench.core.errors import InvalidDiagramError
     from vorobench.core.from_triangles import NotATriangulation, diagram_from_triangles
 
     n = sites.shape[0]
-    answer = parse_output(data, manifest.output, n)
+    answer = parse_output(data, manifest.output, n, disks=radii is not None)
+    if radii is not None:
+        from vorobench.core.from_apollonius_graph import NotAnApolloniusGraph, diagram_from_apollonius_faces
+
+        try:
+            return diagram_from_apollonius_faces(sites, radii, answer.triangles), answer.library_s
+        except NotAnApolloniusGraph as exc:
+            raise InvalidOutput(f"not the Apollonius graph of the {n} disks: {exc}") from None
     try:
         if manifest.output == OutputKind.TRIANGLES:
             diagram = diagram_from_triangles(sites, answer.triangles, weights)
@@ -238,17 +245,17 @@ class _Program:
         self.manifest = manifest
 
     def __call__(self, sites: NDArray[np.float64], weights: Optional[NDArray[np.float64]],
-                 stats: Optional[dict]) -> Diagram:
+                 stats: Optional[dict], radii: Optional[NDArray[np.float64]] = None) -> Diagram:
         manifest = self.manifest
         ensure_setup(manifest)
         t0 = time.perf_counter_ns()
-        stdin = encode_sites(sites, weights, manifest.input)
+        stdin = encode_sites(sites, weights, manifest.input, radii)
         encoded = time.perf_counter_ns() - t0
         run = run_program(manifest.argv(manifest.command), manifest.folder, stdin,
-                          output_limit(sites.shape[0], manifest.output))
+                          output_limit(sites.shape[0], manifest.output, disks=radii is not None))
         del stdin
         t1 = time.perf_counter_ns()
-        diagram, library_s = _assembled(manifest, sites, weights, run.stdout)
+        diagram, library_s = _assembled(manifest, sites, weights, run.stdout, radii)
         if library_s is not None and library_s > 1.05 * run.wall_s + 0.005:
             raise InvalidOutput(f"its time line says {library_s:.6g} s, longer than its whole process "
                                 f"({run.wall_s:.6g} s)")
@@ -266,6 +273,10 @@ class _Program:
     def weighted(self, sites: NDArray[np.float64], weights: NDArray[np.float64],
                  stats: Optional[dict] = None) -> Diagram:
         return self(sites, weights, stats)
+
+    def disks(self, sites: NDArray[np.float64], radii: NDArray[np.float64],
+              stats: Optional[dict] = None) -> Diagram:
+        return self(sites, None, stats, radii)
 
     def warmup(self) -> None:
         """Set the program up, and compile the kernels that turn its answers into diagrams (on a
@@ -285,7 +296,8 @@ def implementation_of(manifest: Manifest) -> Implementation:
         description=manifest.description or f"the program {' '.join(manifest.command)} ({manifest.output})",
         complexity=manifest.complexity, build=program.unweighted, exact=manifest.exact,
         origin=manifest.origin or str(manifest.path), warmup=program.warmup, kind="executable",
-        build_weighted=program.weighted if manifest.weighted else None, version=program.version)
+        build_weighted=program.weighted if manifest.weighted else None,
+        build_apollonius=program.disks if manifest.apollonius else None, version=program.version)
 
 
 def rerun_command(manifest: Manifest, input_file: Path) -> str:

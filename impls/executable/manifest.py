@@ -76,6 +76,9 @@ class Manifest:
     description: str = ""
     origin: str = ""
     requires: tuple[str, ...] = ()
+    #: It takes disks (``weights = "apollonius"``): text ``x y r`` rows, and its ``triangles`` are
+    #: the faces of the Apollonius graph with their neighbours (docs/apollonius.md).
+    apollonius: bool = False
 
     @property
     def folder(self) -> Path:
@@ -215,8 +218,12 @@ def read_manifest(path: str | Path) -> Manifest:
     if not isinstance(exact, bool):
         raise ManifestError(f"{where}: [implementation] needs 'exact = true' or 'exact = false'")
     weights = data.get("weights")
-    if weights not in (None, "power"):
-        raise ManifestError(f"{where}: 'weights' may only be \"power\" (it takes weighted sites), not {weights!r}")
+    kinds = [weights] if isinstance(weights, str) else weights if isinstance(weights, list) else None
+    if weights is not None and (not kinds or not all(k in ("power", "apollonius") for k in kinds)
+                                or len(set(kinds)) != len(kinds)):
+        raise ManifestError(f"{where}: 'weights' may be \"power\" (weighted sites), \"apollonius\" (disks) or a "
+                            f"list of both, not {weights!r}")
+    kinds = kinds or []
     requires = data.get("requires", [])
     if not isinstance(requires, list) or not all(isinstance(r, str) and r for r in requires):
         raise ManifestError(f"{where}: 'requires' must be a list of program names or absolute paths")
@@ -225,7 +232,8 @@ def read_manifest(path: str | Path) -> Manifest:
         raise ManifestError(f"{where}: the name {name!r} may not hold spaces or commas (it is used in --impls)")
     return Manifest(path=path, name=name, command=_argv(data, "command", where, required=True),
                     output=_choice(data, "output", OutputKind, where), exact=exact,
-                    complexity=_text(data, "complexity", where), weighted=weights == "power",
+                    complexity=_text(data, "complexity", where), weighted="power" in kinds,
+                    apollonius="apollonius" in kinds,
                     setup=_argv(data, "setup", where), version=_argv(data, "version", where),
                     input=_choice(data, "input", InputFormat, where, InputFormat.TEXT),
                     description=_text(data, "description", where, ""), origin=_text(data, "origin", where, ""),

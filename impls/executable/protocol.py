@@ -1,11 +1,13 @@
 """The executable protocol's bytes: the sites a program reads and the answer it prints.
 
-Input (stdin). Text: ``n`` (and ``weighted``) on the first line, then ``x y [w]`` per site in
-Python's ``repr`` (the shortest form that reads back to the same float64). Binary: an 8-byte
-little-endian n, a 1-byte weights flag, then the rows as little-endian float64.
+Input (stdin). Text: ``n`` (and ``weighted``, or ``apollonius`` for disks) on the first line,
+then ``x y [w]`` (``x y r``) per site in Python's ``repr`` (the shortest form that reads back
+to the same float64). Binary: an 8-byte little-endian n, a 1-byte flag (0 plain, 1 weighted,
+2 disks), then the rows as little-endian float64.
 
-Output (stdout). ``triangles``: ``i j k`` lines. ``voronoi``: ``v x y`` lines, then
-``e i j a b`` lines (-1 = at infinity). Either may hold one ``time SECONDS`` line. An answer
+Output (stdout). ``triangles``: ``i j k`` lines; for disks, the faces of the Apollonius graph
+as ``i j k a b c`` (vertices counter-clockwise, -1 at infinity, then the faces opposite each).
+``voronoi``: ``v x y`` lines, then ``e i j a b`` lines (-1 = at infinity). Either may hold one ``time SECONDS`` line. An answer
 longer than what n sites allow (:func:`output_limit`) is refused before it is read to the end,
 so whatever a program prints, what the harness holds stays bounded.
 """
@@ -40,8 +42,15 @@ class InvalidOutput(RuntimeError):
 _LINE_BYTES = {OutputKind.TRIANGLES: 64, OutputKind.VORONOI: 96}
 
 
-def encode_sites(sites: NDArray[np.float64], weights: Optional[NDArray[np.float64]], fmt: InputFormat) -> bytes:
-    """The program's stdin for ``sites`` (and ``weights``, one per site, or None)."""
+def encode_sites(sites: NDArray[np.float64], weights: Optional[NDArray[np.float64]], fmt: InputFormat,
+                 radii: Optional[NDArray[np.float64]] = None) -> bytes:
+    """The program's stdin for ``sites`` (and ``weights``, one per site, or None; or ``radii``)."""
+    if radii is not None:
+        n = sites.shape[0]
+        rows = np.column_stack([sites, np.asarray(radii, dtype=np.float64)])
+        if fmt == InputFormat.BINARY:
+            return struct.pack("<QB", n, 2) + np.ascontiguousarray(rows, dtype="<f8").tobytes()
+        return (f"{n} apollonius\n" + "".join(f"{x!r} {y!r} {r!r}\n" for x, y, r in rows.tolist())).encode()
     sites = np.ascontiguousarray(sites, dtype=np.float64).reshape(-1, 2)
     n = sites.shape[0]
     rows = sites if weights is None else np.column_stack([sites, np.asarray(weights, dtype=np.float64)])
@@ -54,11 +63,12 @@ def encode_sites(sites: NDArray[np.float64], weights: Optional[NDArray[np.float6
     return (header + body + ("\n" if n else "")).encode("ascii")
 
 
-def output_limit(n: int, kind: OutputKind) -> int:
-    """The most bytes an honest answer for ``n`` sites needs: 2n triangles, or 2n vertices and 3n
-    edges, in lines of generous length, and a time line."""
+def output_limit(n: int, kind: OutputKind, disks: bool = False) -> int:
+    """The most bytes an honest answer for ``n`` sites needs: 2n triangles (2n faces with their
+    neighbours, for disks), or 2n vertices and 3n edges, in lines of generous length, and a
+    time line."""
     lines = 2 * n + 4 if kind == OutputKind.TRIANGLES else 5 * n + 8
-    return _LINE_BYTES[kind] * lines + 256
+    return (2 if disks else 1) * _LINE_BYTES[kind] * lines + 256
 
 
 @dataclass
@@ -125,12 +135,21 @@ def _untagged(part: bytes, tag: re.Pattern, letter: str, what: str, most: int) -
     return stripped
 
 
-def parse_output(data: bytes, kind: OutputKind, n: int) -> ProgramOutput:
-    """The answer in ``data`` for ``n`` sites; :class:`InvalidOutput` saying what is wrong.
-    Blank lines are ignored; more lines than n sites can need are refused before any is parsed
-    (2n triangles; 2n vertices and 3n edges, the bounds of a planar diagram, and a margin)."""
+def parse_output(data: bytes, kind: OutputKind, n: int, disks: bool = False) -> ProgramOutput:
+    """The answer in ``data`` for ``n`` sites (``disks``: the faces of an Apollonius graph);
+    :class:`InvalidOutput` saying what is wrong. Blank lines are ignored; more lines than n
+    sites can need are refused before any is parsed (2n triangles; 2n vertices and 3n edges,
+    the bounds of a planar diagram, and a margin)."""
     body = _BLANK_LINES.sub(b"", data.replace(b"\r\n", b"\n"))
     body, seconds = _time_line(body)
+    if kind == OutputKind.TRIANGLES and disks:
+        most = 2 * n + 8                   # the faces of a planar graph on n sites and infinity
+        if _lines(body) > most:
+            raise InvalidOutput(f"{_lines(body)} face lines, more than the {most} that {n} disks can have")
+        faces = _table(body, 6, np.int64, "face lines")
+        if faces.size and (faces[:, :3].min() < -1 or faces[:, :3].max() >= n):
+            raise InvalidOutput(f"a face names a site outside -1..{n - 1}")
+        return ProgramOutput(triangles=faces, library_s=seconds)
     if kind == OutputKind.TRIANGLES:
         most = 2 * n + 8
         if _lines(body) > most:

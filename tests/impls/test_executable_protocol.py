@@ -143,3 +143,36 @@ def test_sources_leave_out_what_builds_and_tools_make(tmp_path):
 def test_a_wrong_manifest_is_refused_naming_the_field(tmp_path, change, says):
     with pytest.raises(ManifestError, match=says):
         _manifest(tmp_path, GOOD.replace(*change))
+
+
+def test_disks_go_as_x_y_r_with_their_own_header_and_flag():
+    sites, radii = np.array([[0.1, -2.0], [3.0, 1e-300]]), np.array([0.5, 0.0])
+    assert encode_sites(sites, None, InputFormat.TEXT, radii).decode() == "2 apollonius\n0.1 -2.0 0.5\n3.0 1e-300 0.0\n"
+    data = encode_sites(sites, None, InputFormat.BINARY, radii)
+    assert struct.unpack_from("<QB", data) == (2, 2)
+    assert np.frombuffer(data, "<f8", offset=9).tolist() == [0.1, -2.0, 0.5, 3.0, 1e-300, 0.0]
+
+
+def test_faces_of_an_apollonius_graph_parse_with_infinity_and_neighbours():
+    out = parse_output(b"0 1 2 1 1 1\n-1 2 1 0 0 0\ntime 0.5\n", OutputKind.TRIANGLES, 3, disks=True)
+    assert out.triangles.tolist() == [[0, 1, 2, 1, 1, 1], [-1, 2, 1, 0, 0, 0]] and out.library_s == 0.5
+    with pytest.raises(InvalidOutput, match="6"):
+        parse_output(b"0 1 2\n", OutputKind.TRIANGLES, 3, disks=True)
+    with pytest.raises(InvalidOutput, match="outside -1"):
+        parse_output(b"0 1 -2 0 0 0\n", OutputKind.TRIANGLES, 3, disks=True)
+    with pytest.raises(InvalidOutput, match="more than"):
+        parse_output(b"0 1 2 0 0 0\n" * 20, OutputKind.TRIANGLES, 3, disks=True)
+    assert output_limit(10, OutputKind.TRIANGLES, disks=True) > output_limit(10, OutputKind.TRIANGLES)
+
+
+@pytest.mark.parametrize("weights, power, disks", [
+    ('"apollonius"', False, True), ('["power", "apollonius"]', True, True), ('["power"]', True, False)])
+def test_a_manifest_may_take_disks(tmp_path, weights, power, disks):
+    m = _manifest(tmp_path, GOOD + f"weights = {weights}\n")
+    assert (m.weighted, m.apollonius) == (power, disks)
+
+
+@pytest.mark.parametrize("weights", ['["power", "power"]', '[]', '["disks"]', "3"])
+def test_a_manifest_with_other_weights_is_refused(tmp_path, weights):
+    with pytest.raises(ManifestError, match="apollonius"):
+        _manifest(tmp_path, GOOD + f"weights = {weights}\n")

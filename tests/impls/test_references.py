@@ -20,7 +20,7 @@ import impls
 from impls import DEFAULT_REFERENCE
 from impls.executable import REFERENCES, discovered
 from vorobench.core.prepare import prepare
-from vorobench.judge.engine import Judge, decide, prepare_case
+from vorobench.judge.engine import Judge, decide, prepare_case, prepare_disk_case
 from vorobench.judge.outcomes import Verdict
 
 SHIPPED = {name: path for name, path in discovered().items() if path.is_relative_to(REFERENCES)}
@@ -80,3 +80,21 @@ def test_weighted_references(judge):
             assert verdict.passed, f"{name} on {dataset}, {family}: {verdict.verdict}: {verdict.message}"
             if judge.declaration(name).exact:
                 assert res.certificate is not None and res.certificate.ok, f"{name} on {dataset}: {res.certificate}"
+
+
+DISKS = sorted(name for name in SHIPPED if impls.get(name).apollonius)
+
+
+@pytest.mark.skipif(not DISKS, reason="no reference that takes disks has its toolchain here (cgal-cpp needs libcgal-dev)")
+def test_disk_references_agree_exactly_with_the_oracle(judge):
+    """Disks (``weights = "apollonius"``): radii of every family on four layouts, against the
+    exact oracle (``halfplane``), each diagram certified exactly."""
+    for family, dataset in itertools.product(sorted(datasets_gen.RADIUS_FAMILIES),
+                                             ("uniform", "grid", "cocircular", "collinear")):
+        points = datasets_gen.generate(dataset, 40, seed=1)
+        sites, radii = prepare_disk_case(points, datasets_gen.radii(family, points, seed=1))
+        ref = judge.build("halfplane", sites, radii=radii)
+        for name in DISKS:
+            res = judge.build(name, sites, radii=radii)
+            verdict = decide(name, "halfplane", res, ref)
+            assert verdict.verdict == Verdict.EXACT, f"{name} on {dataset}, {family}: {verdict.message}"

@@ -10,6 +10,12 @@ With ``--weights FAMILY`` every case is the power diagram of its points with wei
 family (``--weights file:PATH`` reads them, one per point, for ``--points``). The reference
 must take weights; an implementation that does not is ``unsupported`` on every case and is
 left out of the gate (it says so), and a witness keeps its weights (``NAME.weights.npy``).
+
+With ``--radii FAMILY`` every case is the diagram of disks centred at its points with radii of
+that family (docs/apollonius.md; ``--radii file:PATH`` reads one radius per point of
+``--points``), judged by the certificate and comparison of disks
+(:mod:`vorobench.judge.disk_judging`). The reference must take disks; a witness keeps its radii
+(``NAME.radii.npy``) and is written unshrunk.
 """
 
 from __future__ import annotations
@@ -63,6 +69,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="validate power diagrams: weights of this family (radii, equal, integer, hidden; see "
                         "`vorobench datasets`), or file:PATH (one per point of --points); implementations "
                         "without weights are reported unsupported")
+    p.add_argument("--radii", type=_radii_option, default=None, metavar="FAMILY",
+                   help="validate diagrams of disks: radii of this family (random, separate, equal, nested, "
+                        "tangent, integer, huge, last_bit; see `vorobench datasets`), or file:PATH (one per point "
+                        "of --points); implementations without disks are reported unsupported")
     p.add_argument("--out", default="reports/validate", help="directory for summary.json and witnesses "
                                                              "(default reports/validate)")
     p.add_argument("--probes", type=cli_args.non_negative_int, default=DEFAULT_PROBES,
@@ -95,6 +105,17 @@ def _weights_option(text: str) -> str:
     return weight_family(text)
 
 
+def _radii_option(text: str) -> str:
+    """``--radii``: a radius family, or ``file:PATH`` of a radii file."""
+    if text.startswith("file:") and len(text) > len("file:"):
+        return text
+    name = text.strip()
+    if name not in datasets_gen.RADIUS_FAMILIES:
+        raise argparse.ArgumentTypeError(f"unknown radius family {text!r}; available: "
+                                         f"{', '.join(datasets_gen.RADIUS_FAMILIES)} (see `vorobench datasets`)")
+    return name
+
+
 def _weights_of(args: argparse.Namespace, points: np.ndarray, seed: Optional[int]) -> Optional[np.ndarray]:
     """The weights of a case's points under ``--weights`` (None: ordinary diagrams)."""
     family = args.weights
@@ -114,16 +135,29 @@ def _cases(args: argparse.Namespace) -> list["ValidationCase"]:
 
     if args.weights is not None and args.weights.startswith("file:") and not args.points:
         raise ValueError("--weights file:PATH gives the weights of --points FILE: give --points too")
+    if args.radii is not None and args.radii.startswith("file:") and not args.points:
+        raise ValueError("--radii file:PATH gives the radii of --points FILE: give --points too")
+    if args.radii is not None and args.weights is not None:
+        raise ValueError("--weights (power diagrams) and --radii (disks) go one at a time")
     family = args.weights or ""
+    radii_family = "" if args.radii is None else args.radii.rpartition("/")[2] if args.radii.startswith("file:") \
+        else args.radii
     if args.points:
         pts = datasets_gen.load(args.points)
+        radii = None
+        if args.radii is not None:
+            radii = datasets_gen.load_weights(args.radii[len("file:"):]) if args.radii.startswith("file:") \
+                else datasets_gen.radii(args.radii, pts, seed=0)
+            if radii.shape[0] != pts.shape[0]:
+                raise ValueError(f"{args.radii}: {radii.shape[0]} radii for {pts.shape[0]} points")
         return [ValidationCase(Path(args.points).name, int(pts.shape[0]), None, family, pts,
-                               _weights_of(args, pts, None))]
+                               _weights_of(args, pts, None), radii_family, radii)]
     files = [d for d in args.datasets if d.startswith(datasets_gen.FILE_PREFIX)]
     names = cli_args.selection([d for d in args.datasets if d not in files], datasets_gen.available(), "dataset") \
         if len(files) < len(args.datasets) else []
     names += files
-    return [ValidationCase(d, n, s, family) for d in names for n in args.sizes for s in args.seeds]
+    return [ValidationCase(d, n, s, family, radii_family=radii_family)
+            for d in names for n in args.sizes for s in args.seeds]
 
 
 def _declared(args: argparse.Namespace) -> dict[str, "Declaration"]:
@@ -139,6 +173,10 @@ def _declared(args: argparse.Namespace) -> dict[str, "Declaration"]:
         weighted = [n for n, d in declared.items() if d.weighted]
         raise ValueError(f"the reference {args.reference} does not take weights, so it cannot judge weighted cases; "
                          f"choose one that does with --reference ({', '.join(weighted) or 'none here'})")
+    if args.radii is not None and not declared[args.reference].apollonius:
+        takers = [n for n, d in declared.items() if d.apollonius]
+        raise ValueError(f"the reference {args.reference} does not take disks, so it cannot judge cases of disks; "
+                         f"choose one that does with --reference ({', '.join(takers) or 'none here'})")
     # The reference is certified too: it always has a row, first.
     order = [args.reference] + [n for n in declared if n != args.reference and (every or n in names)]
     return {n: declared[n] for n in order}
@@ -167,6 +205,11 @@ def run(args: argparse.Namespace) -> int:
     if unweighted:
         console.print(f"[dim]weights {escape(family)}: {escape(', '.join(unweighted))} "
                       f"{'does' if len(unweighted) == 1 else 'do'} not take weights: unsupported[/]")
+    radii_family = cases[0].radii_family if cases else ""
+    no_disks = [n for n in names if radii_family and not declared[n].apollonius]
+    if no_disks:
+        console.print(f"[dim]radii {escape(radii_family)}: {escape(', '.join(no_disks))} "
+                      f"{'does' if len(no_disks) == 1 else 'do'} not take disks: unsupported[/]")
     try:
         with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
                       console=console, transient=True) as progress:
@@ -187,8 +230,9 @@ def run(args: argparse.Namespace) -> int:
                                                 f"({f.sites.shape[0]} points)"))
     finally:
         close_shared_judges()
-    summary = validation.summarise(campaign, len(cases), names, reference, declared, family, args.timeout)
-    _print_matrix(console, summary, names, reference, len(cases), family)
+    summary = validation.summarise(campaign, len(cases), names, reference, declared, family, args.timeout,
+                                   radii_family)
+    _print_matrix(console, summary, names, reference, len(cases), family, radii_family)
     for note in summary["notes"]:
         console.print(f"[dim]note:[/] {escape(note)}")
     for failure in campaign.failures:
@@ -232,14 +276,16 @@ def _check_outputs(args: argparse.Namespace) -> None:
             raise ValueError(f"{option} {value}: {target.parent} is not a directory")
 
 
-def _print_matrix(console: Console, summary: dict, names: list[str], reference: str, cases: int, family: str) -> None:
+def _print_matrix(console: Console, summary: dict, names: list[str], reference: str, cases: int, family: str,
+                  radii_family: str = "") -> None:
     """Implementation x dataset (datasets as rows so that many fit on a terminal), the worst
     verdict over sizes and seeds."""
     from vorobench.harness.validation import worst
 
     records = summary["results"]
     table = Table(title=f"cross-validation against {escape(reference)} ({cases} cases"
-                        + (f"; power diagrams, {escape(family)} weights)" if family else ")"))
+                        + (f"; power diagrams, {escape(family)} weights)" if family else
+                           f"; disks, {escape(radii_family)} radii)" if radii_family else ")"))
     table.add_column("dataset")
     for name in names:
         table.add_column(escape(name) + (" (ref)" if name == reference else ""))

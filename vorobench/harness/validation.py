@@ -30,7 +30,8 @@ __all__ = ["ValidationCase", "Failure", "Campaign", "judge_case_task", "run_camp
 @dataclass(frozen=True)
 class ValidationCase:
     """One case of a campaign: a named dataset at (n, seed), or given points (``seed`` None)
-    with their weights; ``family`` names the weights of generated points ("" for none)."""
+    with their weights; ``family`` names the weights of generated points ("" for none), and
+    ``radii_family`` the radii that make them disks (docs/apollonius.md; "" for points)."""
 
     dataset: str
     n: int
@@ -38,11 +39,14 @@ class ValidationCase:
     family: str = ""
     points: Optional[np.ndarray] = field(default=None, compare=False, repr=False)
     weights: Optional[np.ndarray] = field(default=None, compare=False, repr=False)
+    radii_family: str = ""
+    radii: Optional[np.ndarray] = field(default=None, compare=False, repr=False)
 
     @property
     def label(self) -> str:
         text = f"{self.dataset} n={self.n}" + (f" seed={self.seed}" if self.seed is not None else "")
-        return text + (f" weights={self.family}" if self.family else "")
+        return text + (f" weights={self.family}" if self.family else "") + \
+            (f" radii={self.radii_family}" if self.radii_family else "")
 
     def input(self) -> tuple[np.ndarray, Optional[np.ndarray]]:
         """(points, weights or None), generated from the dataset when none were given."""
@@ -52,9 +56,19 @@ class ValidationCase:
         weights = datasets_gen.weights(self.family, points, seed=self.seed) if self.family else None
         return points, weights
 
+    def disk_radii(self, points: np.ndarray) -> Optional[np.ndarray]:
+        """The radii of the case's disks (None: a case of points)."""
+        if self.radii is not None or not self.radii_family:
+            return self.radii
+        return datasets_gen.radii(self.radii_family, points, seed=self.seed or 0)
+
     def key(self) -> dict[str, Any]:
-        """The case's columns in every record: dataset, weight family, n, seed."""
-        return dict(dataset=self.dataset, weights=self.family, n=self.n, seed=self.seed)
+        """The case's columns in every record: dataset, weight family, n, seed (and the radius
+        family of a run of disks)."""
+        key = dict(dataset=self.dataset, weights=self.family, n=self.n, seed=self.seed)
+        if self.radii_family:
+            key["radii"] = self.radii_family
+        return key
 
 
 @dataclass
@@ -67,6 +81,7 @@ class Failure:
     verdict: CaseVerdict
     sites: np.ndarray
     weights: Optional[np.ndarray]
+    radii: Optional[np.ndarray] = None
 
     @property
     def blamed(self) -> str:
@@ -88,11 +103,12 @@ class Campaign:
 
 def judge_case_task(item: tuple) -> tuple:
     """One case on any worker, through the judging engine: (sites, [(impl, verdict, peer)],
-    site weights or None)."""
+    site weights or None, site radii or None)."""
     case, names, reference, options = item
     points, weights = case.input()
-    judged = shared_judge(names, reference, **dict(options)).judge(points, weights=weights)
-    return judged.sites, judged.rows, judged.weights
+    radii = case.disk_radii(points)
+    judged = shared_judge(names, reference, **dict(options)).judge(points, weights=weights, radii=radii)
+    return judged.sites, judged.rows, judged.weights, judged.radii
 
 
 def run_campaign(cases: Sequence[ValidationCase], names: Sequence[str], reference: str, options: tuple, *,
@@ -118,11 +134,11 @@ def run_campaign(cases: Sequence[ValidationCase], names: Sequence[str], referenc
                                  for name in names]
             continue
         campaign.judged += 1
-        sites, checks, site_weights = judged
+        sites, checks, site_weights, site_radii = judged
         for name, verdict, peer in checks:
             campaign.records.append(dict(case.key(), exact_peer=peer, **verdict.to_dict()))
             if not verdict.passed:
-                campaign.failures.append(Failure(case, name, peer, verdict, sites, site_weights))
+                campaign.failures.append(Failure(case, name, peer, verdict, sites, site_weights, site_radii))
     return campaign
 
 
@@ -142,12 +158,16 @@ def witness_stem(impl: str, dataset: str, n: int, seed: Optional[int], family: s
 
 def write_failure_witness(folder: Path, stem: str, impl: str, sites: np.ndarray, weights: Optional[np.ndarray],
                           verdict: CaseVerdict, *, reference: str, exact_peer: Optional[str], probes: int,
-                          shrink: bool, seconds: float, judge):
+                          shrink: bool, seconds: float, judge, radii: Optional[np.ndarray] = None):
     """Shrink a failure (unless ``shrink`` is False, or it is a hang or an exhausted memory,
     which cost their whole allowance per try) and write its witness, weights kept with the
-    points: the :class:`~vorobench.judge.shrink.Witness`."""
+    points: the :class:`~vorobench.judge.shrink.Witness`. A case of disks (``radii``) is written
+    as it is: the shrinker does not take disks yet."""
     from vorobench.judge.shrink import shrink_case, write_witness
 
+    if radii is not None:
+        return write_witness(folder, stem, impl, sites, reference=reference, exact_peer=exact_peer, probes=probes,
+                             judge=judge, verdict=verdict, radii=radii)
     shrinkable = shrink and verdict.verdict not in (Verdict.TIMEOUT, Verdict.OOM)
     small, small_weights = (sites, weights) if not shrinkable else shrink_case(
         impl, sites, verdict, reference=reference, exact_peer=exact_peer, probes=probes, time_budget=seconds,
@@ -165,10 +185,11 @@ def write_witnesses(campaign: Campaign, out: Path, names: Sequence[str], referen
         case = failure.case
         with on_witness(failure) or contextlib.nullcontext():
             w = write_failure_witness(out / "witnesses", witness_stem(failure.impl, case.dataset, case.n, case.seed,
-                                                                       case.family, failure.exact_peer),
+                                                                       case.family or case.radii_family,
+                                                                       failure.exact_peer),
                                       failure.impl, failure.sites, failure.weights, failure.verdict,
                                       reference=reference, exact_peer=failure.exact_peer, probes=probes,
-                                      shrink=shrink, seconds=seconds, judge=judge)
+                                      shrink=shrink, seconds=seconds, judge=judge, radii=failure.radii)
         campaign.witnesses.append(dict(impl=failure.impl, **case.key(), verdict=failure.verdict.verdict,
                                        points=str(w.points), command=str(w.command),
                                        picture=str(w.picture) if w.picture else None, n_points=w.n_points,
@@ -181,12 +202,13 @@ def worst(verdicts: Sequence[str]) -> str:
 
 
 def summarise(campaign: Campaign, cases: int, names: Sequence[str], reference: str,
-              declared: dict[str, Declaration], family: str, timeout: float) -> dict[str, Any]:
+              declared: dict[str, Declaration], family: str, timeout: float, radii_family: str = "") -> dict[str, Any]:
     """The gate and its summary: every planned case judged, every verdict a pass, and every
     implementation judged at least once (one that does not take weights, on a weighted run,
-    is declared so up front and left out)."""
+    or disks, on a run of disks, is declared so up front and left out)."""
     records = campaign.records
     unweighted = [n for n in names if family and not declared[n].weighted]
+    no_disks = [n for n in names if radii_family and not declared[n].apollonius]
     notes = []
     float_impls = [n for n in names if not declared[n].exact]
     if float_impls:
@@ -203,11 +225,14 @@ def summarise(campaign: Campaign, cases: int, names: Sequence[str], reference: s
     blamed = [r for r in records if r["blame"] == "reference"]
     if blamed:
         notes.append(f"{len(blamed)} difference(s) were the reference's failure (see the {reference} row).")
-    never_judged = sorted({r["impl"] for r in records if r["impl"] not in unweighted}
+    never_judged = sorted({r["impl"] for r in records if r["impl"] not in unweighted + no_disks}
                           - {r["impl"] for r in records if r["verdict"] != Verdict.UNSUPPORTED})
     if unweighted:
         notes.append(f"{', '.join(unweighted)} {'does' if len(unweighted) == 1 else 'do'} not take weights: "
                      f"unsupported on every weighted case, and not part of the gate.")
+    if no_disks:
+        notes.append(f"{', '.join(no_disks)} {'does' if len(no_disks) == 1 else 'do'} not take disks: "
+                     f"unsupported on every case of disks, and not part of the gate.")
     if never_judged:
         notes.append(f"{', '.join(never_judged)} declared every case unsupported: nothing of "
                      f"{'it' if len(never_judged) == 1 else 'them'} was judged, so the gate does not pass.")
@@ -218,11 +243,12 @@ def summarise(campaign: Campaign, cases: int, names: Sequence[str], reference: s
     nothing_judged = bool(cases) and not (set(asked) & judged_impls)
     if nothing_judged:
         notes.append(f"nothing of {', '.join(asked)} was judged (unsupported on every case"
-                     + (f"; {family} weights" if family else "") + "): a gate with nothing judged does not pass.")
+                     + (f"; {family} weights" if family else "") + (f"; {radii_family} radii" if radii_family else "")
+                     + "): a gate with nothing judged does not pass.")
     passed = (not campaign.failures and not campaign.lost and campaign.judged == cases and not never_judged
               and not nothing_judged)
     return dict(reference=reference, impls=list(names), datasets=list(dict.fromkeys(r["dataset"] for r in records)),
-                weights=family or None, unweighted=unweighted, cases=cases, judged=campaign.judged,
+                weights=family or None, unweighted=unweighted, radii=radii_family or None, no_disks=no_disks, cases=cases, judged=campaign.judged,
                 complete=campaign.judged == cases, passed=passed, failures=len(campaign.failures),
                 lost=len(campaign.lost), failed_impls=sorted({f.blamed for f in campaign.failures}),
                 never_judged=never_judged, nothing_judged=asked if nothing_judged else [], timeout=timeout, notes=notes, witnesses=campaign.witnesses,

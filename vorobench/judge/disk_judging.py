@@ -308,6 +308,18 @@ class DiskComparison:
     detail: str
     differences: int = 0
 
+    @property
+    def equal(self) -> bool:
+        """Whether they agree (the engine's word for it; ``verdict`` says how)."""
+        return self.verdict is Verdict.EXACT
+
+    @property
+    def n_differences(self) -> int:
+        return self.differences
+
+    def to_dict(self) -> dict:
+        return {"verdict": self.verdict.value, "detail": self.detail, "n_differences": self.differences}
+
 
 def _half_edge_keys(d: Diagram) -> tuple[Counter, dict]:
     around = cells_around(d)

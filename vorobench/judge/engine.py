@@ -39,10 +39,11 @@ from impls import DEFAULT_REFERENCE
 from impls.base import BuildRaised, InputMutated
 from impls.executable.protocol import InvalidOutput
 from vorobench.core.diagram import Diagram
-from vorobench.core.prepare import prepare, prepare_weighted
+from vorobench.core.prepare import prepare, prepare_disks, prepare_weighted
 from vorobench.core.scaling import OutsideExactRange, exact_shift, scale_points
 from vorobench.judge.certificate import DEFAULT_PROBES, Certificate, certify
 from vorobench.judge.comparison import Comparison, compare
+from vorobench.judge.disk_judging import certify_disks, compare_disks
 from vorobench.judge.declarations import Declaration, declaration_from_data, declaration_of
 from vorobench.judge.pinning import declare_in_sandbox
 from vorobench.judge.defaults import DEFAULT_TIMEOUT
@@ -70,6 +71,9 @@ PASSING = (Verdict.EXACT, Verdict.WITHIN_TOLERANCE, Verdict.CERTIFIED, Verdict.U
 #: Why an implementation without ``build_weighted`` is ``unsupported`` on a weighted case.
 NO_WEIGHTS = "does not take weights"
 _NO_WEIGHTS_REASON = f"{NO_WEIGHTS} (it builds ordinary Voronoi diagrams only)"
+#: Why an implementation without ``build_apollonius`` is ``unsupported`` on a case of disks.
+NO_DISKS = "does not take disks"
+_NO_DISKS_REASON = f"{NO_DISKS} (docs/apollonius.md)"
 
 
 def prepare_case(points: ArrayLike, weights: Optional[ArrayLike] = None
@@ -80,6 +84,13 @@ def prepare_case(points: ArrayLike, weights: Optional[ArrayLike] = None
         return prepare(points)[0], None
     sites, site_weights, _ = prepare_weighted(points, weights)
     return sites, site_weights
+
+
+def prepare_disk_case(points: ArrayLike, radii: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """The centres and radii of a case of disks: rows with one centre merged, the largest radius
+    kept (:func:`~vorobench.core.prepare.prepare_disks`)."""
+    sites, site_radii, _ = prepare_disks(points, radii)
+    return sites, site_radii
 
 
 @dataclass
@@ -132,11 +143,13 @@ def declined_reason(impl: impls.Implementation, sites: np.ndarray) -> Optional[s
     return reason
 
 
-def build_only(impl_name: str, sites: np.ndarray, weights: Optional[np.ndarray] = None) -> BuildResult:
+def build_only(impl_name: str, sites: np.ndarray, weights: Optional[np.ndarray] = None,
+               radii: Optional[np.ndarray] = None) -> BuildResult:
     """Build prepared ``sites`` with ``impl_name`` in this process; every failure is recorded in
     the result, not raised. No certificate yet: that is the judge's, outside the implementation's
     process. ``weights`` (one per site) asks for the power diagram; an implementation that
-    does not take weights is ``unsupported`` (:data:`NO_WEIGHTS`). Only ``supports`` declines
+    does not take weights is ``unsupported`` (:data:`NO_WEIGHTS`); ``radii`` asks for the diagram
+    of disks, the same way (:data:`NO_DISKS`). Only ``supports`` declines
     sites: an exception of any class raised inside the build is a crash."""
     try:
         impl = impls.get(impl_name)
@@ -145,6 +158,9 @@ def build_only(impl_name: str, sites: np.ndarray, weights: Optional[np.ndarray] 
     result = BuildResult(impl_name, bool(impl.exact))
     if weights is not None and not impl.weighted:
         result.unsupported = _NO_WEIGHTS_REASON
+        return result
+    if radii is not None and not impl.apollonius:
+        result.unsupported = _NO_DISKS_REASON
         return result
     try:
         reason = declined_reason(impl, sites)
@@ -156,7 +172,8 @@ def build_only(impl_name: str, sites: np.ndarray, weights: Optional[np.ndarray] 
         return result
     t0 = time.perf_counter_ns()
     try:
-        result.diagram = impl.run(sites, None, check_supports=False, weights=weights, wrap_build_errors=True)
+        result.diagram = impl.run(sites, None, check_supports=False, weights=weights, radii=radii,
+                                  wrap_build_errors=True)
         if type(result.diagram) is not Diagram:
             raise TypeError(f"build returned {type(result.diagram).__name__}, not a Diagram")
     except BuildRaised as exc:              # whatever the class, raised by the build: a crash
@@ -177,10 +194,11 @@ def build_only(impl_name: str, sites: np.ndarray, weights: Optional[np.ndarray] 
 
 
 def certify_result(result: BuildResult, sites: np.ndarray, *, probes: int = DEFAULT_PROBES,
-                   seed: int = 0, weights: Optional[np.ndarray] = None) -> BuildResult:
+                   seed: int = 0, weights: Optional[np.ndarray] = None,
+                   radii: Optional[np.ndarray] = None) -> BuildResult:
     """Certify ``result``'s diagram, which must be the diagram of exactly ``sites`` (with
-    exactly ``weights``, or none): a diagram of other sites (moved, dropped, relabelled) or
-    other weights is a failure, however well it certifies."""
+    exactly ``weights`` or ``radii``, or neither): a diagram of other sites (moved, dropped,
+    relabelled), other weights or other radii is a failure, however well it certifies."""
     d = result.diagram
     if d is None:
         return result
@@ -198,8 +216,16 @@ def certify_result(result: BuildResult, sites: np.ndarray, *, probes: int = DEFA
                         "returned an ordinary diagram for weighted sites" if got is None else
                         "returned a power diagram for unweighted sites")
         return result
+    got = None if d.radii is None else np.asarray(d.radii)
+    if (got is None) != (radii is None) or (got is not None and not (
+            got.shape == radii.shape and np.array_equal(got, radii))):
+        result.diagram, result.failure = None, Verdict.WRONG_SITES
+        result.error = ("returned the diagram of other radii" if got is not None and radii is not None else
+                        "returned a diagram of points for disks" if got is None else
+                        "returned a diagram of disks for points")
+        return result
     try:
-        result.certificate = certify(d, probes=probes, seed=seed)
+        result.certificate = certify_disks(d) if radii is not None else certify(d, probes=probes, seed=seed)
     except Exception as exc:  # a diagram the certifier cannot even read certifies nothing
         result.diagram, result.failure = None, Verdict.NOT_CERTIFIED
         result.error = f"the certifier could not read the diagram: {type(exc).__name__}: {exc}"
@@ -207,12 +233,17 @@ def certify_result(result: BuildResult, sites: np.ndarray, *, probes: int = DEFA
 
 
 def build_and_certify(impl_name: str, sites: ArrayLike, *, probes: int = DEFAULT_PROBES, seed: int = 0,
-                      weights: Optional[ArrayLike] = None) -> BuildResult:
-    """Build ``sites`` (with ``weights``: the power diagram) with ``impl_name`` in this process
-    and certify the result. Call it directly only where a hard crash of the implementation may
-    take the calling process down; :class:`Judge` isolates the build."""
-    sites, weights = prepare_case(sites, weights)
-    return certify_result(build_only(impl_name, sites, weights), sites, probes=probes, seed=seed, weights=weights)
+                      weights: Optional[ArrayLike] = None, radii: Optional[ArrayLike] = None) -> BuildResult:
+    """Build ``sites`` (with ``weights``: the power diagram; with ``radii``: the diagram of
+    disks) with ``impl_name`` in this process and certify the result. Call it directly only where
+    a hard crash of the implementation may take the calling process down; :class:`Judge`
+    isolates the build."""
+    if radii is not None:
+        sites, radii = prepare_disk_case(sites, radii)
+    else:
+        sites, weights = prepare_case(sites, weights)
+    return certify_result(build_only(impl_name, sites, weights, radii), sites, probes=probes, seed=seed,
+                          weights=weights, radii=radii)
 
 
 _DIAGRAM_FIELDS = ("sites", "vertices", "origin", "twin", "next", "site")
@@ -224,16 +255,18 @@ def diagram_arrays(d: Diagram) -> dict[str, np.ndarray]:
     arrays = {f: np.asarray(getattr(d, f)) for f in _DIAGRAM_FIELDS}
     if d.weights is not None:
         arrays["weights"] = np.asarray(d.weights)
+    if d.radii is not None:
+        arrays["radii"] = np.asarray(d.radii)
     return arrays
 
 
 def diagram_from_arrays(arrays: dict[str, np.ndarray]) -> Diagram:
     """A :class:`Diagram` of the judge's own class from arrays a sandbox sent (a power
     diagram when they hold ``weights``)."""
-    return Diagram(*(arrays[f] for f in _DIAGRAM_FIELDS), weights=arrays.get("weights"))
+    return Diagram(*(arrays[f] for f in _DIAGRAM_FIELDS), weights=arrays.get("weights"), radii=arrays.get("radii"))
 
 
-def diagram_schema(n_sites: int, weighted: bool = False) -> dict[str, ArraySpec]:
+def diagram_schema(n_sites: int, weighted: bool = False, disks: bool = False) -> dict[str, ArraySpec]:
     """What the arrays of a diagram of ``n_sites`` sites may be on the wire: a Voronoi diagram
     of n sites has at most 2n - 5 vertices and 3n - 6 edges; twice that (and a constant) leaves
     room for any honest layout and still bounds what the judge allocates."""
@@ -245,12 +278,15 @@ def diagram_schema(n_sites: int, weighted: bool = False) -> dict[str, ArraySpec]
               "next": ArraySpec(ints, (half_edges,)), "site": ArraySpec(ints, (half_edges,))}
     if weighted:
         schema["weights"] = ArraySpec(("<f8",), (n,))
+    if disks:
+        schema["radii"] = ArraySpec(("<f8",), (n,))
     return schema
 
 
-def build_in_sandbox(impl_name: str, sites: np.ndarray, weights: Optional[np.ndarray] = None) -> tuple[dict, dict]:
+def build_in_sandbox(impl_name: str, sites: np.ndarray, weights: Optional[np.ndarray] = None,
+                     radii: Optional[np.ndarray] = None) -> tuple[dict, dict]:
     """Runs in a sandbox: :func:`build_only` as plain data and arrays (nothing to unpickle)."""
-    res = build_only(impl_name, sites, weights)
+    res = build_only(impl_name, sites, weights, radii)
     data = {"error": res.error, "unsupported": res.unsupported, "seconds": res.seconds,
             "failure": res.failure, "has_diagram": res.diagram is not None}
     arrays = diagram_arrays(res.diagram) if res.diagram is not None else None
@@ -382,7 +418,7 @@ def decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) -
                            result=res, reference_result=ref, comparison=comparison)
 
     if res.unsupported:
-        if res.unsupported.startswith(NO_WEIGHTS):
+        if res.unsupported.startswith((NO_WEIGHTS, NO_DISKS)):
             return make(Verdict.UNSUPPORTED, True, f"{impl_name} {res.unsupported}")
         return make(Verdict.UNSUPPORTED, True, f"{impl_name} does not support these sites: {res.unsupported}")
     if res.crashed:
@@ -405,7 +441,7 @@ def decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) -
         return make(alone, True, f"{impl_name} is {cert_note}; no comparison: reference {reference} "
                                        f"has no diagram ({why})", "reference" if ref.crashed else "")
     try:
-        comp = compare(ref.diagram, res.diagram, labels=(reference, impl_name))
+        comp = _compare(ref.diagram, res.diagram, (reference, impl_name))
     except Exception as exc:  # a diagram the comparer cannot read is no pass
         return make(Verdict.DIFFERS, False, f"{impl_name} could not be compared with {reference}: "
                                       f"{type(exc).__name__}: {exc}", "impl")
@@ -436,6 +472,14 @@ def decide(impl_name: str, reference: str, res: BuildResult, ref: BuildResult) -
                 blame, comp)
 
 
+def _compare(first: Diagram, second: Diagram, labels: tuple[str, str]) -> Any:
+    """The comparison of two diagrams of the same sites: of disks (:func:`compare_disks`) when
+    either has radii, else the general one."""
+    if first.radii is not None or second.radii is not None:
+        return compare_disks(first, second)
+    return compare(first, second, labels=labels)
+
+
 def _failed_near(res: BuildResult) -> str:
     cert = res.certificate
     return ", ".join(f"{c.name}: {c.detail}" for c in cert.checks if not c.ok) if cert else ""
@@ -450,7 +494,7 @@ def agree_exactly(first: BuildResult, second: BuildResult) -> CaseVerdict:
         return CaseVerdict(b, a, Verdict.UNSUPPORTED, True, second.certified, first.certified,
                            f"no comparison of {a} and {b}: a diagram is missing", result=second, reference_result=first)
     try:
-        comp = compare(first.diagram, second.diagram, labels=(a, b))
+        comp = _compare(first.diagram, second.diagram, (a, b))
     except Exception as exc:  # a diagram the comparer cannot read is no pass
         return CaseVerdict(b, a, Verdict.DIFFERS, False, second.certified, first.certified,
                            f"{a} and {b} could not be compared: {type(exc).__name__}: {exc}", "impl",
@@ -475,6 +519,7 @@ class CaseJudgement:
     sites: np.ndarray
     rows: list[tuple[str, CaseVerdict, Optional[str]]]
     weights: Optional[np.ndarray] = None
+    radii: Optional[np.ndarray] = None
 
     @property
     def passed(self) -> bool:
@@ -555,20 +600,23 @@ class Judge:
         self._sandboxes.clear()
 
     def build(self, name: str, sites: np.ndarray, *, probes: Optional[int] = None,
-              weights: Optional[np.ndarray] = None) -> BuildResult:
+              weights: Optional[np.ndarray] = None, radii: Optional[np.ndarray] = None) -> BuildResult:
         """``name``'s diagram of prepared ``sites`` (with ``weights``, one per site: the power
-        diagram) with its certificate; any failure is in the result."""
+        diagram; with ``radii``: the diagram of disks) with its certificate; any failure is in
+        the result."""
         probes = self.probes if probes is None else probes
         declared = self.declaration(name)
         if declared is None:
             return BuildResult(name, True, error=f"{name} could not be loaded: {self.why_undeclared(name)}",
                                failure=Verdict.CRASHED)
         if not self.isolate:
-            res = build_and_certify(name, sites, probes=probes, seed=self.seed, weights=weights)
+            res = build_and_certify(name, sites, probes=probes, seed=self.seed, weights=weights, radii=radii)
             res.exact = declared.exact
             return res
         if weights is not None and not declared.weighted:
             return BuildResult(name, declared.exact, unsupported=_NO_WEIGHTS_REASON)
+        if radii is not None and not declared.apollonius:
+            return BuildResult(name, declared.exact, unsupported=_NO_DISKS_REASON)
 
         box = self._sandboxes.get(name)
         if box is None:
@@ -577,31 +625,35 @@ class Judge:
                                                   memory_limit_mb=self.memory_limit_mb,
                                                   warmup_timeout=self.warmup_timeout, expected=declared)
         t0 = time.perf_counter_ns()
-        outcome = box.call(build_in_sandbox, name, sites, weights, timeout=self.timeout, step="build",
-                           schema=diagram_schema(sites.shape[0], weights is not None))
+        outcome = box.call(build_in_sandbox, name, sites, weights, radii, timeout=self.timeout, step="build",
+                           schema=diagram_schema(sites.shape[0], weights is not None, radii is not None))
         if outcome.ok:
             return certify_result(_result_from_sandbox(name, declared.exact, *outcome.value), sites, probes=probes,
-                                  seed=self.seed, weights=weights)
+                                  seed=self.seed, weights=weights, radii=radii)
         # An exception in the sandbox is the build's crash; timeout, oom and crashed are verdicts as they are.
         failure = Verdict.CRASHED if outcome.kind == OutcomeKind.ERROR else Verdict(outcome.kind)
         return BuildResult(name, declared.exact, error=outcome.message, failure=failure,
                            seconds=(time.perf_counter_ns() - t0) / 1e9)
 
     def judge(self, sites: ArrayLike, names: Optional[Sequence[str]] = None, *,
-              weights: Optional[ArrayLike] = None) -> CaseJudgement:
+              weights: Optional[ArrayLike] = None, radii: Optional[ArrayLike] = None) -> CaseJudgement:
         """Every implementation on ``sites`` (with ``weights``, one per point: the power
-        diagram): the reference's own row first, then each against the reference, and each
-        exact one also against the first exact one (exactly)."""
-        sites, weights = prepare_case(sites, weights)
+        diagram; with ``radii``: the diagram of disks): the reference's own row first, then
+        each against the reference, and each exact one also against the first exact one
+        (exactly)."""
+        if radii is not None:
+            sites, radii = prepare_disk_case(sites, radii)
+        else:
+            sites, weights = prepare_case(sites, weights)
         names = list(dict.fromkeys(names if names is not None else self.names))
         reference = self.reference
         t0 = time.perf_counter_ns()
-        ref = self.build(reference, sites, weights=weights)
+        ref = self.build(reference, sites, weights=weights, radii=radii)
         rows: list[tuple[str, CaseVerdict, Optional[str]]] = []
         anchor: Optional[BuildResult] = None
         for name in [reference] + [n for n in names if n != reference]:
             started = time.perf_counter_ns()
-            res = ref if name == reference else self.build(name, sites, weights=weights)
+            res = ref if name == reference else self.build(name, sites, weights=weights, radii=radii)
             verdict = decide(name, reference, res, ref)
             verdict.n_sites = int(sites.shape[0])
             verdict.seconds = ((time.perf_counter_ns() - (t0 if name == reference else started)) / 1e9)
@@ -611,15 +663,15 @@ class Judge:
                     anchor = res
                 else:
                     rows.append((name, agree_exactly(anchor, res), anchor.impl))
-        return CaseJudgement(sites, rows, weights)
+        return CaseJudgement(sites, rows, weights, radii)
 
 
 def judge_case(sites: ArrayLike, names: Sequence[str], reference: str = DEFAULT_REFERENCE, *,
-               weights: Optional[ArrayLike] = None, **options: Any) -> CaseJudgement:
-    """One case (with ``weights``: the power diagram) through a fresh :class:`Judge`
-    (``options`` as for Judge), its sandboxes closed after."""
+               weights: Optional[ArrayLike] = None, radii: Optional[ArrayLike] = None, **options: Any) -> CaseJudgement:
+    """One case (with ``weights``: the power diagram; with ``radii``: the diagram of disks)
+    through a fresh :class:`Judge` (``options`` as for Judge), its sandboxes closed after."""
     with Judge(names, reference, **options) as judge:
-        return judge.judge(sites, weights=weights)
+        return judge.judge(sites, weights=weights, radii=radii)
 
 
 #: Judges kept for the life of this process (a pool worker judges many cases), one per setup.

@@ -180,12 +180,13 @@ def _plugin_word(spec: str) -> str:
 def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[np.float64], *, reference: str,
                   exact_peer: Optional[str] = None, probes: int = 2000, judge: Optional[Judge] = None,
                   verdict: Optional[CaseVerdict] = None, picture: bool = True,
-                  weights: Optional[NDArray[np.float64]] = None) -> Witness:
+                  weights: Optional[NDArray[np.float64]] = None, radii: Optional[NDArray[np.float64]] = None) -> Witness:
     """Save ``points`` as ``NAME.npy`` (and ``weights`` as ``NAME.weights.npy``) with ``NAME.txt``
     (the command that reproduces the failure, with the ``--plugin`` modules of ``judge`` and the
     weights, and what it reports; ``verdict`` if given, else ``points`` judged again) and, with
     ``picture``, ``NAME.png`` (both diagrams, differing edges in red; a campaign out of time
-    leaves it out)."""
+    leaves it out). ``radii`` make the points disks: saved as ``NAME.radii.npy`` and named in the
+    command (a picture of curved cells is not drawn yet)."""
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     npy = directory / f"{name}.npy"
@@ -206,8 +207,13 @@ def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[n
         weights_path = directory / f"{name}.weights.npy"
         np.save(weights_path, np.asarray(weights, dtype=np.float64))
         command += f" --weights {shlex.quote(WEIGHTS_FILE_PREFIX + str(weights_path))}"
+    if radii is not None:               # likewise the radii of disks
+        radii_path = directory / f"{name}.radii.npy"
+        np.save(radii_path, np.asarray(radii, dtype=np.float64))
+        command += f" --radii {shlex.quote(WEIGHTS_FILE_PREFIX + str(radii_path))}"
+        picture = False
     lines = [command]
-    if program is not None:             # the program alone, on exactly the bytes it was given
+    if program is not None and radii is None:       # the program alone, on exactly the bytes it was given
         stdin = directory / f"{name}.stdin"
         stdin.write_bytes(program_input(program, points, weights))
         lines += ["", f"the program alone ({impl}, {program.input} input):", rerun_command(program, stdin)]
