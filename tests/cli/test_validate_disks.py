@@ -8,30 +8,18 @@ import pytest
 
 import datasets_gen
 import impls
+from disk_doubles import oracle, ordinary_build, points_for_disks
 from impls.base import Implementation
-from impls.halfplane import build as ordinary_build
-from impls.halfplane_disks import build as disks_build
 from vorobench.cli import main
-from vorobench.core.diagram import Diagram
-
-
-def _points_for_disks(sites, radii, stats=None) -> Diagram:
-    """The ordinary diagram of the centres, passed off as the diagram of the disks."""
-    d = ordinary_build(sites)
-    return Diagram(d.sites, d.vertices, d.origin, d.twin, d.next, d.site, radii=radii)
-
-
-def _oracle(sites, radii, stats=None) -> Diagram:
-    return disks_build(sites, radii, stats)
 
 
 @pytest.fixture
 def disk_impls():
     names = ["test_points_for_disks", "test_disks"]
     impls.register(Implementation(names[0], "the centres' diagram for disks", "O(n^2)", ordinary_build,
-                                  build_apollonius=_points_for_disks))
+                                  build_apollonius=points_for_disks))
     impls.register(Implementation(names[1], "the oracle again", "O(n^2)", ordinary_build,
-                                  build_apollonius=_oracle))
+                                  build_apollonius=oracle))
     yield names
     for name in names:
         impls.unregister(name)
@@ -55,6 +43,8 @@ def test_disks_pass_and_fail_where_they_should(tmp_path, capsys, disk_impls):
     assert by_impl[wrong] == {"not_certified"} and by_impl["qhull"] == {"unsupported"}
     assert summary["failed_impls"] == [wrong]
     witness = summary["witnesses"][0]
+    assert witness["n_points"] < 12 and witness["shrunk_verdict"] == "not_certified"       # shrunk, radii kept
+    assert np.load(witness["points"].replace(".npy", ".radii.npy")).shape == (witness["n_points"],)
     command = open(witness["command"]).read().splitlines()[0]
     assert "--radii file:" in command and command.endswith(".radii.npy")
     # the witness's command judges the same disks again, and fails the same way

@@ -40,6 +40,15 @@ def weight_family(text: str) -> str:
     return name
 
 
+def radius_family(text: str) -> str:
+    """A ``--radii`` value: the name of a radius family of ``datasets_gen`` (disks as sites)."""
+    name = text.strip()
+    if name not in datasets_gen.RADIUS_FAMILIES:
+        raise argparse.ArgumentTypeError(f"unknown radius family {text!r}; available: "
+                                         f"{', '.join(datasets_gen.RADIUS_FAMILIES)} (see `vorobench datasets`)")
+    return name
+
+
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--impls", type=cli_args.names, default=None,
                    help="comma-separated implementations (default: all available)")

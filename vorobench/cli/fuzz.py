@@ -16,7 +16,8 @@ that run. The log records digests of the implementations' code and of each plugi
 either changes, a rerun moves the old log aside and starts afresh.
 With ``--weights FAMILY`` every case is the power diagram of its points with weights of that
 family; the reference must take weights, and the implementations that do not are
-``unsupported`` (which passes).
+``unsupported`` (which passes). With ``--radii FAMILY`` every case is the diagram of disks
+centred at its points with radii of that family (docs/apollonius.md), the same way.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from rich.console import Console
 import datasets_gen
 import impls
 from vorobench.cli import args as cli_args
-from vorobench.cli.bench import weight_family
+from vorobench.cli.bench import radius_family, weight_family
 from vorobench.harness.campaign import INT_BOX, LOG_NAME, parse_budget
 
 # The harness and the judge are imported inside the functions that run the command, not here:
@@ -56,6 +57,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--weights", type=weight_family, default=None, metavar="FAMILY",
                    help="fuzz power diagrams: weights of this family (radii, equal, integer, hidden; see "
                         "`vorobench datasets`); implementations without weights are reported unsupported")
+    p.add_argument("--radii", type=radius_family, default=None, metavar="FAMILY",
+                   help="fuzz diagrams of disks: radii of this family (see `vorobench datasets`); "
+                        "implementations without disks are reported unsupported")
     p.add_argument("--probes", type=cli_args.non_negative_int, default=500,
                    help="random probes per certificate (default 500)")
     p.add_argument("--timeout", type=cli_args.positive_float, default=60.0,
@@ -86,6 +90,12 @@ def _declared(args: argparse.Namespace) -> dict:
         others = ", ".join(n for n, d in declared.items() if d.weighted) or "none here"
         raise ValueError(f"the reference {args.reference} does not take weights, so it cannot judge weighted "
                          f"cases; choose one that does with --reference ({others})")
+    if args.radii and args.weights:
+        raise ValueError("--weights (power diagrams) and --radii (disks) go one at a time")
+    if args.radii and not declared[args.reference].apollonius:
+        others = ", ".join(n for n, d in declared.items() if d.apollonius) or "none here"
+        raise ValueError(f"the reference {args.reference} does not take disks, so it cannot judge cases of disks; "
+                         f"choose one that does with --reference ({others})")
     return declared
 
 
@@ -107,6 +117,7 @@ def run(args: argparse.Namespace) -> int:
     declared = _declared(args)
     names = list(dict.fromkeys(args.impls)) if args.impls else list(declared)
     unweighted = [n for n in names if args.weights and not declared[n].weighted]
+    no_disks = [n for n in names if args.radii and not declared[n].apollonius]
     generators = list(args.generators) if args.generators else datasets_gen.available() + [INT_BOX]
     unknown = [g for g in generators if g != INT_BOX and g not in datasets_gen.available()]
     if unknown:
@@ -115,7 +126,11 @@ def run(args: argparse.Namespace) -> int:
              else f"the Dask cluster at {args.executor}")
     console.print(f"fuzzing {', '.join(names)} against {args.reference} with {where}; budget {args.budget}; "
                   f"log {out / LOG_NAME}"
-                  + (f"; power diagrams, {args.weights} weights" if args.weights else ""))
+                  + (f"; power diagrams, {args.weights} weights" if args.weights else "")
+                  + (f"; disks, {args.radii} radii" if args.radii else ""))
+    if no_disks:
+        console.print(f"radii {args.radii}: {', '.join(no_disks)} {'does' if len(no_disks) == 1 else 'do'} "
+                      f"not take disks: unsupported")
     if unweighted:
         console.print(f"weights {args.weights}: {', '.join(unweighted)} {'does' if len(unweighted) == 1 else 'do'} "
                       f"not take weights: unsupported")
@@ -124,7 +139,7 @@ def run(args: argparse.Namespace) -> int:
                      probes=args.probes, plugins=args.plugin, shrink=not args.no_shrink,
                      shrink_seconds=args.shrink_seconds, console=console, timeout=args.timeout,
                      memory_limit_mb=args.memory_limit, weights=args.weights or "",
-                     declarations=tuple(declared.items()))
+                     declarations=tuple(declared.items()), radii=args.radii or "")
     # The gate covers the whole campaign: a failure logged by an earlier run still fails it.
     # A case the budget cut short was not judged: no green gate over it.
     bad = s.failed + s.failed_before + s.lost + s.errors + s.cut
@@ -134,7 +149,7 @@ def run(args: argparse.Namespace) -> int:
                "seconds": s.seconds,
                "cases_per_second": s.rate, "witnesses": s.witnesses,
                "executor": args.executor, "workers": args.workers, "impls": names, "generators": generators,
-               "weights": args.weights, "unweighted": unweighted,
+               "weights": args.weights, "unweighted": unweighted, "radii": args.radii, "no_disks": no_disks,
                "declarations": {n: d.to_dict() for n, d in declared.items()}}
     write_json(out / "summary.json", summary)
     close_shared_judges()

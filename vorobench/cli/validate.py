@@ -14,8 +14,8 @@ left out of the gate (it says so), and a witness keeps its weights (``NAME.weigh
 With ``--radii FAMILY`` every case is the diagram of disks centred at its points with radii of
 that family (docs/apollonius.md; ``--radii file:PATH`` reads one radius per point of
 ``--points``), judged by the certificate and comparison of disks
-(:mod:`vorobench.judge.disk_judging`). The reference must take disks; a witness keeps its radii
-(``NAME.radii.npy``) and is written unshrunk.
+(:mod:`vorobench.judge.disk_judging`). The reference must take disks; a witness is shrunk with
+its radii kept row for row (``NAME.radii.npy``).
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from rich.table import Table
 import datasets_gen
 from impls import DEFAULT_REFERENCE
 from vorobench.cli import args as cli_args
-from vorobench.cli.bench import weight_family
+from vorobench.cli.bench import radius_family, weight_family
 from vorobench.judge.defaults import DEFAULT_PROBES, DEFAULT_TIMEOUT
 from vorobench.judge.outcomes import Verdict
 
@@ -109,11 +109,7 @@ def _radii_option(text: str) -> str:
     """``--radii``: a radius family, or ``file:PATH`` of a radii file."""
     if text.startswith("file:") and len(text) > len("file:"):
         return text
-    name = text.strip()
-    if name not in datasets_gen.RADIUS_FAMILIES:
-        raise argparse.ArgumentTypeError(f"unknown radius family {text!r}; available: "
-                                         f"{', '.join(datasets_gen.RADIUS_FAMILIES)} (see `vorobench datasets`)")
-    return name
+    return radius_family(text)
 
 
 def _weights_of(args: argparse.Namespace, points: np.ndarray, seed: Optional[int]) -> Optional[np.ndarray]:

@@ -32,7 +32,7 @@ import vorobench.judge
 from vorobench.harness.atomic import json_value
 from vorobench.harness.campaign import INT_BOX, LOG_NAME, Budget, parse_budget
 from vorobench.harness.executors import run_tasks
-from vorobench.judge.engine import CaseVerdict, Judge, prepare_case, shared_judge
+from vorobench.judge.engine import CaseVerdict, Judge, prepare_case, prepare_disk_case, shared_judge
 from vorobench.judge.outcomes import Status, Verdict
 from vorobench.judge.shrink import Witness, bounded_timeout, judge, shrink_rows, write_witness
 
@@ -79,6 +79,8 @@ class FuzzCase:
     skip: tuple[str, ...] = ()
     #: (name, Declaration) pinned for the campaign (read in a sandbox; none: read on first use).
     declarations: tuple = ()
+    #: The radius family of a campaign of disks ("" for points; docs/apollonius.md).
+    radii: str = ""
 
     def judge(self):
         """This process's judge for the case's implementations and options; plugins are loaded
@@ -97,13 +99,28 @@ class FuzzCase:
 
     def __str__(self) -> str:
         weights = f" weights={self.weights}" if self.weights else ""
-        return f"{self.generator} n={self.n} seed={self.seed}{weights}"
+        radii = f" radii={self.radii}" if self.radii else ""
+        return f"{self.generator} n={self.n} seed={self.seed}{weights}{radii}"
 
     def input(self) -> tuple[np.ndarray, Optional[np.ndarray]]:
         """The case's points and their weights (None for an ordinary case)."""
         points = generate(self.generator, self.n, self.seed)
         weights = datasets_gen.weights(self.weights, points, seed=self.seed) if self.weights else None
         return points, weights
+
+    def disk_radii(self, points: np.ndarray) -> Optional[np.ndarray]:
+        """The radii that make the case's points disks (None for a case of points)."""
+        return datasets_gen.radii(self.radii, points, seed=self.seed) if self.radii else None
+
+    def prepared(self) -> tuple[np.ndarray, Optional[np.ndarray], Optional[np.ndarray]]:
+        """The case's sites as the judge gets them, with their weights or radii (or neither)."""
+        points, weights = self.input()
+        radii = self.disk_radii(points)
+        if radii is not None:
+            sites, site_radii = prepare_disk_case(points, radii)
+            return sites, None, site_radii
+        sites, site_weights = prepare_case(points, weights)
+        return sites, site_weights, None
 
 
 def int_box(n: int, seed: int) -> np.ndarray:
@@ -145,7 +162,12 @@ def _verdict_record(v, peer: Optional[str]) -> dict[str, Any]:
 def _cut_record(case: FuzzCase, note: str) -> dict[str, Any]:
     """The record of a case the budget's end kept from being judged (a rerun checks it again)."""
     return {"generator": case.generator, "n": case.n, "seed": case.seed, "weights": case.weights, "status": "cut",
-            "note": note, "results": [], "passed": False}
+            "note": note, "results": [], "passed": False, **_radii_field(case)}
+
+
+def _radii_field(case: FuzzCase) -> dict[str, str]:
+    """A record's radius family, for a campaign of disks only (the logs of others stay as they were)."""
+    return {"radii": case.radii} if case.radii else {}
 
 
 def check_fuzz_case(case: FuzzCase) -> dict[str, Any]:
@@ -161,12 +183,12 @@ def check_fuzz_case(case: FuzzCase) -> dict[str, Any]:
     points, weights = case.input()
     engine = case.judge()
     with bounded_timeout(engine, allowance):
-        judged = engine.judge(points, names, weights=weights)
+        judged = engine.judge(points, names, weights=weights, radii=case.disk_radii(points))
     results = [_verdict_record(v, peer) for _, v, peer in judged.rows]
     late = [v["impl"] for v in results if v["verdict"] == Verdict.TIMEOUT]
     if late and allowance < case.timeout:
         return _cut_record(case, f"{', '.join(late)} did not finish in the {allowance:.1f} s left of the budget")
-    record = {"generator": case.generator, "n": case.n, "seed": case.seed, "weights": case.weights,
+    record = {"generator": case.generator, "n": case.n, "seed": case.seed, "weights": case.weights, **_radii_field(case),
               "status": "checked", "n_points": int(points.shape[0]), "n_sites": int(judged.sites.shape[0]),
               "results": results, "passed": judged.passed, "seconds": time.perf_counter() - t0,
               "host": socket.gethostname()}
@@ -226,21 +248,25 @@ class ShrinkTask:
 
 @dataclass
 class Shrunk:
-    """What shrinking a failure gave: the witness's sites (with their weights, or None) and its verdict."""
+    """What shrinking a failure gave: the witness's sites (with their weights, or None) and its
+    verdict; ``radii`` for a case of disks."""
 
     sites: np.ndarray
     weights: Optional[np.ndarray]
     verdict: CaseVerdict
+    radii: Optional[np.ndarray] = None
 
 
 def _row_judge(failure: Failure, sites: np.ndarray, weights: Optional[np.ndarray],
-               engine: Judge) -> Callable[[np.ndarray], CaseVerdict]:
-    """A function judging ``failure``'s implementation on some rows of the sites (and weights)."""
+               engine: Judge, radii: Optional[np.ndarray] = None) -> Callable[[np.ndarray], CaseVerdict]:
+    """A function judging ``failure``'s implementation on some rows of the sites (and weights,
+    or radii)."""
     case = failure.case
 
     def judge_rows(idx: np.ndarray) -> CaseVerdict:
         return judge(failure.impl, sites[idx], reference=case.reference, exact_peer=failure.peer,
-                     probes=case.probes, judge=engine, weights=None if weights is None else weights[idx])
+                     probes=case.probes, judge=engine, weights=None if weights is None else weights[idx],
+                     radii=None if radii is None else radii[idx])
 
     return judge_rows
 
@@ -254,18 +280,20 @@ def shrink_failure(task: ShrinkTask) -> Shrunk:
     failure = task.failure
     case = failure.case
     ends = time.monotonic() + task.time_budget()
-    sites, weights = prepare_case(*case.input())
+    sites, weights, radii = case.prepared()
     if ends <= time.monotonic():        # sent before the budget ended, started after
-        return Shrunk(sites, weights, failure.recorded_verdict())
+        return Shrunk(sites, weights, failure.recorded_verdict(), radii)
     engine = case.judge()
-    judge_rows = _row_judge(failure, sites, weights, engine)
+    judge_rows = _row_judge(failure, sites, weights, engine, radii)
     with bounded_timeout(engine, ends - time.monotonic()):
         verdict = judge_rows(np.arange(sites.shape[0]))
     if verdict.passed or verdict.verdict != failure.verdict:
-        return Shrunk(sites, weights, failure.recorded_verdict() if verdict.verdict == Verdict.TIMEOUT else verdict)
+        return Shrunk(sites, weights, failure.recorded_verdict() if verdict.verdict == Verdict.TIMEOUT else verdict,
+                      radii)
     keep, verdict = shrink_rows(sites.shape[0], judge_rows, verdict, judge=engine,
                                 time_budget=ends - time.monotonic())
-    return Shrunk(sites[keep], None if weights is None else weights[keep], verdict)
+    return Shrunk(sites[keep], None if weights is None else weights[keep], verdict,
+                  None if radii is None else radii[keep])
 
 
 @dataclass
@@ -368,7 +396,7 @@ def plugin_digest(spec: str) -> str:
 
 
 def _setup_record(impls: Sequence[str], reference: str, probes: int, plugins: Sequence[str], min_n: int, max_n: int,
-                  campaign_seed: int, weights: str) -> dict[str, Any]:
+                  campaign_seed: int, weights: str, radii: str = "") -> dict[str, Any]:
     """What a log answers for: the options that decide which cases are judged and how, and
     (under "code") digests of the code under test and of each plugin."""
     setup: dict[str, Any] = {"kind": "setup", "impls": sorted(impls), "reference": reference, "probes": probes,
@@ -376,6 +404,8 @@ def _setup_record(impls: Sequence[str], reference: str, probes: int, plugins: Se
                              "min_n": min_n, "max_n": max_n, "campaign_seed": campaign_seed}
     if weights:         # only then: the logs of ordinary campaigns stay valid
         setup["weights"] = weights
+    if radii:
+        setup["radii"] = radii
     setup["code"] = {"source": source_digest(),
                      "plugins": {str(Path(p).resolve()) if _is_plugin_file(p) else p: plugin_digest(p)
                                  for p in plugins}}
@@ -494,6 +524,7 @@ class _Campaign:
     clock: _Clock
     console: Any = None
     declarations: tuple = ()
+    radii: str = ""
     summary: CampaignSummary = field(default_factory=CampaignSummary)
     failures: list[Failure] = field(default_factory=list)
     #: Failures whose witness is written as found: costly ones, repeated kinds, those left no time.
@@ -506,7 +537,8 @@ class _Campaign:
 
     def case(self, generator: str, n: int, seed: int, skip: Sequence[str] = ()) -> FuzzCase:
         return FuzzCase(generator, n, seed, self.impls, self.reference, self.probes, self.plugins, self.timeout,
-                        self.memory_limit_mb, self.weights, self.clock.wall_end, tuple(skip), self.declarations)
+                        self.memory_limit_mb, self.weights, self.clock.wall_end, tuple(skip), self.declarations,
+                        self.radii)
 
     def say(self, text: str) -> None:
         if self.console is not None:
@@ -588,7 +620,7 @@ class _Campaign:
         else:
             # The worker died (every try) or the task raised: recorded, never dropped.
             record = {"generator": case.generator, "n": case.n, "seed": case.seed, "weights": case.weights,
-                      "status": Status.LOST if res.lost else Status.ERROR, "error": res.lost or res.error,
+                      **_radii_field(case), "status": Status.LOST if res.lost else Status.ERROR, "error": res.lost or res.error,
                       "attempts": res.attempts, "results": [], "passed": False}
             self.summary.lost += bool(res.lost)
             self.summary.errors += bool(res.error)
@@ -647,7 +679,7 @@ class _Campaign:
     def _write_all_as_found(self, log) -> None:
         """Write the witnesses of the failures not shrunk, as found."""
         for failure in self.as_found + self.failures[self.triaged:]:
-            if self.weights and self._out_of_time():
+            if (self.weights or self.radii) and self._out_of_time():
                 # A weighted witness comes with its picture (a fifth of a second each): past the
                 # budget it is left to a rerun, which writes every failure still without a witness.
                 self.summary.unwitnessed += 1
@@ -658,21 +690,22 @@ class _Campaign:
                      f"a rerun into the same --out writes them")
 
     def _write_shrunk(self, failure: Failure, shrunk: Shrunk) -> Witness:
-        return self._write(failure, shrunk.sites, shrunk.weights, shrunk.verdict, picture=not self._out_of_time())
+        return self._write(failure, shrunk.sites, shrunk.weights, shrunk.verdict, picture=not self._out_of_time(),
+                           radii=shrunk.radii)
 
     def _write_as_found(self, failure: Failure) -> Witness:
         """The failing case's sites with the logged verdict: nothing judged again, no picture."""
-        sites, weights = prepare_case(*failure.case.input())
-        return self._write(failure, sites, weights, failure.recorded_verdict(), picture=False)
+        sites, weights, radii = failure.case.prepared()
+        return self._write(failure, sites, weights, failure.recorded_verdict(), picture=False, radii=radii)
 
     def _write(self, failure: Failure, sites: np.ndarray, weights: Optional[np.ndarray], verdict: CaseVerdict,
-               picture: bool) -> Witness:
+               picture: bool, radii: Optional[np.ndarray] = None) -> Witness:
         case = failure.case
-        stem = _witness_stem(case.key, failure.impl, failure.peer, self.weights)
+        stem = _witness_stem(case.key, failure.impl, failure.peer, self.weights or self.radii)
         options = dict(reference=self.reference, exact_peer=failure.peer, probes=self.probes, judge=case.judge(),
                        verdict=verdict)
         return write_witness(self.out / "witnesses", stem, failure.impl, sites, picture=picture, weights=weights,
-                             **options)
+                             radii=radii, **options)
 
     def _record(self, log, failure: Failure, w: Witness, *, shrunk: bool) -> None:
         case = failure.case
@@ -688,19 +721,21 @@ def run_campaign(out: Path, impls: Sequence[str], generators: Sequence[str], bud
                  max_n: int = 40, campaign_seed: int = 0, probes: int = 500, plugins: Sequence[str] = (),
                  shrink: bool = True, shrink_seconds: float = 30.0, console=None, timeout: float = 60.0,
                  memory_limit_mb: Optional[float] = None, weights: str = "",
-                 declarations: tuple = ()) -> CampaignSummary:
+                 declarations: tuple = (), radii: str = "") -> CampaignSummary:
     """Check cases until the budget is spent, skipping those already in ``out/cases.jsonl``;
     then shrink the failures not yet witnessed and write their witnesses. A duration budget
     covers all of it (see the module's docstring). Returns what this run did. ``weights``: a
-    weight family of ``datasets_gen`` (power diagrams), or "" (ordinary diagrams).
+    weight family of ``datasets_gen`` (power diagrams), or "" (ordinary diagrams); ``radii``: a
+    radius family (diagrams of disks), or "".
     ``declarations``: (name, Declaration) pinned for the run (see :mod:`vorobench.judge.pinning`)."""
     out.mkdir(parents=True, exist_ok=True)
     # A log answers only for the setup it was made with: reusing it under other implementations,
     # reference, probes, plugins or code would skip cases nobody judged that way.
-    setup = _setup_record(impls, reference, probes, plugins, min_n, max_n, campaign_seed, weights)
+    setup = _setup_record(impls, reference, probes, plugins, min_n, max_n, campaign_seed, weights, radii)
     earlier = _load_log(out, setup, console)
     campaign = _Campaign(out, tuple(impls), reference, probes, tuple(plugins), timeout, memory_limit_mb, weights,
-                         executor, workers, shrink, _Clock.start(budget), console, declarations=tuple(declarations))
+                         executor, workers, shrink, _Clock.start(budget), console, declarations=tuple(declarations),
+                         radii=radii)
     done = {(r["generator"], r["n"], r["seed"]) for r in earlier if r.get("kind", "case") == "case"}
     campaign.summary.previously = len(done)
     campaign.summary.failed_before = sum(1 for r in earlier if r.get("kind", "case") == "case" and not r.get("passed"))

@@ -161,19 +161,19 @@ def write_failure_witness(folder: Path, stem: str, impl: str, sites: np.ndarray,
                           shrink: bool, seconds: float, judge, radii: Optional[np.ndarray] = None):
     """Shrink a failure (unless ``shrink`` is False, or it is a hang or an exhausted memory,
     which cost their whole allowance per try) and write its witness, weights kept with the
-    points: the :class:`~vorobench.judge.shrink.Witness`. A case of disks (``radii``) is written
-    as it is: the shrinker does not take disks yet."""
+    points: the :class:`~vorobench.judge.shrink.Witness`. A case of disks keeps its ``radii`` row
+    for row the same way."""
     from vorobench.judge.shrink import shrink_case, write_witness
 
-    if radii is not None:
-        return write_witness(folder, stem, impl, sites, reference=reference, exact_peer=exact_peer, probes=probes,
-                             judge=judge, verdict=verdict, radii=radii)
     shrinkable = shrink and verdict.verdict not in (Verdict.TIMEOUT, Verdict.OOM)
-    small, small_weights = (sites, weights) if not shrinkable else shrink_case(
+    attribute = radii if radii is not None else weights
+    small, small_attribute = (sites, attribute) if not shrinkable else shrink_case(
         impl, sites, verdict, reference=reference, exact_peer=exact_peer, probes=probes, time_budget=seconds,
-        judge=judge, weights=weights)
+        judge=judge, weights=weights, radii=radii)
     return write_witness(folder, stem, impl, small, reference=reference, exact_peer=exact_peer, probes=probes,
-                         judge=judge, verdict=None if shrinkable else verdict, weights=small_weights)
+                         judge=judge, verdict=None if shrinkable else verdict,
+                         weights=None if radii is not None else small_attribute,
+                         radii=small_attribute if radii is not None else None)
 
 
 def write_witnesses(campaign: Campaign, out: Path, names: Sequence[str], reference: str, options: tuple, *,

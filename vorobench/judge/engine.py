@@ -379,9 +379,10 @@ def _failed_checks(res: BuildResult) -> str:
 def check_case(impl_name: str, sites: ArrayLike, reference_diagram: Optional[Diagram] = None,
                reference_certificate: Optional[Certificate] = None, *, reference: str = DEFAULT_REFERENCE,
                reference_result: Optional[BuildResult] = None, probes: int = DEFAULT_PROBES,
-               seed: int = 0, judge: Optional["Judge"] = None, weights: Optional[ArrayLike] = None) -> CaseVerdict:
+               seed: int = 0, judge: Optional["Judge"] = None, weights: Optional[ArrayLike] = None,
+               radii: Optional[ArrayLike] = None) -> CaseVerdict:
     """Build, certify and compare ``impl_name`` on ``sites`` (with ``weights``: their power
-    diagram) against ``reference``.
+    diagram; with ``radii``: the diagram of disks) against ``reference``.
 
     Builds go through ``judge`` (isolated workers) when given, else run in this process. The
     reference is built and certified here unless given (as ``reference_result``, or as a
@@ -389,21 +390,25 @@ def check_case(impl_name: str, sites: ArrayLike, reference_diagram: Optional[Dia
     several implementations.
     """
     t0 = time.perf_counter_ns()
-    sites, weights = prepare_case(sites, weights)
+    if radii is not None:
+        sites, radii = prepare_disk_case(sites, radii)
+    else:
+        sites, weights = prepare_case(sites, weights)
     judge = judge or Judge(isolate=False, reference=reference, probes=probes, seed=seed)
     if impl_name == reference and reference_result is not None:
         res = reference_result                    # the reference's own row: judged on its certificate
     else:
-        res = judge.build(impl_name, sites, weights=weights)
+        res = judge.build(impl_name, sites, weights=weights, radii=radii)
     if reference_result is None:
         if reference_diagram is not None:
-            cert = reference_certificate or certify(reference_diagram, probes=probes, seed=seed)
+            cert = reference_certificate or (certify_disks(reference_diagram) if radii is not None else
+                                             certify(reference_diagram, probes=probes, seed=seed))
             declared = judge.declaration(reference)
             reference_result = BuildResult(reference, declared.exact if declared else True, reference_diagram, cert)
         elif impl_name == reference:
             reference_result = res
         else:
-            reference_result = judge.build(reference, sites, weights=weights)
+            reference_result = judge.build(reference, sites, weights=weights, radii=radii)
     verdict = decide(impl_name, reference, res, reference_result)
     verdict.n_sites = int(sites.shape[0])
     verdict.seconds = (time.perf_counter_ns() - t0) / 1e9

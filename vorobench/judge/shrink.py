@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 from impls.executable import REFERENCES, manifest_named, program_input, rerun_command
 from vorobench.core.diagram import Diagram
 from vorobench.core.prepare import prepare
-from vorobench.judge.engine import CaseVerdict, Judge, agree_exactly, check_case, prepare_case
+from vorobench.judge.engine import CaseVerdict, Judge, agree_exactly, check_case, prepare_case, prepare_disk_case
 from vorobench.judge.plotting import save_overlay
 
 __all__ = ["ddmin", "judge", "bounded_timeout", "shrink_rows", "shrink_case", "write_witness", "Witness",
@@ -85,15 +85,20 @@ def ddmin(n: int, fails: Callable[[NDArray[np.int64]], bool], *, max_tests: int 
 
 
 def judge(impl: str, points: NDArray[np.float64], *, reference: str, exact_peer: Optional[str] = None,
-          probes: int = 2000, judge: Optional[Judge] = None, weights: Optional[NDArray[np.float64]] = None
-          ) -> CaseVerdict:
-    """``impl`` on ``points`` (with ``weights``: their power diagram): against ``reference``
-    (:func:`check_case`), or, with ``exact_peer``, exact agreement with that other exact
-    implementation. Builds go through ``judge`` (isolated workers: a crashing implementation
-    can be shrunk) when given."""
+          probes: int = 2000, judge: Optional[Judge] = None, weights: Optional[NDArray[np.float64]] = None,
+          radii: Optional[NDArray[np.float64]] = None) -> CaseVerdict:
+    """``impl`` on ``points`` (with ``weights``: their power diagram; with ``radii``: the diagram
+    of disks): against ``reference`` (:func:`check_case`), or, with ``exact_peer``, exact
+    agreement with that other exact implementation. Builds go through ``judge`` (isolated
+    workers: a crashing implementation can be shrunk) when given."""
     engine = judge or Judge(reference=reference, isolate=False)
     if exact_peer is None:
-        return check_case(impl, points, reference=reference, probes=probes, judge=engine, weights=weights)
+        return check_case(impl, points, reference=reference, probes=probes, judge=engine, weights=weights,
+                          radii=radii)
+    if radii is not None:
+        sites, site_radii = prepare_disk_case(points, radii)
+        return agree_exactly(engine.build(exact_peer, sites, probes=probes, radii=site_radii),
+                             engine.build(impl, sites, probes=probes, radii=site_radii))
     sites, site_weights = prepare_case(points, weights)
     return agree_exactly(engine.build(exact_peer, sites, probes=probes, weights=site_weights),
                          engine.build(impl, sites, probes=probes, weights=site_weights))
@@ -145,19 +150,22 @@ def shrink_rows(n: int, judge_rows: Callable[[NDArray[np.int64]], CaseVerdict], 
 def shrink_case(impl: str, points: NDArray[np.float64], verdict: CaseVerdict, *, reference: str,
                 exact_peer: Optional[str] = None, probes: int = 2000, max_tests: int = 2000,
                 time_budget: float = 120.0, judge: Optional[Judge] = None,
-                weights: Optional[NDArray[np.float64]] = None
+                weights: Optional[NDArray[np.float64]] = None, radii: Optional[NDArray[np.float64]] = None
                 ) -> tuple[NDArray[np.float64], Optional[NDArray[np.float64]]]:
-    """(points, weights or None): the smallest subset of the rows of ``points`` (and
-    ``weights``, kept row for row) found by :func:`ddmin` on which ``impl`` fails the same way
-    (same verdict and blame) against ``reference`` (or against ``exact_peer``), within
-    ``time_budget`` seconds (see :func:`shrink_rows`)."""
+    """(points, weights or radii or None): the smallest subset of the rows of ``points`` (and
+    ``weights`` or ``radii``, kept row for row) found by :func:`ddmin` on which ``impl`` fails
+    the same way (same verdict and blame) against ``reference`` (or against ``exact_peer``),
+    within ``time_budget`` seconds (see :func:`shrink_rows`)."""
+    attribute = radii if radii is not None else weights
+
     def judge_rows(idx: NDArray[np.int64]) -> CaseVerdict:
         return _judge(impl, points[idx], reference=reference, exact_peer=exact_peer, probes=probes, judge=judge,
-                      weights=None if weights is None else weights[idx])
+                      weights=None if weights is None else weights[idx],
+                      radii=None if radii is None else radii[idx])
 
     keep, _ = shrink_rows(points.shape[0], judge_rows, verdict, judge=judge, max_tests=max_tests,
                           time_budget=time_budget)
-    return points[keep], None if weights is None else weights[keep]
+    return points[keep], None if attribute is None else attribute[keep]
 
 
 @dataclass
@@ -193,7 +201,7 @@ def write_witness(directory: str | Path, name: str, impl: str, points: NDArray[n
     np.save(npy, np.asarray(points, dtype=np.float64))
     if verdict is None:     # given when judging again would only cost the same timeout twice
         verdict = _judge(impl, points, reference=reference, exact_peer=exact_peer, probes=probes, judge=judge,
-                         weights=weights)
+                         weights=weights, radii=radii)
     names = impl if exact_peer is None else f"{exact_peer},{impl}"
     specs = list(judge.plugins if judge else ())
     program = _program_of(impl, judge)
