@@ -254,13 +254,22 @@ def warmup() -> None:
     build_weighted(g, np.arange(9.0) % 2)
 
 
+def build_disks(centres: NDArray[np.float64], radii: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
+    """The diagram of the disks by Fortune's sweep with each directrix raised by its disk's radius
+    (:mod:`impls.fortune.apollonius_sweep`: exact, in rationals; not yet compiled)."""
+    from impls.fortune import apollonius_sweep        # rationals: loaded for disks only
+
+    return apollonius_sweep.build(centres, radii, stats)
+
+
 IMPLEMENTATION = Implementation(
     name="fortune",
     description="Fortune's sweep line with exact predicates (numba): treap beach line, indexed event heap; "
-                "power diagrams by its own weighted sweep",
+                "power diagrams by its own weighted sweep; disks by a sweep in rationals (not compiled yet)",
     complexity="O(n log n)",
     build=build,
     build_weighted=build_weighted,
+    build_apollonius=build_disks,
     exact=True,
     warmup=warmup,
     kind="own",

@@ -40,11 +40,13 @@ from vorobench.core.predicates.apollonius import (
     QuadraticNumber,
     asymptote,
     branch_order,
+    compare,
     conflict,
     rational,
     vertex,
 )
 from vorobench.core.tolerances import VERTEX_MATCH_REL_TOL
+from vorobench.core.union_find import find
 from vorobench.judge.certificate import Certificate, Check
 from vorobench.judge.outcomes import Verdict
 
@@ -72,6 +74,57 @@ def cells_around(d: Diagram) -> list[list[int]]:
                 break
         out.append(clockwise[::-1])
     return out
+
+
+class _Points:
+    """The diagram's vertices as exact points, and the points they make: vertices joined by an
+    edge of length zero at one exact point are one point (docs/dcel.md lets a vertex of degree
+    >= 4 come as vertices of degree 3 joined so, as ``fortune`` gives them). Each vertex's point
+    is computed from the first three cells around it, counter-clockwise (None where they have no
+    Apollonius circle in that order: the vertex check says so)."""
+
+    def __init__(self, d: Diagram, disks: list) -> None:
+        around = cells_around(d)
+        self.exact: list[Optional[ApolloniusVertex]] = [
+            vertex(disks, *cells[:3]) if len(cells) >= 3 else None for cells in around]
+        origin, twin, nxt, site = (np.asarray(a, dtype=np.int64) for a in (d.origin, d.twin, d.next, d.site))
+        parent = np.arange(d.n_vertices)
+        self.internal = np.zeros(d.n_half_edges, dtype=bool)
+        for h in range(d.n_half_edges):
+            u, w = int(origin[h]), int(origin[twin[h]])
+            if u < 0 or w < 0 or self.exact[u] is None or self.exact[w] is None:
+                continue
+            p, q = self.exact[u], self.exact[w]
+            if compare(p.x, q.x) == 0 and compare(p.y, q.y) == 0:
+                self.internal[h] = True
+                ru, rw = find(parent, u), find(parent, w)
+                if ru != rw:
+                    parent[max(ru, rw)] = min(ru, rw)
+        self.of = [int(find(parent, v)) for v in range(d.n_vertices)]
+        # the cells around each point, counter-clockwise: turning clockwise from a half-edge
+        # leaving the point, through the zero-length edges inside it
+        self.cells: dict[int, list[int]] = {}
+        for h in range(d.n_half_edges):
+            v = int(origin[h])
+            if v < 0 or self.internal[h] or self.of[v] in self.cells:
+                continue
+            clockwise, g = [], h
+            for _ in range(d.n_half_edges + 1):
+                clockwise.append(int(site[g]))
+                g = int(nxt[twin[g]])
+                while self.internal[g]:
+                    g = int(nxt[g])
+                if g == h:
+                    break
+            self.cells[self.of[v]] = clockwise[::-1]
+        for v, cells in enumerate(around):                 # a vertex with no edge out of its point
+            self.cells.setdefault(self.of[v], cells)
+
+    def name(self, v: int) -> tuple[int, ...]:
+        """The point of vertex v named by the cells around it, counter-clockwise from the smallest."""
+        cells = self.cells[self.of[v]]
+        k = cells.index(min(cells))
+        return tuple(cells[k:] + cells[:k])
 
 
 class _Disks:
@@ -121,10 +174,14 @@ def _check_hidden(d: Diagram, disks: _Disks, visible_mask: np.ndarray) -> Check:
     return Check("hidden", True, f"{want.size} hidden disks, exactly those inside another")
 
 
-def _check_vertices(d: Diagram, disks: _Disks, around: list[list[int]],
-                    exact: list[Optional[ApolloniusVertex]]) -> Check:
+def _check_vertices(d: Diagram, disks: _Disks, points: _Points) -> Check:
     problems = []
-    for v, cells in enumerate(around):
+    members: dict[int, list[int]] = {}
+    for v in range(d.n_vertices):
+        members.setdefault(points.of[v], []).append(v)
+    for root, group in members.items():
+        cells = points.cells[root]
+        v = group[0]
         if len(cells) < 3:
             problems.append((v, f"vertex {v} touches {len(cells)} cells"))
             continue
@@ -132,15 +189,15 @@ def _check_vertices(d: Diagram, disks: _Disks, around: list[list[int]],
         if point is None:
             problems.append((v, f"vertex {v}: disks {cells[:3]} have no Apollonius circle in that order"))
             continue
-        exact[v] = point
         bad = [m for m in cells[3:] if conflict(disks.exact, point, m) != 0]
         if bad:
             problems.append((v, f"vertex {v}: disk {bad[0]} has a cell there but does not touch the circle of {cells[:3]}"))
             continue
         x, y, radius = point.as_floats()
-        gap = math.dist((x, y), tuple(d.vertices[v]))
+        far = [(math.dist((x, y), tuple(d.vertices[u])), u) for u in group]
+        gap, u = max(far)
         if not gap <= VERTEX_MATCH_REL_TOL * max(disks.scale, abs(x), abs(y)):
-            problems.append((v, f"vertex {v} is {gap:.3g} from the centre of its Apollonius circle {cells[:3]}"))
+            problems.append((u, f"vertex {u} is {gap:.3g} from the centre of its Apollonius circle {cells[:3]}"))
             continue
         own = set(cells)
         for m in disks.near(x, y, radius):
@@ -156,7 +213,8 @@ def _check_vertices(d: Diagram, disks: _Disks, around: list[list[int]],
             if side == 0:
                 problems.append((v, f"vertex {v}: disk {m} touches its circle but has no cell there"))
                 break
-    return _fail("vertices", problems, f"{d.n_vertices} vertices: empty Apollonius circles of their cells", "vertex")
+    return _fail("vertices", problems, f"{d.n_vertices} vertices at {len(members)} points: empty Apollonius "
+                 f"circles of their cells", "vertex")
 
 
 def _crosses_inside(disks: _Disks, a: int, b: int, m: int, start: Optional[ApolloniusVertex],
@@ -184,12 +242,13 @@ def _closer_at_infinity(disks: _Disks, a: int, b: int, end: int, m: int) -> bool
     return value.sign() > 0
 
 
-def _check_edges(d: Diagram, disks: _Disks, exact: list[Optional[ApolloniusVertex]], visible: list[int]) -> Check:
+def _check_edges(d: Diagram, disks: _Disks, points: _Points, visible: list[int]) -> Check:
     problems = []
+    exact = points.exact
     for h in range(d.n_half_edges):
         g = int(d.twin[h])
-        if g < h:
-            continue
+        if g < h or points.internal[h]:
+            continue                                   # (an edge of length zero inside one point)
         a, b, u, w = int(d.site[h]), int(d.site[g]), int(d.origin[h]), int(d.origin[g])
         ends = [None if k < 0 else exact[k] for k in (u, w)]
         if any(k >= 0 and exact[k] is None for k in (u, w)):
@@ -280,11 +339,11 @@ def certify_disks(diagram: Diagram) -> Certificate:
         return Certificate(False, checks, counts)
     visible = [int(m) for m in np.flatnonzero(visible_mask)]
     disks.visible = visible_mask
-    exact: list[Optional[ApolloniusVertex]] = [None] * d.n_vertices
+    points = _Points(d, disks.exact)
     runners: dict[str, Callable[[], Check]] = {
         "hidden": lambda: _check_hidden(d, disks, visible_mask),
-        "vertices": lambda: _check_vertices(d, disks, cells_around(d), exact),
-        "edges": lambda: _check_edges(d, disks, exact, visible),
+        "vertices": lambda: _check_vertices(d, disks, points),
+        "edges": lambda: _check_edges(d, disks, points, visible),
         "euler": lambda: _check_euler(d, len(visible)),
     }
     for name in DISK_CHECKS[1:]:
@@ -322,16 +381,18 @@ class DiskComparison:
 
 
 def _half_edge_keys(d: Diagram) -> tuple[Counter, dict]:
-    around = cells_around(d)
-    names = []
-    for cells in around:
-        k = cells.index(min(cells))
-        names.append(tuple(cells[k:] + cells[:k]))
+    """Each half-edge (not inside one point) as (cell, neighbour, start point, end point), points
+    named by their cells; and each point's coordinates."""
+    disks = [(rational(float(x)), rational(float(y)), rational(float(r))) for (x, y), r in zip(d.sites, d.radii)]
+    points = _Points(d, disks)
     keys = Counter()
     for h in range(d.n_half_edges):
+        if points.internal[h]:
+            continue
         u, w = int(d.origin[h]), int(d.origin[d.twin[h]])
-        keys[(int(d.site[h]), int(d.site[d.twin[h]]), names[u] if u >= 0 else None, names[w] if w >= 0 else None)] += 1
-    return keys, {name: tuple(d.vertices[v]) for v, name in enumerate(names)}
+        keys[(int(d.site[h]), int(d.site[d.twin[h]]), points.name(u) if u >= 0 else None,
+              points.name(w) if w >= 0 else None)] += 1
+    return keys, {points.name(v): tuple(d.vertices[v]) for v in range(d.n_vertices)}
 
 
 def compare_disks(first: Diagram, second: Diagram) -> DiskComparison:
