@@ -146,43 +146,32 @@ def get(name: str) -> Implementation:
     return impl
 
 
-def weighted() -> list[str]:
-    """The available implementations that take weights (power diagrams); one that fails to
-    load is left out."""
+def _declaring(test) -> list[str]:
+    """The available implementations for which ``test(impl)`` holds; one that fails to load is
+    left out (a broken plugin is reported where it is used, not here)."""
     out = []
     for name in available():
         try:
-            if get(name).weighted:
+            if test(get(name)):
                 out.append(name)
-        except Exception:  # a broken plugin is reported where it is used, not here
+        except Exception:  # noqa: BLE001 - see above
             continue
     return out
+
+
+def weighted() -> list[str]:
+    """The available implementations that take weights (power diagrams)."""
+    return _declaring(lambda impl: impl.weighted)
 
 
 def of_kind(kind: str) -> list[str]:
-    """The available implementations that declare ``kind`` ("own", "outside" or "plugin");
-    one that fails to load is left out."""
-    out = []
-    for name in available():
-        try:
-            if get(name).kind == kind:
-                out.append(name)
-        except Exception:  # a broken plugin is reported where it is used, not here
-            continue
-    return out
+    """The available implementations that declare ``kind`` ("own", "outside" or "plugin")."""
+    return _declaring(lambda impl: impl.kind == kind)
 
 
 def apollonius() -> list[str]:
-    """The available implementations that take disks (docs/apollonius.md); one that fails to
-    load is left out."""
-    out = []
-    for name in available():
-        try:
-            if get(name).apollonius:
-                out.append(name)
-        except Exception:  # a broken plugin is reported where it is used, not here
-            continue
-    return out
+    """The available implementations that take disks (docs/apollonius.md)."""
+    return _declaring(lambda impl: impl.apollonius)
 
 
 def build(name: str, points: ArrayLike, stats: Optional[dict] = None, *,

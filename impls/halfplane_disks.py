@@ -56,6 +56,7 @@ from numpy.typing import ArrayLike, NDArray
 from vorobench.core.branch_reach import RADIUS_PAD, DiskFloats, apart, arc_between, nearest_reach, tail_apart
 from vorobench.core.diagram import Diagram
 from vorobench.core.hidden_disks import hidden_disks
+from vorobench.core.scaling import exact_shift, scale_back_vertices, scale_points
 from vorobench.core.predicates.apollonius import (
     ApolloniusVertex,
     QuadraticNumber,
@@ -371,7 +372,9 @@ def glue(ex: _Disks, centres: NDArray[np.float64], radii: NDArray[np.float64],
                 raise RuntimeError(f"halfplane_disks: cell {i} does not close between edges {k} and {k + 1}")
             name = None if edge.end is None else _rotated((i, edge.site, following.site))
             if name is not None:
-                points.setdefault(name, edge.end)
+                known = points.setdefault(name, edge.end)
+                if known is not edge.end and (compare(known.x, edge.end.x) != 0 or compare(known.y, edge.end.y) != 0):
+                    raise RuntimeError(f"halfplane_disks: two cells put the vertex {name} at different points")
             end_name.append(name)
             by_pair.setdefault((i, edge.site), []).append(h)
         for k in range(len(edges)):
@@ -414,7 +417,11 @@ def glue(ex: _Disks, centres: NDArray[np.float64], radii: NDArray[np.float64],
 
 
 def _check(centres: ArrayLike, radii: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    centres = np.ascontiguousarray(centres, dtype=np.float64).reshape(-1, 2)
+    centres = np.ascontiguousarray(centres, dtype=np.float64)
+    if centres.size == 0:
+        centres = centres.reshape(0, 2)
+    if centres.ndim != 2 or centres.shape[1] != 2:
+        raise ValueError(f"centres must have shape (n, 2), got {centres.shape}")
     radii = np.ascontiguousarray(radii, dtype=np.float64).reshape(-1)
     if radii.shape != (centres.shape[0],):
         raise ValueError(f"radii has shape {radii.shape}, there are {centres.shape[0]} centres")
@@ -426,8 +433,18 @@ def _check(centres: ArrayLike, radii: ArrayLike) -> tuple[NDArray[np.float64], N
 
 
 def build(centres: ArrayLike, radii: ArrayLike, stats: Optional[dict] = None) -> Diagram:
-    """The diagram of the disks (centres, radii): hidden disks get no edge."""
+    """The diagram of the disks (centres, radii): hidden disks get no edge. Disks outside the
+    exact range are built scaled into it by a power of two (the float filters' products would
+    overflow or underflow there; the exact stages do not care) and scaled back."""
     centres, radii = _check(centres, radii)
+    shift = exact_shift(np.vstack([centres, np.column_stack([radii, radii])]))
+    if shift:
+        d = _build(scale_points(centres, shift), np.ldexp(radii, shift), stats)
+        return Diagram(centres, scale_back_vertices(d.vertices, shift), d.origin, d.twin, d.next, d.site, radii=radii)
+    return _build(centres, radii, stats)
+
+
+def _build(centres: NDArray[np.float64], radii: NDArray[np.float64], stats: Optional[dict]) -> Diagram:
     visible = np.flatnonzero(~hidden_disks(centres, radii))
     if visible.size <= 1:
         return Diagram.empty(centres, radii=radii)

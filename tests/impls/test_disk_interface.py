@@ -12,10 +12,10 @@ from impls.base import Implementation, InputMutated, UnsupportedInput
 from impls.halfplane_disks import build as oracle
 
 
-def test_halfplane_takes_disks_and_fortune_says_it_does_not():
-    assert "halfplane" in impls.apollonius() and "fortune" not in impls.apollonius()
-    with pytest.raises(UnsupportedInput, match="fortune does not take disks.*halfplane"):
-        impls.build("fortune", [[0.0, 0.0], [1.0, 0.0]], radii=[0.5, 0.5])
+def test_halfplane_and_fortune_take_disks_and_qhull_says_it_does_not():
+    assert {"halfplane", "fortune"} <= set(impls.apollonius()) and "qhull" not in impls.apollonius()
+    with pytest.raises(UnsupportedInput, match="qhull does not take disks.*fortune, halfplane"):
+        impls.build("qhull", [[0.0, 0.0], [1.0, 0.0]], radii=[0.5, 0.5])
     with pytest.raises(ValueError, match="one at a time"):
         impls.build("halfplane", [[0.0, 0.0], [1.0, 0.0]], radii=[0.5, 0.5], weights=[0.0, 0.0])
 

@@ -145,6 +145,8 @@ def test_a_big_disk_with_three_small_ones_has_three_gaps_in_counter_clockwise_or
 
 
 def test_refuses_bad_radii():
+    with pytest.raises(ValueError, match=r"centres must have shape \(n, 2\)"):
+        halfplane_disks.build(np.zeros((3, 3)), [0.5, 0.1, 0.2])
     with pytest.raises(ValueError, match="radii must be >= 0"):
         halfplane_disks.build(np.zeros((2, 2)) + [[0, 0], [1, 0]], [0.5, -0.1])
     with pytest.raises(ValueError, match="finite"):
@@ -158,3 +160,18 @@ def test_hidden_disks_have_no_edges_and_one_visible_disk_gives_none():
     assert d.n_half_edges == 0 and d.radii.tolist() == [2.0, 1.0, 0.1]
     d = halfplane_disks.build([[0.0, 0.0], [0.5, 0.0], [3.0, 0.0]], [2.0, 1.0, 0.1]).validate()
     assert d.hidden.tolist() == [1] and d.n_edges == 1
+
+
+@pytest.mark.parametrize("case", [
+    # from a helper's review: the float filters' products overflowed or underflowed at these
+    # scales and skipped disks that cut a cell (a wrong vertex, and two crashes)
+    (np.ldexp(np.array([[5.0, 2.0], [4.0, 1.0], [5.0, 6.0], [0.0, 4.0]]), -600),
+     np.ldexp(np.array([1.0, 1.0, 1.0, 0.0]), -600)),
+    (np.array([[0.0, 0.0], [1e-170, 0.0], [0.0, 1e-170]]), np.array([1e-171, 0.0, 0.0])),
+    (np.array([[0.0, 0.0], [3e160, 0.0], [0.0, 3e160], [3e160, 3e160]]), np.array([1e160, 0.0, 0.0, 5e159])),
+])
+def test_disks_far_outside_the_exact_range_are_built_scaled(case):
+    from vorobench.judge.disk_judging import certify_disks
+
+    d = _check_against_definition(*case)
+    assert certify_disks(d).ok                     # the judge scales them too

@@ -31,22 +31,22 @@ __all__ = ["add_arguments", "run", "execute", "weight_family"]
 DEFAULT_SIZES = "1000,10000,100000"
 
 
+def _family(text: str, families: dict, what: str) -> str:
+    name = text.strip()
+    if name not in families:
+        raise argparse.ArgumentTypeError(f"unknown {what} family {text!r}; available: "
+                                         f"{', '.join(families)} (see `vorobench datasets`)")
+    return name
+
+
 def weight_family(text: str) -> str:
     """A ``--weights`` value: the name of a weight family of ``datasets_gen``."""
-    name = text.strip()
-    if name not in datasets_gen.WEIGHT_FAMILIES:
-        raise argparse.ArgumentTypeError(f"unknown weight family {text!r}; available: "
-                                         f"{', '.join(datasets_gen.WEIGHT_FAMILIES)} (see `vorobench datasets`)")
-    return name
+    return _family(text, datasets_gen.WEIGHT_FAMILIES, "weight")
 
 
 def radius_family(text: str) -> str:
     """A ``--radii`` value: the name of a radius family of ``datasets_gen`` (disks as sites)."""
-    name = text.strip()
-    if name not in datasets_gen.RADIUS_FAMILIES:
-        raise argparse.ArgumentTypeError(f"unknown radius family {text!r}; available: "
-                                         f"{', '.join(datasets_gen.RADIUS_FAMILIES)} (see `vorobench datasets`)")
-    return name
+    return _family(text, datasets_gen.RADIUS_FAMILIES, "radius")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -45,6 +45,7 @@ from vorobench.core.predicates.apollonius import (
     rational,
     vertex,
 )
+from vorobench.core.scaling import comfortable_shift, scale_points
 from vorobench.core.tolerances import VERTEX_MATCH_REL_TOL
 from vorobench.core.union_find import find
 from vorobench.judge.certificate import Certificate, Check
@@ -331,6 +332,14 @@ def certify_disks(diagram: Diagram) -> Certificate:
         checks += [Check(name, False, "not run: the structure is broken") for name in DISK_CHECKS[1:]]
         return Certificate(False, checks, counts)
     checks = [Check("structure", True, "valid DCEL with radii")]
+    # judged at a power of two that puts the disks where the float filters' products neither
+    # overflow nor underflow (exact: the same diagram; distances in messages are in these units)
+    shift, _ = comfortable_shift(np.vstack([np.asarray(d.sites, np.float64),
+                                            np.column_stack([d.radii, d.radii]).astype(np.float64)]))
+    if shift:
+        with np.errstate(over="ignore", under="ignore"):
+            d = Diagram(scale_points(d.sites, shift), scale_points(d.vertices, shift), d.origin, d.twin, d.next,
+                        d.site, radii=np.ldexp(np.asarray(d.radii, np.float64), shift))
     disks = _Disks(d)
     try:
         visible_mask = ~hidden_disks(disks.centres, disks.radii)
