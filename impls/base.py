@@ -239,7 +239,7 @@ class Implementation:
             given_weights = expected_weights.copy()
             given_weights.setflags(write=False)
         if radii is not None:
-            expected_radii = radii * 2.0 ** shift                  # exact: a power of two, in range
+            expected_radii = np.ldexp(radii, shift)                # exact: a power of two, in range
             given_radii = expected_radii.copy()
             given_radii.setflags(write=False)
         if check_supports or shift != 0:
@@ -305,6 +305,6 @@ def _scaled_back(diagram: Diagram, sites: NDArray[np.float64], shift: int) -> Di
     else:
         own = scale_back_vertices(built, shift)
     own.setflags(write=False)
-    radii = None if diagram.radii is None else np.asarray(diagram.radii, dtype=np.float64) * 2.0 ** -shift
+    radii = None if diagram.radii is None else np.ldexp(np.asarray(diagram.radii, dtype=np.float64), -shift)
     return Diagram(own, scale_back_vertices(diagram.vertices, shift), diagram.origin, diagram.twin,
                    diagram.next, diagram.site, weights=diagram.weights, radii=radii)

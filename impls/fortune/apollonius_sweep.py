@@ -46,8 +46,8 @@ from vorobench.core.predicates.apollonius import (
     QuadraticNumber,
     asymptote,
     compare,
+    direction_key,
     rational,
-    turn,
     vertex,
 )
 
@@ -224,6 +224,8 @@ class _Sweep:
             self.edges.append(edge)
             self.arcs[-1].right_edge = edge
             self.arcs.append(_Arc(i))
+            if len(self.arcs) >= 3:                  # parabolas of different radii widen apart:
+                self._schedule(len(self.arcs) - 2)    # the middle spike's arc may close
             return
         k, _ = self._locate(x)
         above = self.arcs[k]
@@ -264,23 +266,6 @@ class _Sweep:
                 self._site_event(event.site)
             else:
                 self._circle_event(event)
-
-
-def _angle_key(u: tuple[QuadraticNumber, QuadraticNumber]):
-    """A sort key of directions by angle from the positive x axis, counter-clockwise (exact)."""
-    import functools
-
-    def half(w) -> int:
-        sy, sx = w[1].sign(), w[0].sign()
-        return 0 if sy > 0 or (sy == 0 and sx > 0) else 1
-
-    def cmp(w1, w2) -> int:
-        h1, h2 = half(w1), half(w2)
-        if h1 != h2:
-            return h1 - h2
-        cross, _ = turn(w1, w2)
-        return -cross
-    return functools.cmp_to_key(cmp)(u)
 
 
 def _assemble(centres: NDArray[np.float64], radii: NDArray[np.float64], disks: list[tuple],
@@ -341,8 +326,8 @@ def _assemble(centres: NDArray[np.float64], radii: NDArray[np.float64], disks: l
             nxt[outs[0]] = ins[0]
             continue
         # around the cell, counter-clockwise: each ray out is followed by the next ray in
-        tagged = [(_angle_key(asymptote(disks, cell, site[twin[h]], 1)), 0, h) for h in outs] + \
-                 [(_angle_key(asymptote(disks, cell, site[twin[h]], -1)), 1, h) for h in ins]
+        tagged = [(direction_key(asymptote(disks, cell, site[twin[h]], 1)), 0, h) for h in outs] + \
+                 [(direction_key(asymptote(disks, cell, site[twin[h]], -1)), 1, h) for h in ins]
         tagged.sort(key=lambda t: (t[0], t[1]))
         for pos, (_, kind, h) in enumerate(tagged):
             if kind == 0:

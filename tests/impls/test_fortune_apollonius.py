@@ -56,6 +56,15 @@ def test_a_circle_seen_by_two_arcs_closes_the_one_whose_breakpoints_meet_there()
     _agrees(centres, radii)
 
 
+def test_a_first_row_of_disks_at_one_time_can_close_its_middle_arc():
+    """From `fuzz --radii integer` (shrunk): three disks reach the sweep line at one time, side by
+    side; the middle one's parabola is the narrowest, its arc closes at a vertex. The first
+    version scheduled no circle event among the spikes of a first row."""
+    centres, radii = np.array([[-1.0, -8.0], [1.0, -8.0], [-4.0, -7.0]]), np.array([1.0, 1.0, 2.0])
+    assert apollonius_sweep.build(centres, radii).n_vertices == 1
+    _agrees(centres, radii)
+
+
 @pytest.mark.parametrize("layout", ["uniform", "grid", "cocircular", "collinear"])
 def test_equal_radii_give_the_ordinary_diagram(layout):
     points = datasets_gen.generate(layout, 30, seed=4)

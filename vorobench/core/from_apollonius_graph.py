@@ -79,7 +79,10 @@ def _checked(faces: ArrayLike, n: int) -> NDArray[np.int64]:
 def diagram_from_apollonius_faces(centres: ArrayLike, radii: ArrayLike, faces: ArrayLike) -> Diagram:
     """The diagram of the disks from the faces of their Apollonius graph ((F, 6): three
     vertices counter-clockwise, -1 at infinity, then the faces opposite each); raises
-    :class:`NotAnApolloniusGraph` (a ``ValueError``) for faces that are not that graph."""
+    :class:`NotAnApolloniusGraph` (a ``ValueError``) for faces that do not fit together, a
+    finite face with no Apollonius circle in its orientation, or cells that do not close.
+    Whether the faces are the graph *of these disks* (its empty circles, its hidden disks) is
+    not decided here: that is the certificate's question (``certify_disks``)."""
     centres = np.ascontiguousarray(centres, dtype=np.float64).reshape(-1, 2)
     radii = np.ascontiguousarray(radii, dtype=np.float64).reshape(-1)
     n = centres.shape[0]

@@ -42,6 +42,7 @@ from vorobench.core.predicates.apollonius import (
     branch_order,
     compare,
     conflict,
+    direction_key,
     rational,
     vertex,
 )
@@ -53,7 +54,7 @@ from vorobench.judge.outcomes import Verdict
 
 __all__ = ["DISK_CHECKS", "certify_disks", "compare_disks", "DiskComparison", "cells_around"]
 
-DISK_CHECKS = ("structure", "hidden", "vertices", "edges", "euler")
+DISK_CHECKS = ("structure", "hidden", "vertices", "edges", "rays", "euler")
 #: Offending ids kept per check.
 _MAX_IDS = 10
 
@@ -310,6 +311,39 @@ def _may_reach(disks: _Disks, a: int, b: int, start: Optional[ApolloniusVertex],
     return not tail_apart(fl, a, b, 1 if end is None else -1, near, m)
 
 
+def _check_rays(d: Diagram, disks: _Disks) -> Check:
+    """Around a cell with several gaps at infinity, each edge that runs out to infinity is
+    followed by the one that comes back next counter-clockwise, by their asymptotes (seen from
+    the cell's centre, the cell's directions at infinity come in that order)."""
+    outs: dict[int, list[int]] = {}
+    ins: dict[int, list[int]] = {}
+    origin, twin, site = (np.asarray(a, dtype=np.int64) for a in (d.origin, d.twin, d.site))
+    for h in range(d.n_half_edges):
+        if origin[twin[h]] < 0:
+            outs.setdefault(int(site[h]), []).append(h)
+        if origin[h] < 0:
+            ins.setdefault(int(site[h]), []).append(h)
+    problems = []
+    for cell, out in outs.items():
+        if len(out) < 2:
+            continue
+        tagged = sorted([(direction_key(asymptote(disks.exact, cell, int(site[twin[h]]), 1)), 0, h) for h in out]
+                        + [(direction_key(asymptote(disks.exact, cell, int(site[twin[h]]), -1)), 1, h)
+                           for h in ins.get(cell, [])], key=lambda t: (t[0], t[1]))
+        for pos, (_, kind, h) in enumerate(tagged):
+            if kind:
+                continue
+            following = next((t[2] for t in tagged[pos + 1:] + tagged[:pos] if t[1] == 1), None)
+            if following is None or int(d.next[h]) != following:
+                problems.append((h, f"half-edge {h} of cell {cell} runs out to infinity and is followed by "
+                                    f"half-edge {int(d.next[h])}, not by the next edge coming back "
+                                    f"counter-clockwise ({following})"))
+                break
+    cells = sum(1 for out in outs.values() if len(out) >= 2)
+    return _fail("rays", problems, f"{cells} cells with several gaps at infinity, linked counter-clockwise",
+                 "half-edge")
+
+
 def _check_euler(d: Diagram, visible: int) -> Check:
     if visible <= 1:
         return Check("euler", True, "fewer than two visible disks")
@@ -353,6 +387,7 @@ def certify_disks(diagram: Diagram) -> Certificate:
         "hidden": lambda: _check_hidden(d, disks, visible_mask),
         "vertices": lambda: _check_vertices(d, disks, points),
         "edges": lambda: _check_edges(d, disks, points, visible),
+        "rays": lambda: _check_rays(d, disks),
         "euler": lambda: _check_euler(d, len(visible)),
     }
     for name in DISK_CHECKS[1:]:
@@ -399,8 +434,13 @@ def _half_edge_keys(d: Diagram) -> tuple[Counter, dict]:
         if points.internal[h]:
             continue
         u, w = int(d.origin[h]), int(d.origin[d.twin[h]])
+        after = None
+        if w < 0:               # out to infinity: which edge comes back next (a cell's gaps' order)
+            g = int(d.next[h])
+            end = int(d.origin[d.twin[g]])
+            after = (int(d.site[d.twin[g]]), points.name(end) if end >= 0 else None)
         keys[(int(d.site[h]), int(d.site[d.twin[h]]), points.name(u) if u >= 0 else None,
-              points.name(w) if w >= 0 else None)] += 1
+              points.name(w) if w >= 0 else None, after)] += 1
     return keys, {points.name(v): tuple(d.vertices[v]) for v in range(d.n_vertices)}
 
 

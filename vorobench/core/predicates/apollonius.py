@@ -27,6 +27,7 @@ it come with the constructions that need speed.
 from __future__ import annotations
 
 import decimal
+import functools
 import math
 from dataclasses import dataclass
 from fractions import Fraction
@@ -38,7 +39,7 @@ except ImportError:  # pragma: no cover - gmpy2 is a dependency
     rational = Fraction
 
 __all__ = ["Disk", "QuadraticNumber", "ApolloniusVertex", "hidden_by", "vertex", "conflict", "compare", "branch_order",
-           "apex", "asymptote", "turn", "rational"]
+           "apex", "asymptote", "turn", "direction_key", "rational"]
 
 #: A disk as the caller gives it: (x, y, r), floats or rationals
 Disk = Sequence[float]
@@ -444,3 +445,22 @@ def turn(u: tuple[QuadraticNumber, QuadraticNumber], w: tuple[QuadraticNumber, Q
 
     minus_wx = QuadraticNumber(-wx.a, -wx.b, wx.d)
     return combination(ux, wy, uy, minus_wx), combination(ux, wx, uy, wy)
+
+
+def _half_turn(w: tuple[QuadraticNumber, QuadraticNumber]) -> int:
+    """0 for directions in [0, pi) from the positive x axis, 1 for [pi, 2 pi)."""
+    sy, sx = w[1].sign(), w[0].sign()
+    return 0 if sy > 0 or (sy == 0 and sx > 0) else 1
+
+
+def _by_angle(w1: tuple[QuadraticNumber, QuadraticNumber], w2: tuple[QuadraticNumber, QuadraticNumber]) -> int:
+    h1, h2 = _half_turn(w1), _half_turn(w2)
+    if h1 != h2:
+        return h1 - h2
+    cross, _ = turn(w1, w2)
+    return -cross
+
+
+#: A sort key of directions (vectors of quadratic numbers, of any fields) by their angle from
+#: the positive x axis, counter-clockwise, exactly: the order of a cell's rays to infinity.
+direction_key = functools.cmp_to_key(_by_angle)
