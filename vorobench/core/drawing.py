@@ -6,6 +6,7 @@ vertices, which can lie arbitrarily far away when sites are nearly collinear.
 
 from __future__ import annotations
 
+import math
 from typing import Any, Optional, Protocol, Sequence
 
 import numpy as np
@@ -107,6 +108,9 @@ def draw(diagram: Drawable, ax: Any = None, box: Optional[Sequence[float]] = Non
         _, ax = plt.subplots(figsize=(7, 7))
     box = site_box(d) if box is None else checked_box(box)
     xmin, ymin, xmax, ymax = box
+    radii = getattr(d, "radii", None)
+    if radii is not None:
+        return _draw_disks(d, ax, box, title=title, edge_color=edge_color, label=label, show_sites=show_sites)
     segments, shown = clip_segments(edge_segments(d, box), box)
     n_sites = d.sites.shape[0]
     small = n_sites <= 2000
@@ -156,5 +160,59 @@ def draw(diagram: Drawable, ax: Any = None, box: Optional[Sequence[float]] = Non
     if title:
         ax.set_title(title)
     if ax.get_legend_handles_labels()[0]:                  # nothing drawn, no empty legend
+        ax.legend(loc="upper right", fontsize="small", framealpha=0.8)
+    return ax
+
+
+def _draw_disks(d: Any, ax: Any, box: Sequence[float], *, title: str, edge_color: str, label: Optional[str],
+                show_sites: bool) -> Any:
+    """A diagram of disks: its edges sampled along their branches (within a thousandth of the
+    box's diagonal), the visible disks' circles, hidden disks marked."""
+    from matplotlib.collections import EllipseCollection, LineCollection
+
+    from vorobench.core.branch_curves import branch_polyline
+
+    xmin, ymin, xmax, ymax = box
+    tolerance = 1e-3 * math.hypot(xmax - xmin, ymax - ymin)
+    radii = np.asarray(d.radii, dtype=np.float64)
+    pieces = []
+    for h in d.edges():
+        start, end = int(d.origin[h]), int(d.origin[d.twin[h]])
+        line = branch_polyline(d.sites, radii, int(d.site[h]), int(d.site[d.twin[h]]),
+                               None if start < 0 else d.vertices[start], None if end < 0 else d.vertices[end],
+                               box, tolerance)
+        pieces.append(np.stack([line[:-1], line[1:]], axis=1))
+    if pieces:
+        segments, shown = clip_segments(np.concatenate(pieces), box)
+        if shown.any():
+            ax.add_collection(LineCollection(segments[shown], colors=edge_color, linewidths=0.9,
+                                             label=label or "edges (branches of hyperbolas)"))
+    v = d.vertices
+    in_box = (v[:, 0] >= xmin) & (v[:, 0] <= xmax) & (v[:, 1] >= ymin) & (v[:, 1] <= ymax)
+    if in_box.any():
+        ax.plot(v[in_box, 0], v[in_box, 1], "o", ms=2.5, color="tab:orange", label="vertices")
+    n = d.sites.shape[0]
+    hidden = np.zeros(n, dtype=bool)
+    hidden[np.asarray(d.hidden, dtype=np.int64)] = n > 1
+    ring = (radii > 0) & ~hidden
+    if ring.any():
+        size = 2 * radii[ring]
+        ax.add_collection(EllipseCollection(size, size, np.zeros(size.size), units="xy", offsets=d.sites[ring],
+                                            offset_transform=ax.transData, facecolors="none",
+                                            edgecolors="tab:gray", linewidths=0.6))
+        ax.plot([], [], "o", mfc="none", mec="tab:gray", label="disks")
+    if show_sites and n:
+        ax.plot(d.sites[~hidden, 0], d.sites[~hidden, 1], ".", ms=4, color="black", label="centres")
+        if hidden.any():
+            ax.plot(d.sites[hidden, 0], d.sites[hidden, 1], "x", ms=5, color="tab:red",
+                    label=f"hidden disks ({int(hidden.sum())})")
+    ax.set_xlim(xmin, xmax)
+    ax.set_ylim(ymin, ymax)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    if title:
+        ax.set_title(title)
+    if ax.get_legend_handles_labels()[0]:
         ax.legend(loc="upper right", fontsize="small", framealpha=0.8)
     return ax
