@@ -3,6 +3,8 @@ without edges, refuses weights and radii together and polygons it cannot draw ye
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -44,6 +46,61 @@ def test_weights_and_radii_together_and_negative_radii_are_refused():
         bad.validate()
 
 
-def test_polygons_of_curved_cells_are_refused_clearly():
-    with pytest.raises(NotImplementedError, match="hyperbolas"):
-        _disks().cell_polygon(1)
+def _area(ring):
+    x, y = ring[:, 0], ring[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)) if len(ring) > 2 else 0.0
+
+
+def _inside(point, ring) -> bool:
+    """Even-odd rule."""
+    x, y = point
+    inside = False
+    for (x0, y0), (x1, y1) in zip(ring, np.roll(ring, -1, axis=0)):
+        if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
+            inside = not inside
+    return inside
+
+
+def test_cells_of_disks_become_polygons_that_tile_the_box():
+    """Edges sampled within a thousandth of the box's diagonal: the cells' polygons cover the
+    box (their areas sum to its area, up to the sampling), each visible cell's polygon holds its
+    centre (a visible disk's centre is in its own cell), and a hidden disk's is empty."""
+    import datasets_gen
+
+    centres = datasets_gen.generate("uniform", 40, seed=3)
+    radii = datasets_gen.radii("random", centres, seed=3)
+    d = halfplane_disks.build(centres, radii)
+    box = (-0.1, -0.1, 1.1, 1.1)
+    rings = d.polygons(box)
+    assert len(rings) == 40
+    tolerance = 1e-3 * math.hypot(1.2, 1.2)
+    assert abs(sum(_area(r) for r in rings) - 1.44) < 0.02 * tolerance * 40
+    hidden = set(d.hidden.tolist())
+    for i, ring in enumerate(rings):
+        if i in hidden:
+            assert len(ring) == 0
+        else:
+            assert _area(ring) > 0 and _inside(centres[i], ring)
+    assert np.array_equal(d.cell_polygon(5, box), rings[5])
+
+
+@pytest.mark.parametrize("radii", [(1.0, 0.2), (0.2, 1.0), (0.5, 0.5)])
+def test_two_disks_split_the_box_between_them(radii):
+    """One branch, and each cell's gap at infinity a half-turn or more: closed around its centre
+    beyond the box, not by a chord (which would cut the box)."""
+    centres = np.array([[0.0, 0.0], [3.0, 0.0]])
+    d = halfplane_disks.build(centres, np.array(radii))
+    box = (-4.0, -4.0, 7.0, 4.0)
+    first, second = d.polygons(box)
+    assert abs(_area(first) + _area(second) - 88.0) < 0.05
+    assert _inside(centres[0], first) and _inside(centres[1], second)
+    # the branch crosses the x axis at (|d| - s) / 2 from the first centre
+    crossing = (3.0 - (radii[1] - radii[0])) / 2
+    assert abs(np.interp(0.0, *_right_edge_at_zero(first)) - crossing) < 0.02
+
+
+def _right_edge_at_zero(ring):
+    """(ys, xs) of the ring's points right of its centre's side, sorted by y, for interpolation."""
+    right = ring[ring[:, 0] > 0.5]
+    order = np.argsort(right[:, 1])
+    return right[order, 1], right[order, 0]

@@ -16,7 +16,7 @@ from typing import Optional, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["branch_polyline"]
+__all__ = ["branch_polyline", "cell_polygon"]
 
 #: At most this many halvings of an interval of directions.
 _MAX_DEPTH = 14
@@ -78,3 +78,63 @@ def branch_polyline(sites: NDArray[np.float64], radii: NDArray[np.float64], a: i
     if end is not None:
         polyline[-1] = end
     return polyline
+
+
+def _clip_to_box(polygon: NDArray[np.float64], box: Sequence[float]) -> NDArray[np.float64]:
+    """``polygon`` (any simple ring, counter-clockwise) clipped to ``box`` (Sutherland-Hodgman: a
+    convex window clips any polygon; where the polygon leaves the box and comes back, the result
+    runs along the box's side)."""
+    xmin, ymin, xmax, ymax = box
+    ring = [tuple(p) for p in polygon]
+    for axis, bound, keep_above in ((0, xmin, True), (0, xmax, False), (1, ymin, True), (1, ymax, False)):
+        if not ring:
+            break
+        inside = (lambda p: p[axis] >= bound) if keep_above else (lambda p: p[axis] <= bound)
+        out = []
+        for k, q in enumerate(ring):
+            p = ring[k - 1]
+            if inside(q):
+                if not inside(p):
+                    out.append(_crossing(p, q, axis, bound))
+                out.append(q)
+            elif inside(p):
+                out.append(_crossing(p, q, axis, bound))
+        ring = out
+    return np.array(ring, dtype=np.float64).reshape(-1, 2)
+
+
+def _crossing(p, q, axis: int, bound: float) -> tuple[float, float]:
+    t = (bound - p[axis]) / (q[axis] - p[axis])
+    point = [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]
+    point[axis] = bound
+    return point[0], point[1]
+
+
+def cell_polygon(diagram, i: int, box: Sequence[float], tolerance: float) -> NDArray[np.float64]:
+    """Cell i of a diagram of disks clipped to ``box``, counter-clockwise, its edges sampled
+    within ``tolerance``; a gap at infinity is closed by an arc around the disk's centre beyond
+    the box. Empty for a hidden disk."""
+    d = diagram
+    hs = d.cell_half_edges(i)
+    if not hs:
+        return np.zeros((0, 2))
+    radii = np.asarray(d.radii, dtype=np.float64)
+    centre = np.asarray(d.sites[i], dtype=np.float64)
+    lines = []
+    for h in hs:
+        u, w = int(d.origin[h]), int(d.origin[d.twin[h]])
+        lines.append(branch_polyline(d.sites, radii, i, int(d.site[d.twin[h]]), None if u < 0 else d.vertices[u],
+                                     None if w < 0 else d.vertices[w], box, tolerance))
+    ring = []
+    for k, (h, line) in enumerate(zip(hs, lines)):
+        ring.extend(line if not ring else line[1:] if np.array_equal(line[0], ring[-1]) else line)
+        if d.origin[d.twin[h]] < 0:
+            # a gap at infinity: around the centre, beyond the box, to where the next edge comes in
+            out, back = line[-1] - centre, lines[(k + 1) % len(lines)][0] - centre
+            reach = max(math.hypot(*out), math.hypot(*back))
+            a0, a1 = math.atan2(out[1], out[0]), math.atan2(back[1], back[0])
+            sweep = (a1 - a0) % (2 * math.pi)
+            steps = max(2, int(math.ceil(sweep / (math.pi / 32))))
+            ring.extend(centre + reach * np.array([math.cos(a0 + sweep * s / steps), math.sin(a0 + sweep * s / steps)])
+                        for s in range(steps + 1))
+    return _clip_to_box(np.array(ring, dtype=np.float64), box)

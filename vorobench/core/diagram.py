@@ -10,6 +10,7 @@ A diagram is immutable once made: the scipy-style views (``regions``, ``ridge_po
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
@@ -340,8 +341,7 @@ class Diagram:
         its twin choose the same point, so neighbouring polygons share their corners exactly.
         """
         if self.radii is not None:
-            raise NotImplementedError("cells of disks are bounded by branches of hyperbolas, not lines: "
-                                      "polygons of them are not built yet (docs/apollonius.md)")
+            raise NotImplementedError("cells of disks are bounded by branches of hyperbolas, not lines")
         direction = self.half_edge_direction(hs)
         a, b = self.sites[self.site[hs]], self.sites[self.site[self.twin[hs]]]
         anchor = 0.5 * (a + b)
@@ -368,6 +368,10 @@ class Diagram:
         of the left half-planes of its half-edges' lines (see :meth:`cell_polygons`)."""
         if box is None:
             box = site_box(self)
+        if self.radii is not None and self.n_sites > 1:
+            from vorobench.core.branch_curves import cell_polygon
+
+            return cell_polygon(self, i, box, _disk_tolerance(box))
         poly = _box_corners(box)
         if self.n_sites == 1 and i == 0:
             return poly
@@ -383,6 +387,10 @@ class Diagram:
         polygon ``corners[offsets[i]:offsets[i + 1]]``, the same as ``cell_polygon(i, box)``."""
         if box is None:
             box = site_box(self)
+        if self.radii is not None and self.n_sites > 1:
+            rings = [self.cell_polygon(i, box) for i in range(self.n_sites)]
+            offsets = np.concatenate([[0], np.cumsum([len(r) for r in rings])]).astype(np.int64)
+            return np.concatenate(rings).reshape(-1, 2), offsets
         order, offsets, _ = self._cycles
         anchor, direction = self._cell_lines(order)
         return clip_groups(_box_corners(box), anchor, direction, offsets, empty_without_lines=self.n_sites != 1)
@@ -518,6 +526,12 @@ class Diagram:
         if not used.all():
             raise InvalidDiagramError(f"vertex {_first(~used)} is not the origin of any half-edge")
         return self
+
+
+def _disk_tolerance(box: tuple[float, float, float, float]) -> float:
+    """How far the polygon of a cell of disks may stray from its curved edges: a thousandth of
+    the box's diagonal."""
+    return 1e-3 * math.hypot(box[2] - box[0], box[3] - box[1])
 
 
 def _cycle_labels(perm: NDArray[np.integer]) -> tuple[int, NDArray[np.int32]]:
