@@ -122,6 +122,7 @@ class _Sweep:
         self.edges: list[_Edge] = []
         self.points: list[ApolloniusVertex] = []
         self.L = None                                 # the sweep's position (rational at site events)
+        self.first_row = None                         # the time of the first site event
         for i in visible:
             x, y, r = disks[i]
             heapq.heappush(self.heap, _Event(_q(y - r), _SITE, x, next(self.seq), site=i))
@@ -215,9 +216,11 @@ class _Sweep:
         x = self.disks[i][0]
         if not self.arcs:
             self.arcs.append(_Arc(i))
+            self.first_row = self.L
             return
-        if all(self._height(arc.site) == 0 for arc in self.arcs):
-            # a first row of sites at one time: spikes side by side, coming in order of x
+        if self.L == self.first_row:
+            # a first row of sites at one time (every arc so far entered now: spikes side by
+            # side), coming in order of x
             if self.disks[self.arcs[-1].site][0] >= x:
                 raise RuntimeError("apollonius sweep: the first row of sites came out of order")
             edge = _Edge(self.arcs[-1].site, i)

@@ -115,3 +115,18 @@ def test_rays_linked_in_the_wrong_order_around_a_cell_fail():
     wrong = with_fields(d, next=nxt).validate()
     assert certify_disks(d).ok and certify_disks(wrong).failed == ["rays"]
     assert compare_disks(d, wrong).verdict is Verdict.DIFFERS
+
+
+def test_a_diagram_of_other_radii_or_without_radii_is_wrong_sites():
+    from vorobench.judge.engine import BuildResult, certify_result
+
+    centres = datasets_gen.generate("uniform", 12, seed=5)
+    radii = radius_family("random", centres, 5)
+    d = halfplane_disks.build(centres, radii)
+    for diagram, says in ((replace(d, radii=radii * 1.5), "other radii"),
+                          (halfplane.build(centres), "a diagram of points for disks")):
+        res = certify_result(BuildResult("x", True, diagram), centres, radii=radii)
+        assert res.failure == Verdict.WRONG_SITES and says in res.error
+    res = certify_result(BuildResult("x", True, d), centres)
+    assert res.failure == Verdict.WRONG_SITES and "a diagram of disks for points" in res.error
+    assert certify_result(BuildResult("x", True, d), centres, radii=radii).certificate.ok

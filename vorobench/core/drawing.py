@@ -136,39 +136,23 @@ def draw(diagram: Drawable, ax: Any = None, box: Optional[Sequence[float]] = Non
         if small:
             # each weight w > 0 as the circle of radius sqrt(w): a cell is where a point's
             # tangent to that circle is the shortest
-            from matplotlib.collections import EllipseCollection
-
             w = np.asarray(weights, dtype=np.float64)
             ring = (w > 0) & ~hidden
-            if ring.any():
-                size = 2 * np.sqrt(w[ring])
-                ax.add_collection(EllipseCollection(size, size, np.zeros(size.size), units="xy",
-                                                    offsets=d.sites[ring], offset_transform=ax.transData,
-                                                    facecolors="none", edgecolors="tab:gray", linewidths=0.6))
-                ax.plot([], [], "o", mfc="none", mec="tab:gray", label="weight w: circle of radius sqrt(w)")
+            _circles(ax, d.sites[ring], np.sqrt(w[ring]), "weight w: circle of radius sqrt(w)")
     if show_sites and n_sites:
         shown_sites = d.sites[~hidden]
         ax.plot(shown_sites[:, 0], shown_sites[:, 1], ".", ms=4 if small else 1, color="black", label="sites")
         if hidden.any():
             ax.plot(d.sites[hidden, 0], d.sites[hidden, 1], "x", ms=5 if small else 2, color="tab:red",
                     label=f"hidden sites ({int(hidden.sum())})")
-    ax.set_xlim(xmin, xmax)
-    ax.set_ylim(ymin, ymax)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-    if title:
-        ax.set_title(title)
-    if ax.get_legend_handles_labels()[0]:                  # nothing drawn, no empty legend
-        ax.legend(loc="upper right", fontsize="small", framealpha=0.8)
-    return ax
+    return _framed(ax, box, title)
 
 
 def _draw_disks(d: Any, ax: Any, box: Sequence[float], *, title: str, edge_color: str, label: Optional[str],
                 show_sites: bool) -> Any:
     """A diagram of disks: its edges sampled along their branches (within a thousandth of the
     box's diagonal), the visible disks' circles, hidden disks marked."""
-    from matplotlib.collections import EllipseCollection, LineCollection
+    from matplotlib.collections import LineCollection
 
     from vorobench.core.branch_curves import branch_polyline
 
@@ -195,17 +179,31 @@ def _draw_disks(d: Any, ax: Any, box: Sequence[float], *, title: str, edge_color
     hidden = np.zeros(n, dtype=bool)
     hidden[np.asarray(d.hidden, dtype=np.int64)] = n > 1
     ring = (radii > 0) & ~hidden
-    if ring.any():
-        size = 2 * radii[ring]
-        ax.add_collection(EllipseCollection(size, size, np.zeros(size.size), units="xy", offsets=d.sites[ring],
-                                            offset_transform=ax.transData, facecolors="none",
-                                            edgecolors="tab:gray", linewidths=0.6))
-        ax.plot([], [], "o", mfc="none", mec="tab:gray", label="disks")
+    _circles(ax, d.sites[ring], radii[ring], "disks")
     if show_sites and n:
         ax.plot(d.sites[~hidden, 0], d.sites[~hidden, 1], ".", ms=4, color="black", label="centres")
         if hidden.any():
             ax.plot(d.sites[hidden, 0], d.sites[hidden, 1], "x", ms=5, color="tab:red",
                     label=f"hidden disks ({int(hidden.sum())})")
+    return _framed(ax, box, title)
+
+
+def _circles(ax: Any, centres: NDArray[np.float64], radii: NDArray[np.float64], label: str) -> None:
+    """Outlines of circles (disks, or the circles of power weights), in data units."""
+    from matplotlib.collections import EllipseCollection
+
+    if not len(radii):
+        return
+    size = 2 * np.asarray(radii, dtype=np.float64)
+    ax.add_collection(EllipseCollection(size, size, np.zeros(size.size), units="xy", offsets=centres,
+                                        offset_transform=ax.transData, facecolors="none",
+                                        edgecolors="tab:gray", linewidths=0.6))
+    ax.plot([], [], "o", mfc="none", mec="tab:gray", label=label)
+
+
+def _framed(ax: Any, box: Sequence[float], title: str) -> Any:
+    """The axes set to ``box`` at equal scale, titled, with a legend if anything was drawn."""
+    xmin, ymin, xmax, ymax = box
     ax.set_xlim(xmin, xmax)
     ax.set_ylim(ymin, ymax)
     ax.set_aspect("equal")
@@ -213,6 +211,6 @@ def _draw_disks(d: Any, ax: Any, box: Sequence[float], *, title: str, edge_color
     ax.set_ylabel("y")
     if title:
         ax.set_title(title)
-    if ax.get_legend_handles_labels()[0]:
+    if ax.get_legend_handles_labels()[0]:                  # nothing drawn, no empty legend
         ax.legend(loc="upper right", fontsize="small", framealpha=0.8)
     return ax

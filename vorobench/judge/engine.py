@@ -208,28 +208,33 @@ def certify_result(result: BuildResult, sites: np.ndarray, *, probes: int = DEFA
                         + (f"{d.sites.shape[0]} sites for the {sites.shape[0]} it was given"
                            if d.sites.shape != sites.shape else "some of them moved"))
         return result
-    got = None if d.weights is None else np.asarray(d.weights)
-    if (got is None) != (weights is None) or (got is not None and not (
-            got.shape == weights.shape and np.array_equal(got, weights))):
-        result.diagram, result.failure = None, Verdict.WRONG_SITES
-        result.error = ("returned the diagram of other weights" if got is not None and weights is not None else
-                        "returned an ordinary diagram for weighted sites" if got is None else
-                        "returned a power diagram for unweighted sites")
-        return result
-    got = None if d.radii is None else np.asarray(d.radii)
-    if (got is None) != (radii is None) or (got is not None and not (
-            got.shape == radii.shape and np.array_equal(got, radii))):
-        result.diagram, result.failure = None, Verdict.WRONG_SITES
-        result.error = ("returned the diagram of other radii" if got is not None and radii is not None else
-                        "returned a diagram of points for disks" if got is None else
-                        "returned a diagram of disks for points")
-        return result
+    for given, wanted, texts in ((d.weights, weights, ("weights", "an ordinary diagram for weighted sites",
+                                                        "a power diagram for unweighted sites")),
+                                 (d.radii, radii, ("radii", "a diagram of points for disks",
+                                                   "a diagram of disks for points"))):
+        problem = _other_attribute(given, wanted, *texts)
+        if problem:
+            result.diagram, result.failure, result.error = None, Verdict.WRONG_SITES, problem
+            return result
     try:
         result.certificate = certify_disks(d) if radii is not None else certify(d, probes=probes, seed=seed)
     except Exception as exc:  # a diagram the certifier cannot even read certifies nothing
         result.diagram, result.failure = None, Verdict.NOT_CERTIFIED
         result.error = f"the certifier could not read the diagram: {type(exc).__name__}: {exc}"
     return result
+
+
+def _other_attribute(given: Any, wanted: Optional[np.ndarray], name: str, missing: str, extra: str) -> str:
+    """Why a diagram's weights or radii (``given``) are not exactly those of the case (``wanted``;
+    None: the case has none), or "" if they are."""
+    got = None if given is None else np.asarray(given)
+    if got is None and wanted is None:
+        return ""
+    if got is None:
+        return f"returned {missing}"
+    if wanted is None:
+        return f"returned {extra}"
+    return "" if got.shape == wanted.shape and np.array_equal(got, wanted) else f"returned the diagram of other {name}"
 
 
 def build_and_certify(impl_name: str, sites: ArrayLike, *, probes: int = DEFAULT_PROBES, seed: int = 0,
