@@ -60,3 +60,12 @@ def test_the_bad_cell_is_the_first_a_plain_walk_finds(seed):
     order, origins, offsets, bad = cell_cycles(d.site, nxt, d.origin, d.n_sites)
     expected_bad = _plain_walk(d.site, nxt, d.origin, d.n_sites)[2]
     assert bad >= 0 and bad == expected_bad
+
+
+def test_cycles_that_swap_half_edges_between_cells_are_bad():
+    # cells 0 = {0, 1} and 1 = {2, 3}, whose next pairs each half-edge with one of the other
+    # cell: every cycle has its cell's length and returns to its start, yet leaves its cell
+    site = np.array([0, 0, 1, 1], dtype=np.int32)
+    nxt = np.array([2, 3, 0, 1], dtype=np.int32)
+    origin = np.array([0, 1, 2, 3], dtype=np.int32)
+    assert cell_cycles(site, nxt, origin, 2)[3] == _plain_walk(site, nxt, origin, 2)[2] == 0

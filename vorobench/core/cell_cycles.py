@@ -67,6 +67,80 @@ def _walk_cells(site, nxt, origin, n, start, offsets, order, origins):
     return order, origins, offsets, -1
 
 
+#: How many cells are walked at once. A walk is a chain of reads, each waiting for the one
+#: before (``h = next[h]``); walking several cells in turn lets the processor wait for their
+#: misses together (the walk at 10^6 sites: 0.24 s alone, 0.20 s eight at a time).
+WALKERS = 8
+
+
+@njit(cache=True)
+def _count_cells(site, origin, n, start, offsets):
+    """Count each cell's half-edges into ``offsets`` (then summed into offsets) and pick its
+    start: its lowest-numbered half-edge from infinity, else its lowest-numbered half-edge."""
+    H = site.size
+    for h in range(H):
+        if h + CELL_AHEAD < H:
+            later = site[h + CELL_AHEAD]
+            prefetch(start, later)
+            prefetch(offsets, later + 1)
+        c = site[h]
+        offsets[c + 1] += 1
+        s = start[c]
+        if s < 0 or (origin[h] < 0 and origin[s] >= 0):
+            start[c] = h
+    for c in range(n):
+        offsets[c + 1] += offsets[c]
+
+
+@njit(cache=True)
+def _walk_together(site, nxt, origin, start, offsets, order, origins):
+    """Walk every cell's cycle from its start, :data:`WALKERS` cells at a time, taken in the
+    order their starts lie in memory; False as soon as a cycle leaves its cell, misses some of
+    its half-edges or does not return to its start (which one is not said)."""
+    H = site.size
+    is_start = np.zeros(H, dtype=np.bool_)
+    for c in range(start.size):
+        if start[c] >= 0:
+            is_start[start[c]] = True
+    cell = np.full(WALKERS, -1, dtype=np.int64)     # the cell each walker is on, -1 when idle
+    first = np.empty(WALKERS, dtype=np.int64)       # its start
+    at = np.empty(WALKERS, dtype=np.int64)          # the half-edge it reads next
+    k = np.empty(WALKERS, dtype=np.int64)           # where that half-edge goes in ``order``
+    scan = 0
+    busy = 0
+    while True:
+        for j in range(WALKERS):
+            if cell[j] < 0:
+                while scan < H and not is_start[scan]:
+                    scan += 1
+                if scan == H:
+                    continue
+                c = site[scan]
+                cell[j], first[j], at[j], k[j] = c, scan, scan, offsets[c]
+                scan += 1
+                busy += 1
+            c = cell[j]
+            h = at[j]
+            if k[j] >= offsets[c + 1] or site[h] != c:
+                return False
+            order[k[j]] = h
+            origins[k[j]] = origin[h]
+            k[j] += 1
+            h = nxt[h]
+            if h == first[j]:
+                if k[j] != offsets[c + 1]:
+                    return False
+                cell[j] = -1
+                busy -= 1
+            else:
+                at[j] = h
+                prefetch(site, h)
+                prefetch(nxt, h)
+                prefetch(origin, h)
+        if busy == 0 and scan == H:
+            return True
+
+
 def cell_cycles(site: NDArray[np.integer], nxt: NDArray[np.integer], origin: NDArray[np.integer],
                 n: int) -> tuple[NDArray[np.integer], NDArray[np.integer], NDArray[np.int64], int]:
     """``(order, origins, offsets, bad)``: the half-edges of cell i are
@@ -85,6 +159,12 @@ def cell_cycles(site: NDArray[np.integer], nxt: NDArray[np.integer], origin: NDA
     offsets = np.zeros(n + 1, dtype=np.int64)
     order = np.empty(H, dtype=nxt.dtype)        # half-edge ids as the DCEL has them
     origins = np.empty(H, dtype=origin.dtype)
+    _count_cells(site, origin, int(n), start, offsets)
+    if _walk_together(site, nxt, origin, start, offsets, order, origins):
+        return order, origins, offsets, -1
+    # a bad cycle: the one-at-a-time walk names the first bad cell in the order of the starts
+    start[:] = -1
+    offsets[:] = 0
     return _walk_cells(site, nxt, origin, int(n), start, offsets, order, origins)
 
 
