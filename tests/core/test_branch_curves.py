@@ -11,16 +11,12 @@ import numpy as np
 import pytest
 
 from impls import halfplane_disks
+from branch_distance import chord_stray, gap
 from vorobench.core.branch_curves import branch_polyline
 
 matplotlib.use("Agg")
 
 BOX = (-12.0, -12.0, 12.0, 12.0)
-
-
-def _gap(sites, radii, a, b, point):
-    """Distance to disk a minus distance to disk b: zero on their bisector."""
-    return (math.dist(point, sites[a]) - radii[a]) - (math.dist(point, sites[b]) - radii[b])
 
 
 def test_points_lie_on_the_branch_and_the_ends_are_the_vertices():
@@ -31,7 +27,7 @@ def test_points_lie_on_the_branch_and_the_ends_are_the_vertices():
         u, w = int(d.origin[h]), int(d.origin[d.twin[h]])
         line = branch_polyline(sites, radii, a, b, None if u < 0 else d.vertices[u], None if w < 0 else d.vertices[w],
                                BOX, 1e-3)
-        assert all(abs(_gap(sites, radii, a, b, p)) < 1e-9 * 20 for p in line)
+        assert all(abs(gap(sites, radii, a, b, p)) < 1e-9 * 20 for p in line)
         if u >= 0:
             assert np.array_equal(line[0], d.vertices[u])
         if w >= 0:
@@ -50,17 +46,8 @@ def test_no_chord_strays_beyond_the_tolerance(tolerance):
     # the curve between two consecutive samples, found by bisection on the bisector along the
     # chord's perpendicular, stays within the tolerance of the chord
     for p, q in zip(line[:-1], line[1:]):
-        m = (p + q) / 2
-        normal = np.array([q[1] - p[1], p[0] - q[0]])
-        normal /= np.linalg.norm(normal)
-        lo, hi = -10 * tolerance - 1.0, 10 * tolerance + 1.0
-        f = lambda t: _gap(sites, radii, 0, 1, m + t * normal)     # noqa: E731
-        if f(lo) * f(hi) > 0:
-            continue
-        for _ in range(80):
-            mid = (lo + hi) / 2
-            lo, hi = (mid, hi) if f(lo) * f(mid) > 0 else (lo, mid)
-        assert abs(lo) <= tolerance * 1.01 + 1e-12
+        stray = chord_stray(sites, radii, 0, 1, p, q, 10 * tolerance + 1.0)
+        assert stray is None or stray <= tolerance * 1.01 + 1e-12
 
 
 def test_a_diagram_of_disks_plots_its_curves_disks_and_hidden_disks():

@@ -104,3 +104,57 @@ def _right_edge_at_zero(ring):
     right = ring[ring[:, 0] > 0.5]
     order = np.argsort(right[:, 1])
     return right[order, 1], right[order, 0]
+
+
+def _branch_chords(ring, box):
+    """Consecutive corners of a ring that are both strictly inside ``box``: chords of its curved
+    edges (a corner on the box's side comes from the clipping)."""
+    inside = [(box[0] < x < box[2]) and (box[1] < y < box[3]) for x, y in ring]
+    return [(ring[k], ring[k + 1]) for k in range(len(ring) - 1) if inside[k] and inside[k + 1]]
+
+
+@pytest.mark.parametrize("fraction", [1e-2, 1e-5])
+def test_polygons_of_disks_keep_the_callers_tolerance(fraction):
+    """Two disks share one branch; at the caller's tolerance (here much finer and much coarser
+    than the default) no chord of either cell's polygon strays further from it, and a finer
+    tolerance takes more corners."""
+    from branch_distance import chord_stray
+
+    centres, radii = np.array([[0.0, 0.0], [3.0, 1.0]]), np.array([2.0, 0.2])
+    d = halfplane_disks.build(centres, radii)
+    box = (-5.0, -5.0, 8.0, 6.0)
+    tolerance = fraction * math.hypot(13.0, 11.0)
+    for i in (0, 1):
+        ring = d.cell_polygon(i, box, tolerance=tolerance)
+        chords = _branch_chords(ring, box)
+        assert len(chords) >= 2
+        strays = [chord_stray(centres, radii, 0, 1, p, q, 1.0) for p, q in chords]
+        assert max(s for s in strays if s is not None) <= tolerance * 1.01
+    coarse, fine = (len(d.cell_polygon(0, box, tolerance=t)) for t in (tolerance, tolerance / 10))
+    assert fine > coarse
+
+
+def test_shapely_and_geojson_take_the_tolerance():
+    shapely = pytest.importorskip("shapely")
+    d = _disks()
+    box = (-12.0, -12.0, 12.0, 12.0)
+    default = d.to_shapely(box)
+    fine = d.to_shapely(box, tolerance=1e-4)
+    assert all(len(f.exterior.coords) >= len(c.exterior.coords) for f, c in zip(fine, default) if not c.is_empty)
+    assert sum(len(f.exterior.coords) for f in fine) > sum(len(c.exterior.coords) for c in default if not c.is_empty)
+    assert shapely.union_all(fine).area == pytest.approx(24.0 * 24.0, rel=1e-6)
+    features = d.to_geojson(box, tolerance=1e-4)["features"]
+    assert [len(f["geometry"]["coordinates"][0]) if f["geometry"] else 0 for f in features] == \
+        [len(f.exterior.coords) if not f.is_empty else 0 for f in fine]
+
+
+@pytest.mark.parametrize("tolerance", [0.0, -1e-3, float("nan"), float("inf"), 1e-12])
+def test_a_tolerance_that_cannot_be_kept_is_refused(tolerance):
+    box = (-12.0, -12.0, 12.0, 12.0)
+    import impls
+
+    for d in (_disks(), impls.build("fortune", np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]))):
+        with pytest.raises(ValueError, match="tolerance"):
+            d.cell_polygon(0, box, tolerance=tolerance)
+        with pytest.raises(ValueError, match="tolerance"):
+            d.to_geojson(box, tolerance=tolerance)

@@ -361,17 +361,20 @@ class Diagram:
             anchor = np.where(use_start[:, None], ps, np.where((end >= 0)[:, None], pe, anchor))
         return anchor, direction
 
-    def cell_polygon(self, i: int, box: tuple[float, float, float, float] | None = None
-                     ) -> NDArray[np.float64]:
+    def cell_polygon(self, i: int, box: tuple[float, float, float, float] | None = None, *,
+                     tolerance: Optional[float] = None) -> NDArray[np.float64]:
         """Cell i clipped to ``box`` = (xmin, ymin, xmax, ymax), as a CCW (k, 2) polygon
         (default box: around the sites); empty for a hidden site. The cell is the intersection
-        of the left half-planes of its half-edges' lines (see :meth:`cell_polygons`)."""
+        of the left half-planes of its half-edges' lines (see :meth:`cell_polygons`).
+        ``tolerance``: how far the polygon may stray from a curved edge (a diagram of disks;
+        default a thousandth of the box's diagonal); straight edges are exact."""
         if box is None:
             box = site_box(self)
+        tolerance = _curve_tolerance(box, tolerance)
         if self.radii is not None and self.n_sites > 1:
             from vorobench.core.branch_curves import cell_polygon
 
-            return cell_polygon(self, i, box, _disk_tolerance(box))
+            return cell_polygon(self, i, box, tolerance)
         poly = _box_corners(box)
         if self.n_sites == 1 and i == 0:
             return poly
@@ -381,40 +384,47 @@ class Diagram:
         anchor, direction = self._cell_lines(hs)
         return clip_convex(poly, anchor, direction)
 
-    def cell_polygons(self, box: tuple[float, float, float, float] | None = None
-                      ) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    def cell_polygons(self, box: tuple[float, float, float, float] | None = None, *,
+                      tolerance: Optional[float] = None) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
         """Every cell clipped to ``box`` in one pass: ``(corners, offsets)``, cell i being the CCW
-        polygon ``corners[offsets[i]:offsets[i + 1]]``, the same as ``cell_polygon(i, box)``."""
+        polygon ``corners[offsets[i]:offsets[i + 1]]``, the same as ``cell_polygon(i, box)``
+        (``tolerance`` as there)."""
         if box is None:
             box = site_box(self)
+        tolerance = _curve_tolerance(box, tolerance)
         if self.radii is not None and self.n_sites > 1:
-            rings = [self.cell_polygon(i, box) for i in range(self.n_sites)]
+            rings = [self.cell_polygon(i, box, tolerance=tolerance) for i in range(self.n_sites)]
             offsets = np.concatenate([[0], np.cumsum([len(r) for r in rings])]).astype(np.int64)
             return np.concatenate(rings).reshape(-1, 2), offsets
         order, offsets, _ = self._cycles
         anchor, direction = self._cell_lines(order)
         return clip_groups(_box_corners(box), anchor, direction, offsets, empty_without_lines=self.n_sites != 1)
 
-    def polygons(self, box: tuple[float, float, float, float] | None = None
-                 ) -> list[NDArray[np.float64]]:
-        """Every cell clipped to ``box`` (default: around the sites)."""
-        corners, offsets = self.cell_polygons(box)
+    def polygons(self, box: tuple[float, float, float, float] | None = None, *,
+                 tolerance: Optional[float] = None) -> list[NDArray[np.float64]]:
+        """Every cell clipped to ``box`` (default: around the sites; ``tolerance`` as in
+        :meth:`cell_polygon`)."""
+        corners, offsets = self.cell_polygons(box, tolerance=tolerance)
         return np.split(corners, offsets[1:-1]) if self.n_sites else []
 
     # ------------------------------------------------------------------ export and drawing
-    def to_shapely(self, box: Optional[tuple[float, float, float, float]] = None) -> list:
+    def to_shapely(self, box: Optional[tuple[float, float, float, float]] = None, *,
+                   tolerance: Optional[float] = None) -> list:
         """One shapely ``Polygon`` per site, its cell clipped to ``box`` = (xmin, ymin, xmax, ymax)
-        (default: around the sites); an empty polygon where the cell misses the box."""
+        (default: around the sites); an empty polygon where the cell misses the box.
+        ``tolerance``: how far a polygon may stray from a curved edge (:meth:`cell_polygon`)."""
         from vorobench.core.export import to_shapely  # shapely is optional; export imports this module
 
-        return to_shapely(self, box)
+        return to_shapely(self, box, tolerance=tolerance)
 
-    def to_geojson(self, box: Optional[tuple[float, float, float, float]] = None) -> dict:
+    def to_geojson(self, box: Optional[tuple[float, float, float, float]] = None, *,
+                   tolerance: Optional[float] = None) -> dict:
         """A JSON-serialisable GeoJSON ``FeatureCollection``: one ``Feature`` per site, its cell
-        clipped to ``box`` (default: around the sites), ``null`` geometry where it misses the box."""
+        clipped to ``box`` (default: around the sites), ``null`` geometry where it misses the box
+        (``tolerance`` as in :meth:`to_shapely`)."""
         from vorobench.core.export import to_geojson
 
-        return to_geojson(self, box)
+        return to_geojson(self, box, tolerance=tolerance)
 
     def plot(self, ax: Any = None, box: Optional[tuple[float, float, float, float]] = None, **kwargs: Any) -> Any:
         """Draw sites, edges (clipped to ``box``, default around the sites) and vertices on a
@@ -528,10 +538,25 @@ class Diagram:
         return self
 
 
-def _disk_tolerance(box: tuple[float, float, float, float]) -> float:
-    """How far the polygon of a cell of disks may stray from its curved edges: a thousandth of
-    the box's diagonal."""
-    return 1e-3 * math.hypot(box[2] - box[0], box[3] - box[1])
+#: How far a polygon may stray from a curved edge by default, and at the least, as fractions of
+#: the box's diagonal: finer than the floor, the float sampling could not keep its promise.
+DEFAULT_CURVE_TOLERANCE = 1e-3
+FINEST_CURVE_TOLERANCE = 1e-6
+
+
+def _curve_tolerance(box: tuple[float, float, float, float], tolerance: Optional[float]) -> float:
+    """How far the polygon of a cell of disks may stray from its curved edges: the caller's
+    ``tolerance`` (checked), else a thousandth of the box's diagonal."""
+    diagonal = math.hypot(box[2] - box[0], box[3] - box[1])
+    if tolerance is None:
+        return DEFAULT_CURVE_TOLERANCE * diagonal
+    value = float(tolerance)
+    if not math.isfinite(value) or value <= 0:
+        raise ValueError(f"tolerance must be a positive finite distance, not {tolerance!r}")
+    if value < FINEST_CURVE_TOLERANCE * diagonal:
+        raise ValueError(f"tolerance {tolerance!r} is finer than curves can be sampled in floats: at least "
+                         f"{FINEST_CURVE_TOLERANCE:g} of the box's diagonal ({FINEST_CURVE_TOLERANCE * diagonal:.3g})")
+    return value
 
 
 def _cycle_labels(perm: NDArray[np.integer]) -> tuple[int, NDArray[np.int32]]:
