@@ -148,3 +148,22 @@ def test_the_report_counts_certificate_levels_and_reads_older_results():
     assert certificate_tally(cases) == "2 certified, 1 certified within tolerance, 1 not certified"
     older = cases.drop(columns="certificate")        # results written before the column existed
     assert certificate_tally(older) == "1 certified"
+
+
+def test_a_run_with_disks_shows_its_smallest_case_of_disks(tmp_path):
+    path = tmp_path / "disks.csv"
+    rows = []
+    for n, t in ((40, 0.2), (80, 0.5)):
+        for rep in range(3):
+            rows.append({"run_id": "r1", "impl": "fortune", "dataset": "uniform", "radii": "nested", "n": n,
+                         "seed": 4, "repeat": rep, "status": "ok", "verdict": "exact", "time_s": t,
+                         "warmup_s": 0.2, "n_sites": n, "mem_mb": 1.0, "peak_rss_mb": 200.0})
+    results.ResultsFile(path).append(rows)
+    results.append_run_metadata(path, {"run_id": "r1", "reference": "fortune", "repeat": 3, "timeout": 60,
+                                       "check": True, "hostname": "testhost", "cpu": "Test CPU", "cores": 2})
+    out = tmp_path / "rep"
+    assert main(["report", str(path), "-o", str(out)]) == 0
+    assert (out / "disks_diagram.png").stat().st_size > 10_000
+    md = (out / "README.md").read_text()
+    assert "## A diagram of disks of this run" in md and "(disks_diagram.png)" in md
+    assert "uniform, n = 40, seed 4, nested radii, built by fortune" in md

@@ -155,9 +155,10 @@ def _draw_disks(d: Any, ax: Any, box: Sequence[float], *, title: str, edge_color
     from matplotlib.collections import LineCollection
 
     from vorobench.core.branch_curves import branch_polyline
+    from vorobench.core.diagram import DEFAULT_CURVE_TOLERANCE
 
     xmin, ymin, xmax, ymax = box
-    tolerance = 1e-3 * math.hypot(xmax - xmin, ymax - ymin)
+    tolerance = DEFAULT_CURVE_TOLERANCE * math.hypot(xmax - xmin, ymax - ymin)
     radii = np.asarray(d.radii, dtype=np.float64)
     pieces = []
     for h in d.edges():

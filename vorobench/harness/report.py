@@ -27,7 +27,7 @@ from vorobench.harness.analysis import (
     r2_text,
 )
 from vorobench.harness.markdown_text import one_line, text
-from vorobench.harness.power_figure import plot_power_case
+from vorobench.harness.case_figures import plot_disk_case, plot_power_case
 from vorobench.harness.report_html import PageInput, plotly_styles, render
 from vorobench.harness.results import load_checked, metadata_path, read_metadata, with_weights_in_dataset
 from vorobench.harness.units import factor_text, percent_text, seconds_text, size_text
@@ -42,6 +42,7 @@ FIGURES = {
     "memory": "memory_vs_n.png",
     "correctness": "correctness.png",
     "power": "power_diagram.png",
+    "disks": "disks_diagram.png",
 }
 
 
@@ -335,6 +336,8 @@ def write_report(results_path: str | Path, out: str | Path, title: Optional[str]
     }
     power = plot_power_case(raw, out / FIGURES["power"], reference)
     drawn["power"] = power[0] if power else None
+    disks = plot_disk_case(raw, out / FIGURES["disks"], reference)
+    drawn["disks"] = disks[0] if disks else None
     figs = {key: path for key, path in drawn.items() if path is not None}
     for key in set(drawn) - set(figs):
         (out / FIGURES[key]).unlink(missing_ok=True)       # an earlier report's figure would be stale
@@ -352,6 +355,10 @@ def write_report(results_path: str | Path, out: str | Path, title: Optional[str]
         md = md.rstrip("\n") + ("\n\n## A power diagram of this run\n\n" + _text(power[1]) + ". Red crosses: hidden "
                                  "sites (empty power cells); grey circles: each weight w as a circle of radius "
                                  f"sqrt(w).\n\n![power diagram]({FIGURES['power']})\n")
+    if disks:
+        md = md.rstrip("\n") + ("\n\n## A diagram of disks of this run\n\n" + _text(disks[1]) + ". Each edge is "
+                                 "sampled along its bisector branch; grey circles: the disks; red crosses: hidden "
+                                 f"disks (inside another).\n\n![diagram of disks]({FIGURES['disks']})\n")
     md_path = out / "README.md"
     md_path.write_text(md)
     html_path = out / "report.html"
