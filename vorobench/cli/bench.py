@@ -123,7 +123,7 @@ def default_out(now: Optional[_dt.datetime] = None) -> Path:
 
 def _validate_names(declared: dict, datasets: Sequence[str], reference: Optional[str],
                     weights: Optional[str] = None, radii: Optional[str] = None,
-                    config: Optional["RunConfig"] = None) -> None:
+                    config: Optional[RunConfig] = None) -> None:
     """Refuse unknown datasets and families, weights with radii, and a reference that cannot
     build the run's cases (weighted, or of disks), naming the implementations here that can."""
     from vorobench.harness.site_attributes import attribute_of
@@ -142,7 +142,7 @@ def _validate_names(declared: dict, datasets: Sequence[str], reference: Optional
                          f"or pass --no-check")
 
 
-def _takers(attribute: "SiteAttribute", declared: dict, config: Optional["RunConfig"] = None) -> list[str]:
+def _takers(attribute: SiteAttribute, declared: dict, config: Optional[RunConfig] = None) -> list[str]:
     """The implementations that take ``attribute`` (weights, disks): every one available here
     with the run's plugins (read in a sandbox, as the run's own are), or the run's alone when
     there is no ``config`` to read them with."""

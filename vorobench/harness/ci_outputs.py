@@ -53,7 +53,7 @@ def _md_cell(value: object) -> str:
 
 def _case_name(row: dict[str, Any]) -> str:
     """A validate record as one case: its dataset named with its weight or radius family, if any."""
-    from vorobench.harness.results import dataset_label     # pandas: only when a file is written
+    from vorobench.harness.results import dataset_label  # pandas: only when a file is written
 
     seed = "" if row.get("seed") is None else f" seed={row['seed']}"
     peer = f" vs {row['exact_peer']}" if row.get("exact_peer") else ""
