@@ -60,7 +60,7 @@ def test_unweighted_implementation_is_unsupported_and_weighted_ones_ok(weighted_
 
 def test_rows_carry_the_weight_family(weighted_run):
     out, df = weighted_run
-    assert list(df.columns[:5]) == ["run_id", "impl", "dataset", "weights", "n"]
+    assert list(df.columns[:6]) == ["run_id", "impl", "dataset", "weights", "radii", "n"]
     assert (df["weights"] == "radii").all()
     assert results.read_metadata(out)["runs"][-1]["weights"] == "radii"
 
@@ -131,7 +131,7 @@ def test_files_without_the_column_read_as_ordinary(tmp_path):
     df = results.load_checked(old)
     assert (df["weights"] == "").all()
     assert results.case_key(df.iloc[0].to_dict()) == ("qhull", "uniform", 100, 0)
-    assert set(results.with_weights_in_dataset(df)["dataset"]) == {"uniform"}
+    assert set(results.with_families_in_dataset(df)["dataset"]) == {"uniform"}
     # The same rows read back from a file written with the column compare as the same cases.
     new = results.normalise(pd.DataFrame(_rows("", 0.01)))
     assert all(not c.flags for c in regress.compare_frames(df, new))

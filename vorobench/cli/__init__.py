@@ -94,7 +94,7 @@ def cmd_datasets(args: argparse.Namespace) -> int:
     for name, text in datasets_gen.WEIGHT_FAMILIES.items():
         weights.add_row(name, text)
     _console().print(weights)
-    radii = Table(title="radius families (datasets_gen.radii: disks as sites, docs/apollonius.md; "
+    radii = Table(title="radius families (--radii FAMILY on bench, validate, fuzz: disks as sites, docs/apollonius.md; "
                         "impls.build(name, centres, radii=r) with an implementation that takes disks)")
     for col in ("name", "description"):
         radii.add_column(col)

@@ -5,7 +5,12 @@ Each (implementation, dataset, n, seed) runs in a fresh process: a crash, a hang
 Every finished case is appended to --out at once; --resume skips cases already there.
 With --weights FAMILY every case times the power diagram of its points with weights of that
 family (see `vorobench datasets`), and an implementation that does not take weights is
-recorded as unsupported.
+recorded as unsupported. With --radii FAMILY every case times the diagram of the disks centred
+at its points with radii of that family (docs/apollonius.md), judged by the certificate and
+comparison of disks, and an implementation that does not take disks is recorded as
+unsupported. A case has weights or radii, never both; either one names its dataset in the
+results ("uniform (radii weights)", "uniform (random radii)"), so it is never mixed with the
+ordinary case.
 """
 
 from __future__ import annotations
@@ -14,13 +19,17 @@ import argparse
 import datetime as _dt
 import sys
 from pathlib import Path
-from typing import Optional, Sequence
+from typing import TYPE_CHECKING, Optional, Sequence
 
 from rich.console import Console
 
 import datasets_gen
 import impls
 from vorobench.cli import args as cli_args
+
+if TYPE_CHECKING:  # annotations only: the harness is imported when a command runs
+    from vorobench.harness.runner import RunConfig
+    from vorobench.harness.site_attributes import SiteAttribute
 
 # The parser imports every command module, so each one imports the harness (numba, pandas,
 # matplotlib: about 1.5 s) inside the functions that run a command, and only the light
@@ -49,6 +58,10 @@ def radius_family(text: str) -> str:
     return _family(text, datasets_gen.RADIUS_FAMILIES, "radius")
 
 
+#: The option parser of each site attribute's family, by the attribute's name (``--weights``, ``--radii``).
+_FAMILY_OPTIONS = {"weights": weight_family, "radii": radius_family}
+
+
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--impls", type=cli_args.names, default=None,
                    help="comma-separated implementations (default: all available)")
@@ -60,6 +73,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--weights", type=weight_family, default=None, metavar="FAMILY",
                    help="time power diagrams: every site weighted by this family (radii, equal, integer, hidden; "
                         "see `vorobench datasets`); implementations without weights are recorded as unsupported")
+    p.add_argument("--radii", type=radius_family, default=None, metavar="FAMILY",
+                   help="time diagrams of disks (docs/apollonius.md): every point the centre of a disk with a radius "
+                        "of this family (random, separate, equal, nested, tangent, integer, huge, last_bit; see "
+                        "`vorobench datasets`); implementations without disks are recorded as unsupported; not "
+                        "with --weights")
     p.add_argument("--repeat", type=cli_args.positive_int, default=5,
                    help="timed builds per case, at least (default 5: the fewest with which `compare`'s rank test "
                         "can show a change at alpha 0.05 on one case)")
@@ -104,17 +122,35 @@ def default_out(now: Optional[_dt.datetime] = None) -> Path:
 
 
 def _validate_names(declared: dict, datasets: Sequence[str], reference: Optional[str],
-                    weights: Optional[str] = None) -> None:
+                    weights: Optional[str] = None, radii: Optional[str] = None,
+                    config: Optional[RunConfig] = None) -> None:
+    """Refuse unknown datasets and families, weights with radii, and a reference that cannot
+    build the run's cases (weighted, or of disks), naming the implementations here that can."""
+    from vorobench.harness.site_attributes import attribute_of
+
     for name in datasets:
         if name not in datasets_gen.available() and not name.startswith("file:"):
             raise ValueError(f"unknown dataset {name!r}; available: {', '.join(datasets_gen.available())}")
-    if weights is not None:
-        weight_family(weights)
-        if reference and not declared[reference].weighted:
-            weighted = [n for n, d in declared.items() if d.weighted]
-            raise ValueError(f"the reference {reference} does not take weights, so it cannot check weighted cases; "
-                             f"choose one that does with --reference ({', '.join(weighted) or 'none here'}) "
-                             f"or pass --no-check")
+    attribute, family = attribute_of(weights or "", radii or "")
+    if attribute is None:
+        return
+    _FAMILY_OPTIONS[attribute.name](family)
+    if reference and not attribute.takes(declared[reference]):
+        takers = _takers(attribute, declared, config)
+        raise ValueError(f"the reference {reference} {attribute.refusal}, so it cannot check {attribute.cases}; "
+                         f"choose one that does with --reference ({', '.join(takers) or 'none here'}) "
+                         f"or pass --no-check")
+
+
+def _takers(attribute: SiteAttribute, declared: dict, config: Optional[RunConfig] = None) -> list[str]:
+    """The implementations that take ``attribute`` (weights, disks): every one available here
+    with the run's plugins (read in a sandbox, as the run's own are), or the run's alone when
+    there is no ``config`` to read them with."""
+    if config is not None:
+        from vorobench.judge.pinning import resolve_declarations
+
+        declared = resolve_declarations(None, tuple(config.plugins), timeout=config.warmup_timeout)
+    return [name for name, d in declared.items() if attribute.takes(d)]
 
 
 def pinned(impl_names: Optional[Sequence[str]], config) -> tuple[list[str], object]:
@@ -135,24 +171,28 @@ def pinned(impl_names: Optional[Sequence[str]], config) -> tuple[list[str], obje
 def execute(impl_names: Optional[Sequence[str]], datasets: Sequence[str], sizes: Sequence[int],
             seeds: Sequence[int], out: Path, config, resume: bool = False, overwrite: bool = False,
             progress: bool = True, verbose: bool = True, console=None, executor: Optional[str] = None,
-            workers: int = 1, weights: Optional[str] = None) -> tuple[int, list]:
+            workers: int = 1, weights: Optional[str] = None, radii: Optional[str] = None) -> tuple[int, list]:
     """Run a benchmark into ``out``; returns (exit code, outcomes). Shared by bench and demo.
     ``executor``/``workers``: see :func:`vorobench.harness.runner.run_cases`. ``weights``: a
-    weight family of ``datasets_gen`` (power diagrams), or None (ordinary diagrams)."""
+    weight family of ``datasets_gen`` (power diagrams); ``radii``: a radius family (diagrams of
+    disks); None for neither (ordinary diagrams), never both."""
+    from vorobench.harness.site_attributes import attribute_of
+
+    attribute_of(weights or "", radii or "")        # both: refused before anything is read or started
     impl_names, config = pinned(impl_names, config)
     return _execute(impl_names, datasets, sizes, seeds, out, config, resume, overwrite, progress,
-                    verbose, console, executor, workers, weights)
+                    verbose, console, executor, workers, weights, radii)
 
 
 def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool, overwrite: bool,
              progress: bool, verbose: bool, console, executor: Optional[str] = None,
-             workers: int = 1, weights: Optional[str] = None) -> tuple[int, list]:
+             workers: int = 1, weights: Optional[str] = None, radii: Optional[str] = None) -> tuple[int, list]:
     from vorobench.harness import results, runner, sysinfo
     from vorobench.harness.repeat_check import SHIFTS_NOTE
 
     console = console or Console(stderr=True)
     declared = dict(config.declarations)
-    _validate_names(declared, datasets, config.reference if config.check else None, weights)
+    _validate_names(declared, datasets, config.reference if config.check else None, weights, radii, config)
     # One run writes a results file at a time: a second one would rerun what the first has not
     # saved yet and interleave rows. Taken before reading (resume) or deleting (overwrite) it.
     with results.writer_lock(out):
@@ -165,12 +205,13 @@ def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool
         previous = store.rows() if resume else []
         done = {results.case_key(r) for r in previous}
         cases = runner.plan_cases(impl_names, datasets, sizes, seeds,
-                                  reference=config.reference if config.check else None, weights=weights or "")
+                                  reference=config.reference if config.check else None, weights=weights or "",
+                                  radii=radii or "")
         todo = [c for c in cases if c.key not in done]
         meta = sysinfo.run_metadata(impl_names, config.plugins)
         meta.update(run_id=config.run_id, argv=sys.argv[1:], impls=impl_names, datasets=list(datasets),
-                    sizes=list(sizes), seeds=list(seeds), weights=weights or "", repeat=config.repeat,
-                    min_time=config.min_time,
+                    sizes=list(sizes), seeds=list(seeds), weights=weights or "", radii=radii or "",
+                    repeat=config.repeat, min_time=config.min_time,
                     timeout=config.timeout,
                     reference=config.reference, check=config.check, start_method=config.start_method,
                     cases_planned=len(cases), executor=executor or "local", workers=workers,
@@ -180,11 +221,7 @@ def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool
         results.append_run_metadata(out, meta)
         if resume and done:
             console.print(f"resuming {out}: {len(cases) - len(todo)} of {len(cases)} cases already done")
-        if weights:
-            unweighted = [name for name in impl_names if not declared[name].weighted]
-            if unweighted:
-                console.print(f"weights {weights}: {', '.join(unweighted)} "
-                              f"{'does' if len(unweighted) == 1 else 'do'} not take weights: unsupported")
+        _say_unsupported(console, impl_names, declared, weights, radii)
         try:
             outcomes = runner.run_cases(cases, config, store.append, done=done, previous_rows=previous,
                                         progress=progress, console=console, verbose=verbose,
@@ -200,6 +237,21 @@ def _execute(impl_names, datasets, sizes, seeds, out: Path, config, resume: bool
         summary = ", ".join(f"{v} {k}" for k, v in sorted(counts.items())) or "nothing to run"
         console.print(f"{len(outcomes)} cases run ({summary}); results in {out}")
         return 0, outcomes
+
+
+def _say_unsupported(console, impl_names: Sequence[str], declared: dict, weights: Optional[str],
+                     radii: Optional[str]) -> None:
+    """One line naming the run's implementations that do not take its weights or disks: their
+    cases are recorded as unsupported, without a worker."""
+    from vorobench.harness.site_attributes import attribute_of
+
+    attribute, family = attribute_of(weights or "", radii or "")
+    if attribute is None:
+        return
+    left_out = [name for name in impl_names if not attribute.takes(declared[name])]
+    if left_out:
+        verb = attribute.refusal if len(left_out) == 1 else attribute.refusal.replace("does not", "do not", 1)
+        console.print(f"{attribute.name} {family}: {', '.join(left_out)} {verb}: unsupported")
 
 
 def _finish_metadata(out: Path, run_id: str, **fields) -> None:
@@ -241,7 +293,7 @@ def run(args: argparse.Namespace) -> int:
     code, _ = execute(args.impls, args.datasets, args.sizes, args.seeds, out, config,
                       resume=args.resume, overwrite=args.overwrite,
                       progress=not args.quiet, verbose=not args.quiet,
-                      executor=args.executor, workers=args.workers, weights=args.weights)
+                      executor=args.executor, workers=args.workers, weights=args.weights, radii=args.radii)
     if args.parquet and out.exists():
         print(f"wrote {results.to_parquet(out)}")
     if store is not None:

@@ -52,10 +52,13 @@ def _md_cell(value: object) -> str:
 
 
 def _case_name(row: dict[str, Any]) -> str:
+    """A validate record as one case: its dataset named with its weight or radius family, if any."""
+    from vorobench.harness.results import dataset_label  # pandas: only when a file is written
+
     seed = "" if row.get("seed") is None else f" seed={row['seed']}"
     peer = f" vs {row['exact_peer']}" if row.get("exact_peer") else ""
-    weights = f" ({row['weights']} weights)" if row.get("weights") else ""
-    return f"{row['impl']}{peer} on {row['dataset']}{weights} n={row['n']}{seed}"
+    dataset = dataset_label(str(row["dataset"]), str(row.get("weights") or ""), str(row.get("radii") or ""))
+    return f"{row['impl']}{peer} on {dataset} n={row['n']}{seed}"
 
 
 def write_junit(summary: dict[str, Any], path: str | Path) -> Path:

@@ -208,8 +208,8 @@ def _why_not_comparable(change: CaseChange, base_times: np.ndarray, new_times: n
 
 def _case_label(key: dict) -> str:
     """A case's key as compare names it (:attr:`CaseChange.name`)."""
-    weights = key.get("weights")
-    dataset = results.weighted_label(str(key["dataset"]), weights if isinstance(weights, str) else "")
+    families = [key.get(c) if isinstance(key.get(c), str) else "" for c in results.SITE_ATTRIBUTES]
+    dataset = results.dataset_label(str(key["dataset"]), *families)
     return f"{key['impl']} {dataset} n={int(float(key['n']))} seed={int(float(key['seed']))}"
 
 
@@ -256,12 +256,13 @@ def compare_frames(base_df, new_df, threshold: float = 0.10, alpha: float = 0.05
                    seed: int = 0, history=None) -> list[CaseChange]:
     """Every case present in either table, with its flags. ``history``: earlier runs' rows
     (several ``run_id``) of the same machine, from which each case's own run-to-run noise is
-    measured (:func:`case_noise`). A weighted case (``weights`` column) is a dataset of its own
-    (:func:`vorobench.harness.results.weighted_label`): never compared with the ordinary one."""
+    measured (:func:`case_noise`). A weighted case (``weights`` column) and a case of disks (``radii``)
+    are datasets of their own (:func:`vorobench.harness.results.dataset_label`): never compared with the
+    ordinary one."""
     timed: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     refuse_duplicates(base_df, "BASE")
     refuse_duplicates(new_df, "NEW")
-    base_df, new_df = results.with_weights_in_dataset(base_df), results.with_weights_in_dataset(new_df)
+    base_df, new_df = results.with_families_in_dataset(base_df), results.with_families_in_dataset(new_df)
     stat_cols = counter_columns(set(base_df.columns) | set(new_df.columns))
     base_groups = {k: g for k, g in base_df.groupby(KEY, sort=True)}
     new_groups = {k: g for k, g in new_df.groupby(KEY, sort=True)}
@@ -338,7 +339,7 @@ def case_noise(history) -> dict[tuple, tuple[float, int]]:
     memory-bound builds on a shared machine), which no single pair of runs can show."""
     if history is None or history.empty or "run_id" not in history.columns:
         return {}
-    history = results.with_weights_in_dataset(history)
+    history = results.with_families_in_dataset(history)
     ok = history[(history["status"] == Status.OK) & history["time_s"].notna()]
     medians = ok.groupby(KEY + ["run_id"])["time_s"].median()
     out = {}
@@ -390,14 +391,15 @@ def load_side(text: str | Path):
 
 def relative_to(df, reference: str, side: str = "results"):
     """``df`` with each build time divided by the median time of ``reference`` on the same
-    dataset, weights, n and seed in the same run: a dimensionless ratio in which the machine's
+    dataset, weights or radii, n and seed in the same run: a dimensionless ratio in which the machine's
     speed (and a change of it between runs) cancels. The reference's own rows and the cases it
     did not time are left out. ValueError when ``reference`` timed nothing in ``df``."""
     df = df.copy()
-    if "weights" in df.columns:
-        df["weights"] = df["weights"].fillna("").astype(str)
-    # per run (a store's history holds several), per case with its weight family
-    key = [c for c in ("run_id", "dataset", "weights", "n", "seed") if c in df.columns]
+    for column in results.SITE_ATTRIBUTES:
+        if column in df.columns:
+            df[column] = df[column].fillna("").astype(str)
+    # per run (a store's history holds several), per case with its weight or radius family
+    key = [c for c in ("run_id", "dataset", *results.SITE_ATTRIBUTES, "n", "seed") if c in df.columns]
     times = pd.to_numeric(df["time_s"], errors="coerce")
     ran = df[(df["impl"] == reference) & (df["status"] == Status.OK) & np.isfinite(times) & (times > 0)]
     if ran.empty:

@@ -29,7 +29,7 @@ from vorobench.harness.analysis import (
 from vorobench.harness.markdown_text import one_line, text
 from vorobench.harness.case_figures import plot_disk_case, plot_power_case
 from vorobench.harness.report_html import PageInput, plotly_styles, render
-from vorobench.harness.results import load_checked, metadata_path, read_metadata, with_weights_in_dataset
+from vorobench.harness.results import load_checked, metadata_path, read_metadata, with_families_in_dataset
 from vorobench.harness.units import factor_text, percent_text, seconds_text, size_text
 from vorobench.judge.outcomes import CertificateLevel, Status, Verdict
 
@@ -308,7 +308,7 @@ def write_report(results_path: str | Path, out: str | Path, title: Optional[str]
     results_path, out = Path(results_path), Path(out)
     df = load_checked(results_path)            # ValueError naming the file if it holds no results
     raw = df
-    df = with_weights_in_dataset(df)            # weighted cases: datasets of their own, named so
+    df = with_families_in_dataset(df)           # weighted cases, disks: datasets of their own, named so
     meta = read_metadata(results_path)
     out.mkdir(parents=True, exist_ok=True)
     runs = meta.get("runs", [])

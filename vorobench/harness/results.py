@@ -4,8 +4,10 @@ Layout: fixed leading columns (:data:`COLUMNS`), then the implementations' count
 (``stat_<name>``, integers) and the parts of the build time (``time_<phase>_s``) in sorted
 order; :mod:`vorobench.judge.outcomes` says what each kind of column is. A failed case has one row with its status and no time.
 A weighted case (a power diagram, ``bench --weights FAMILY``) names its weight family in the
-``weights`` column, empty for an ordinary case and absent from files written before it: it is
-part of the case key, so weighted and ordinary cases never meet in a comparison.
+``weights`` column, a case of disks (``bench --radii FAMILY``, docs/apollonius.md) its radius
+family in the ``radii`` column; both are empty for an ordinary case and absent from files
+written before them. They are part of the case key, so ordinary, weighted and disk cases never
+meet in a comparison.
 Every append is flushed and fsynced before the next case starts, and a change of columns
 rewrites the file atomically. A crash (or a full disk) in the middle of an append can still
 leave a torn last row: readers ignore it together with the rest of its case, and the next
@@ -47,8 +49,9 @@ __all__ = [
     "to_parquet",
     "case_key",
     "CASE_KEY",
-    "weighted_label",
-    "with_weights_in_dataset",
+    "SITE_ATTRIBUTES",
+    "dataset_label",
+    "with_families_in_dataset",
 ]
 
 #: Outcome of a case (:class:`vorobench.judge.outcomes.Status`). "skipped": not run because a smaller n
@@ -58,25 +61,29 @@ STATUSES = tuple(s.value for s in Status)
 
 #: Leading columns, in order; ``stat_*`` columns follow.
 COLUMNS = (
-    "run_id", "impl", "dataset", "weights", "n", "seed", "repeat", "status", "verdict", "certificate",
+    "run_id", "impl", "dataset", "weights", "radii", "n", "seed", "repeat", "status", "verdict", "certificate",
     "check_passed", "blame", "time_s", "cpu_s", "warmup_s", "setup_s", "check_s", "case_s",
     "n_points", "n_sites", "V", "E",
     "rss_base_mb", "peak_rss_mb", "mem_mb",
     "phase", "error", "verdict_detail", "finished_at", "host",
 )
 
-_TEXT = {"run_id", "impl", "dataset", "weights", "status", "verdict", "certificate", "check_passed", "blame", "phase",
-         "error", "verdict_detail", "finished_at", "host"}
+_TEXT = {"run_id", "impl", "dataset", "weights", "radii", "status", "verdict", "certificate", "check_passed", "blame",
+         "phase", "error", "verdict_detail", "finished_at", "host"}
 
 #: The columns every results table has (and that identify an ordinary case).
 KEY = ("impl", "dataset", "n", "seed")
 
-#: The columns that identify a case: ``weights`` (the weight family, "" for none) may be absent.
-CASE_KEY = KEY + ("weights",)
+#: The columns naming what a case's sites carry besides their coordinates: the weight family
+#: (power diagrams) or the radius family (disks); "" for none, and either may be absent.
+SITE_ATTRIBUTES = ("weights", "radii")
+
+#: The columns that identify a case.
+CASE_KEY = KEY + SITE_ATTRIBUTES
 
 
 def _family(value: Any) -> str:
-    """A ``weights`` cell as a family name: "" for none (missing, empty, NaN)."""
+    """A ``weights`` or ``radii`` cell as a family name: "" for none (missing, empty, NaN)."""
     if value is None or (isinstance(value, float) and value != value):
         return ""
     return str(value)
@@ -84,30 +91,34 @@ def _family(value: Any) -> str:
 
 def case_key(row: dict) -> tuple[str, str, int, int]:
     """(impl, dataset, n, seed) of a row, typed (CSV gives strings back); the dataset of a
-    weighted case is named with its weight family (:func:`weighted_label`)."""
-    return (str(row["impl"]), weighted_label(str(row["dataset"]), _family(row.get("weights"))),
+    weighted case or a case of disks is named with its family (:func:`dataset_label`)."""
+    return (str(row["impl"]), dataset_label(str(row["dataset"]), _family(row.get("weights")),
+                                            _family(row.get("radii"))),
             int(float(row["n"])), int(float(row["seed"])))
 
 
-def weighted_label(dataset: str, weights: str) -> str:
-    """How reports and comparisons name the dataset of a case: ``uniform``, or
-    ``uniform (radii weights)`` for the power diagram of its points with ``radii`` weights."""
-    return f"{dataset} ({weights} weights)" if weights else dataset
+def dataset_label(dataset: str, weights: str = "", radii: str = "") -> str:
+    """How reports and comparisons name the dataset of a case: ``uniform``; ``uniform (radii
+    weights)`` for the power diagram of its points with ``radii`` weights; ``uniform (random
+    radii)`` for the disks centred at its points with ``random`` radii."""
+    families = [f"{family} {column}" for column, family in zip(SITE_ATTRIBUTES, (weights, radii)) if family]
+    return f"{dataset} ({', '.join(families)})" if families else dataset
 
 
-def with_weights_in_dataset(df):
-    """``df`` with the ``dataset`` of every weighted row renamed by :func:`weighted_label`, for
-    the views that group cases by dataset (report, compare, trend): a weighted case is then a
-    dataset of its own, never mixed with the ordinary one. Returns a copy."""
+def with_families_in_dataset(df):
+    """``df`` with the ``dataset`` of every weighted row and every row of disks renamed by
+    :func:`dataset_label`, for the views that group cases by dataset (report, compare, trend):
+    such a case is then a dataset of its own, never mixed with the ordinary one or with each
+    other. Returns a copy."""
     df = df.copy()
-    if "weights" not in df.columns or df.empty:
+    if not any(c in df.columns for c in SITE_ATTRIBUTES) or df.empty:
         return df
-    family = df["weights"].map(_family)
-    weighted = family != ""
-    if weighted.any():
+    families = pd.DataFrame({c: df[c].map(_family) if c in df.columns else "" for c in SITE_ATTRIBUTES}, index=df.index)
+    carried = (families != "").any(axis=1)
+    if carried.any():
         df["dataset"] = df["dataset"].astype(object)
-        df.loc[weighted, "dataset"] = [weighted_label(str(d), w)
-                                       for d, w in zip(df.loc[weighted, "dataset"], family[weighted])]
+        df.loc[carried, "dataset"] = [dataset_label(str(d), *named) for d, named in zip(
+            df.loc[carried, "dataset"], families[carried].itertuples(index=False))]
     return df
 
 
@@ -331,9 +342,10 @@ def _with_all_columns(df):
     for column in COLUMNS:
         if column not in df.columns:
             df[column] = pd.Series(float("nan"), index=df.index, dtype=object if column in _TEXT else float)
-    # "" rather than NaN for an ordinary case: the family is part of the case key, and pandas
+    # "" rather than NaN for an ordinary case: the families are part of the case key, and pandas
     # groupby drops NaN keys.
-    df["weights"] = df["weights"].map(_family).astype(object)
+    for column in SITE_ATTRIBUTES:
+        df[column] = df[column].map(_family).astype(object)
     return df
 
 

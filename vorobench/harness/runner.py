@@ -1,8 +1,10 @@
 """Run benchmark cases, each in a sandbox of its own, and turn every outcome into rows.
 
-A case is one (implementation, dataset, n, seed, weight family): with a weight family (``bench
---weights``) it times the power diagram of the dataset's points, and an implementation that
-does not take weights is recorded as ``unsupported`` without being started. Its sandbox
+A case is one (implementation, dataset, n, seed, weight or radius family): with a weight family
+(``bench --weights``) it times the power diagram of the dataset's points, with a radius family
+(``bench --radii``) the diagram of the disks centred at them (docs/apollonius.md; a case has one
+family or none, :mod:`vorobench.harness.site_attributes`), and an implementation that does not
+take weights, or disks, is recorded as ``unsupported`` without being started. Its sandbox
 (:class:`vorobench.judge.sandbox.Sandbox`, the one judging uses, serving the requests of
 :mod:`vorobench.harness.worker`) is a fresh process, so a hard crash (segfault, ``os._exit``), a
 hang or running out of memory ends that case only: the runner records the status and goes on.
@@ -26,6 +28,7 @@ import time
 from dataclasses import asdict, dataclass, field
 from typing import Callable, Iterable, Optional, Sequence
 
+import numpy as np
 from rich.console import Console
 from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
@@ -33,12 +36,13 @@ import datasets_gen
 import impls
 from vorobench.harness.analysis import declared_exponent, loglog_fit
 from vorobench.harness.executors import LOCAL, parse_spec, run_tasks
-from vorobench.harness.results import case_key, weighted_label
+from vorobench.harness.results import case_key, dataset_label
+from vorobench.harness.site_attributes import RADII, WEIGHTS, SiteAttribute, attribute_of, generate_input, keywords
 from vorobench.harness.repeat_check import RepeatJudging, reference_result, repeat_shifts
 from vorobench.harness.worker import MAX_REPEAT, prepare_timing, timed_repeat
 from vorobench.judge import wire
 from vorobench.judge.declarations import Declaration
-from vorobench.judge.engine import NO_WEIGHTS, diagram_schema, prepare_case, shared_judge
+from vorobench.judge.engine import diagram_schema, shared_judge
 from vorobench.judge.isolation import default_start_method
 from vorobench.judge.outcomes import COUNTER_PREFIX, OutcomeKind, Status, Verdict, status_rank, verdict_rank
 from vorobench.judge.sandbox import Sandbox
@@ -53,28 +57,44 @@ STARTUP_TIMEOUT = 180.0
 
 @dataclass(frozen=True)
 class Case:
-    """One benchmark case; ``weights``: the weight family of a power-diagram case ("" for none)."""
+    """One benchmark case; ``weights``: the weight family of a power-diagram case, ``radii``: the
+    radius family of a case of disks ("" for none; a case has one or neither)."""
 
     impl: str
     dataset: str
     n: int
     seed: int = 0
     weights: str = ""
+    radii: str = ""
+
+    def __post_init__(self) -> None:
+        attribute_of(self.weights, self.radii)         # both: refused
+
+    @property
+    def attribute(self) -> tuple[Optional[SiteAttribute], str]:
+        """(what the sites carry, its family), (None, "") for points."""
+        return attribute_of(self.weights, self.radii)
+
+    @property
+    def label(self) -> str:
+        """The dataset named with its weight or radius family, as results name it."""
+        return dataset_label(self.dataset, self.weights, self.radii)
 
     @property
     def key(self) -> tuple[str, str, int, int]:
-        """(impl, dataset, n, seed), the dataset named with its weight family if any (as
+        """(impl, dataset, n, seed), the dataset named with its weight or radius family if any (as
         :func:`~vorobench.harness.results.case_key` names a row's)."""
-        return (self.impl, weighted_label(self.dataset, self.weights), self.n, self.seed)
+        return (self.impl, self.label, self.n, self.seed)
 
     @property
     def history_key(self) -> tuple[str, str, int]:
         """The case without its size: the smaller sizes it is extrapolated from share it."""
-        return (self.impl, weighted_label(self.dataset, self.weights), self.seed)
+        return (self.impl, self.label, self.seed)
 
     def __str__(self) -> str:
-        weights = f" weights={self.weights}" if self.weights else ""
-        return f"{self.impl} {self.dataset}{weights} n={self.n} seed={self.seed}"
+        attribute, family = self.attribute
+        carried = f" {attribute.name}={family}" if attribute else ""
+        return f"{self.impl} {self.dataset}{carried} n={self.n} seed={self.seed}"
 
 
 @dataclass(frozen=True)
@@ -153,34 +173,37 @@ def _distinct_sizes(dataset: str, sizes: Sequence[int]) -> list[int]:
 
 
 def plan_cases(impls: Sequence[str], datasets: Sequence[str], sizes: Sequence[int],
-               seeds: Sequence[int], reference: Optional[str] = None, weights: str = "") -> list[Case]:
+               seeds: Sequence[int], reference: Optional[str] = None, weights: str = "",
+               radii: str = "") -> list[Case]:
     """All combinations, smallest n first: an interrupted run has covered every pair early,
     and a size is only reached after the smaller ones it is extrapolated from. Within a
     (size, dataset, seed) the reference comes last, so it knows whether anyone needs it.
-    ``weights``: the weight family of every case ("" for ordinary diagrams)."""
+    ``weights``: the weight family of every case, ``radii`` the radius family ("" for ordinary
+    diagrams; one of them at most)."""
+    attribute_of(weights, radii)                        # both: refused before anything is planned
     ordered = [i for i in impls if i != reference] + [i for i in impls if i == reference]
     per_dataset = {d: set(_distinct_sizes(d, sizes)) for d in datasets}
-    return [Case(i, d, n, s, weights or "") for n in sorted(set(sizes)) for d in datasets if n in per_dataset[d]
-            for s in seeds for i in ordered]
+    return [Case(i, d, n, s, weights or "", radii or "") for n in sorted(set(sizes)) for d in datasets
+            if n in per_dataset[d] for s in seeds for i in ordered]
 
 
-def case_input(case: Case):
-    """(sites, site weights or None) of a case, generated and prepared as its worker does."""
-    points = datasets_gen.generate(case.dataset, case.n, seed=case.seed)
-    weights = datasets_gen.weights(case.weights, points, seed=case.seed) if case.weights else None
-    return prepare_case(points, weights)
+def case_input(case: Case) -> tuple[np.ndarray, Optional[np.ndarray]]:
+    """(sites, site weights or radii or None) of a case, generated and prepared as its worker does."""
+    attribute, family = case.attribute
+    _, sites, values = generate_input(case.dataset, case.n, case.seed, attribute, family)
+    return sites, values
 
 
-def _reference_of(case: Case, config: RunConfig, sites, weights):
-    """The reference's judged build of the case's input, in a sandbox of the judging engine,
-    kept in this process as arrays and a certificate."""
-    key = (config.reference, case.dataset, case.n, case.seed, case.weights)
+def _reference_of(case: Case, config: RunConfig, sites: np.ndarray, values: Optional[np.ndarray]):
+    """The reference's judged build of the case's input (with its weights or radii), in a sandbox
+    of the judging engine, kept in this process as arrays and a certificate."""
+    key = (config.reference, case.dataset, case.n, case.seed, case.weights, case.radii)
 
     def build():
         judge = shared_judge([], config.reference, timeout=config.timeout, warmup_timeout=config.warmup_timeout,
                              memory_limit_mb=config.memory_limit_mb, plugins=config.plugins,
                              declarations=config.declarations)
-        return judge.build(config.reference, sites, weights=weights)
+        return judge.build(config.reference, sites, **keywords(case.attribute[0], values))
 
     return reference_result(key, build)
 
@@ -263,14 +286,15 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
     if declared is None:
         return lost_outcome(case, config, f"{case.impl} declared nothing readable: it could not be loaded",
                             Status.ERROR)
-    if case.weights and not declared.weighted:
-        return _no_weights(case, config)
+    attribute, _ = case.attribute
+    if attribute is not None and not attribute.takes(declared):
+        return _not_taken(case, config, attribute)
     started = time.perf_counter()
-    sites, weights = case_input(case)
+    sites, values = case_input(case)
     builds = max(config.repeat, MAX_REPEAT if config.min_time else 0)
-    shifts = repeat_shifts(sites, builds + 1)
-    judging = RepeatJudging(case.impl, declared, sites, weights, shifts[:builds])
-    schema = diagram_schema(sites.shape[0], weights is not None)
+    shifts = repeat_shifts(sites if attribute is None else attribute.range_rows(sites, values), builds + 1)
+    judging = RepeatJudging(case.impl, declared, sites, values, shifts[:builds], attribute)
+    schema = diagram_schema(sites.shape[0], **_schema_options(attribute))
     box = _InProcess(declared.plugin) if in_process else Sandbox(
         case.impl, plugins=(declared.plugin,) if declared.plugin else (), memory_limit_mb=config.memory_limit_mb,
         warmup_timeout=config.allowance("startup") + config.allowance("warmup"), expected=declared,
@@ -318,7 +342,7 @@ def run_case(case: Case, config: RunConfig, on_step: Optional[Callable[[str], No
         status = status or Status.OK
     finally:
         box.close()                         # its process group too: nothing it started lives on
-    _judge_repeats(case, config, status, judging, repeats, info, sites, weights, on_step)
+    _judge_repeats(case, config, status, judging, repeats, info, sites, values, on_step)
     seconds = time.perf_counter() - started
     info["case_s"] = seconds
     return CaseOutcome(case, status, _rows(case, config, status, step, info, repeats), seconds)
@@ -334,7 +358,7 @@ def run_case_in_process(case: Case, config: RunConfig) -> CaseOutcome:
 
 
 def _judge_repeats(case: Case, config: RunConfig, status: Optional[str], judging: RepeatJudging,
-                   repeats: list[dict], info: dict, sites, weights, on_step=None) -> None:
+                   repeats: list[dict], info: dict, sites, values, on_step=None) -> None:
     """Each repeat's verdict columns, decided here (never in the worker): the first repeat
     against the reference, every other one against the first."""
     info["n_sites"] = int(sites.shape[0])
@@ -348,7 +372,7 @@ def _judge_repeats(case: Case, config: RunConfig, status: Optional[str], judging
         on_step("check")
     t0 = time.perf_counter_ns()
     try:
-        ref = None if case.impl == config.reference else _reference_of(case, config, sites, weights)
+        ref = None if case.impl == config.reference else _reference_of(case, config, sites, values)
         verdicts = judging.verdicts(len(repeats), config.reference, ref, probes=10_000)
     except Exception as exc:  # a failing check is reported, not fatal
         verdicts = [{"verdict": Verdict.CHECK_ERROR, "verdict_detail": wire.clean_text(f"{type(exc).__name__}: {exc}", 300)}
@@ -359,20 +383,27 @@ def _judge_repeats(case: Case, config: RunConfig, status: Optional[str], judging
 
 
 def case_row(case: Case, config: RunConfig, status: str, host: Optional[str] = None, **fields) -> dict:
-    """The one way a results row starts: the run, the case's key (weight family included), its
-    status, where and when it finished; ``fields`` add the rest."""
+    """The one way a results row starts: the run, the case's key (weight or radius family
+    included), its status, where and when it finished; ``fields`` add the rest."""
     return {"run_id": config.run_id, "impl": case.impl, "dataset": case.dataset, "weights": case.weights,
-            "n": case.n, "seed": case.seed, "status": status,
+            "radii": case.radii, "n": case.n, "seed": case.seed, "status": status,
             "host": socket.gethostname() if host is None else host,
             "finished_at": _dt.datetime.now().isoformat(timespec="seconds"), **fields}
 
 
-def _no_weights(case: Case, config: RunConfig) -> CaseOutcome:
-    """The record of a weighted case of an implementation that does not take weights: declared
-    out of its scope (``unsupported``), like sites it refuses; no worker is started."""
+def _not_taken(case: Case, config: RunConfig, attribute: SiteAttribute) -> CaseOutcome:
+    """The record of a weighted case, or a case of disks, of an implementation that does not
+    take weights, or disks: declared out of its scope (``unsupported``), like sites it
+    refuses; no worker is started."""
     row = case_row(case, config, Status.UNSUPPORTED, verdict=Verdict.UNSUPPORTED,
-                   error=f"{NO_WEIGHTS}: {case.impl} builds ordinary Voronoi diagrams only")
+                   error=f"{attribute.refusal}: {case.impl} {attribute.instead}")
     return CaseOutcome(case, Status.UNSUPPORTED, [row], 0.0)
+
+
+def _schema_options(attribute: Optional[SiteAttribute]) -> dict[str, bool]:
+    """:func:`~vorobench.judge.engine.diagram_schema`'s options for a case's attribute: which
+    array besides the DCEL's may come back (``weights``, ``radii``), none for points."""
+    return {"weighted": attribute == WEIGHTS, "disks": attribute == RADII}
 
 
 def lost_outcome(case: Case, config: RunConfig, why: str, status: str = Status.LOST) -> CaseOutcome:
@@ -426,7 +457,7 @@ def _growth_exponent(timed: list[tuple[int, float]]) -> float:
 
 
 def _skip_reason(case: Case, history: dict, config: RunConfig) -> Optional[str]:
-    """Why ``case`` need not run, judging from smaller n of the same impl/dataset/seed/weights."""
+    """Why ``case`` need not run, judging from smaller n of the same impl/dataset/seed/weights/radii."""
     done = sorted(history.get(case.history_key, []))
     smaller = [(n, st, t) for n, st, t in done if n < case.n]
     if not smaller:
@@ -466,7 +497,7 @@ def _skipped(case: Case, config: RunConfig, reason: str) -> CaseOutcome:
 
 def history_from_rows(rows: Iterable[dict]) -> dict:
     """(impl, dataset, seed) -> [(n, status, median time)] from rows already on file (the dataset
-    of a weighted case named with its weight family)."""
+    of a weighted case, or a case of disks, named with its family)."""
     by_case: dict = {}
     for r in rows:
         key = case_key(r)

@@ -20,7 +20,7 @@ from plotly.subplots import make_subplots
 
 from vorobench.harness.changepoints import counter_steps, time_steps
 from vorobench.harness.html_page import escape, page
-from vorobench.harness.results import with_weights_in_dataset
+from vorobench.harness.results import with_families_in_dataset
 from vorobench.harness.timing_rule import choose_measure, measured, noise_half_width
 from vorobench.judge.outcomes import Status, counter_columns
 
@@ -148,7 +148,7 @@ def load(store, machine: Optional[str] = None, impls: Optional[list[str]] = None
     if runs.empty:
         raise ValueError(f"{store.path}: holds no run" + (f" of a machine {machine}*" if machine else "")
                          + "; file runs with `vorobench bench --store`")
-    rows = with_weights_in_dataset(store.results())      # a weighted case: a dataset of its own
+    rows = with_families_in_dataset(store.results())     # a weighted case, disks: a dataset of its own
     rows = rows[rows["run_id"].astype(str).isin(set(runs["run_id"].astype(str)))]
     held_impls, held_datasets = sorted(rows["impl"].dropna().unique()), sorted(rows["dataset"].dropna().unique())
     if impls:

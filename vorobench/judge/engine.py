@@ -52,7 +52,8 @@ from vorobench.judge.sandbox import WARMUP_TIMEOUT, Sandbox, safe_message
 from vorobench.judge.wire import ArraySpec
 
 __all__ = ["CaseVerdict", "BuildResult", "CaseJudgement", "Judge", "judge_case", "build_only", "certify_result", "build_and_certify", "build_in_sandbox", "diagram_arrays", "diagram_from_arrays", "diagram_schema", "check_case",
-           "decide", "agree_exactly", "prepare_case", "VERDICTS", "PASSING", "FAILURES", "NO_WEIGHTS",
+           "decide", "agree_exactly", "prepare_case", "prepare_disk_case", "other_attribute", "VERDICTS", "PASSING",
+           "FAILURES", "NO_WEIGHTS", "NO_DISKS",
            "DEFAULT_TIMEOUT", "shared_judge", "close_shared_judges"]
 
 
@@ -208,11 +209,8 @@ def certify_result(result: BuildResult, sites: np.ndarray, *, probes: int = DEFA
                         + (f"{d.sites.shape[0]} sites for the {sites.shape[0]} it was given"
                            if d.sites.shape != sites.shape else "some of them moved"))
         return result
-    for given, wanted, texts in ((d.weights, weights, ("weights", "an ordinary diagram for weighted sites",
-                                                        "a power diagram for unweighted sites")),
-                                 (d.radii, radii, ("radii", "a diagram of points for disks",
-                                                   "a diagram of disks for points"))):
-        problem = _other_attribute(given, wanted, *texts)
+    for name, wanted in (("weights", weights), ("radii", radii)):
+        problem = other_attribute(d, name, wanted)
         if problem:
             result.diagram, result.failure, result.error = None, Verdict.WRONG_SITES, problem
             return result
@@ -224,9 +222,17 @@ def certify_result(result: BuildResult, sites: np.ndarray, *, probes: int = DEFA
     return result
 
 
-def _other_attribute(given: Any, wanted: Optional[np.ndarray], name: str, missing: str, extra: str) -> str:
-    """Why a diagram's weights or radii (``given``) are not exactly those of the case (``wanted``;
-    None: the case has none), or "" if they are."""
+#: What a diagram is that lacks the case's weights or radii, or has them for a case without.
+_ATTRIBUTE_TEXTS = {"weights": ("an ordinary diagram for weighted sites", "a power diagram for unweighted sites"),
+                    "radii": ("a diagram of points for disks", "a diagram of disks for points")}
+
+
+def other_attribute(d: Diagram, name: str, wanted: Optional[np.ndarray]) -> str:
+    """Why diagram ``d``'s ``name`` ("weights" or "radii") are not exactly those of the case
+    (``wanted``; None: the case has none), or "" if they are. Shared by :func:`certify_result`
+    and the bench's judge of every repeat."""
+    missing, extra = _ATTRIBUTE_TEXTS[name]
+    given = getattr(d, name)
     got = None if given is None else np.asarray(given)
     if got is None and wanted is None:
         return ""
@@ -273,7 +279,11 @@ def diagram_from_arrays(arrays: dict[str, np.ndarray]) -> Diagram:
 
 def diagram_schema(n_sites: int, weighted: bool = False, disks: bool = False) -> dict[str, ArraySpec]:
     """What the arrays of a diagram of ``n_sites`` sites may be on the wire: a Voronoi diagram
-    of n sites has at most 2n - 5 vertices and 3n - 6 edges; twice that (and a constant) leaves
+    of n sites has at most 2n - 5 vertices and 3n - 6 edges; a power diagram fewer (hidden
+    sites); a diagram of n disks at most 2n - 2 vertices and 3n - 3 edges: two cells may share
+    several edges, but every vertex still has degree 3 or more (zero-length edges included) and
+    the k visible cells are the faces of a connected plane graph with one vertex at infinity, so
+    V - E + k = 1 and 2E >= 3V give V <= 2k - 2 and E <= 3k - 3. Twice that (and a constant) leaves
     room for any honest layout and still bounds what the judge allocates."""
     n = max(int(n_sites), 0)
     ints = ("<i4", "<i8")
