@@ -16,7 +16,12 @@ from typing import Optional, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["branch_polyline", "cell_polygon"]
+__all__ = ["branch_polyline", "cell_polygon", "DEFAULT_CURVE_TOLERANCE", "FINEST_CURVE_TOLERANCE"]
+
+#: How far a polygon may stray from a curved edge by default, and at the least, as fractions of
+#: the box's diagonal: finer than the floor, the float sampling could not keep its promise.
+DEFAULT_CURVE_TOLERANCE = 1e-3
+FINEST_CURVE_TOLERANCE = 1e-6
 
 #: At most this many halvings of an interval of directions.
 _MAX_DEPTH = 14

@@ -19,6 +19,7 @@ from typing import Any, Optional
 import numpy as np
 from numpy.typing import NDArray
 
+from vorobench.core.branch_curves import DEFAULT_CURVE_TOLERANCE, FINEST_CURVE_TOLERANCE
 from vorobench.core.cell_cycles import cell_cycles
 from vorobench.core.clip import clip_convex, clip_groups
 from vorobench.core.errors import InvalidDiagramError
@@ -536,12 +537,6 @@ class Diagram:
         if not used.all():
             raise InvalidDiagramError(f"vertex {_first(~used)} is not the origin of any half-edge")
         return self
-
-
-#: How far a polygon may stray from a curved edge by default, and at the least, as fractions of
-#: the box's diagonal: finer than the floor, the float sampling could not keep its promise.
-DEFAULT_CURVE_TOLERANCE = 1e-3
-FINEST_CURVE_TOLERANCE = 1e-6
 
 
 def _curve_tolerance(box: tuple[float, float, float, float], tolerance: Optional[float]) -> float:

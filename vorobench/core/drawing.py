@@ -154,8 +154,7 @@ def _draw_disks(d: Any, ax: Any, box: Sequence[float], *, title: str, edge_color
     box's diagonal), the visible disks' circles, hidden disks marked."""
     from matplotlib.collections import LineCollection
 
-    from vorobench.core.branch_curves import branch_polyline
-    from vorobench.core.diagram import DEFAULT_CURVE_TOLERANCE
+    from vorobench.core.branch_curves import DEFAULT_CURVE_TOLERANCE, branch_polyline
 
     xmin, ymin, xmax, ymax = box
     tolerance = DEFAULT_CURVE_TOLERANCE * math.hypot(xmax - xmin, ymax - ymin)

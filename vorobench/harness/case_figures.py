@@ -7,11 +7,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Callable, Optional
 
-import numpy as np
 import pandas as pd
 
 import datasets_gen
 import impls
+from vorobench.harness.site_attributes import RADII, WEIGHTS, SiteAttribute
 
 __all__ = ["plot_power_case", "plot_disk_case", "MAX_DRAWN_SITES", "MAX_DRAWN_DISKS"]
 
@@ -34,11 +34,11 @@ def _smallest_case(df: pd.DataFrame, column: str, largest: int) -> Optional[tupl
     return str(first["dataset"]), str(first[column]), int(first["n"]), int(first["seed"])
 
 
-def _draw_case(df: pd.DataFrame, path: Path, reference: str, column: str, largest: int, able: list[str],
-               values: Callable[[str, np.ndarray, int], np.ndarray], describe: Callable[[object], str]
-               ) -> Optional[tuple[Path, str]]:
-    """Build the smallest case of ``column`` again (by ``reference`` if it is ``able``, else
-    the first that is), draw it into ``path``; (path, caption) or None."""
+def _draw_case(df: pd.DataFrame, path: Path, reference: str, attribute: SiteAttribute, largest: int,
+               able: list[str], describe: Callable[[object], str]) -> Optional[tuple[Path, str]]:
+    """Build the smallest case with ``attribute`` again (by ``reference`` if it is ``able``,
+    else the first that is), draw it into ``path``; (path, caption) or None."""
+    column = attribute.name
     case = _smallest_case(df, column, largest)
     if case is None or not able:
         return None
@@ -46,7 +46,7 @@ def _draw_case(df: pd.DataFrame, path: Path, reference: str, column: str, larges
     dataset, family, n, seed = case
     try:
         points = datasets_gen.generate(dataset, n, seed=seed)
-        diagram = impls.build(builder, points, **{column: values(family, points, seed)})
+        diagram = impls.build(builder, points, **{column: attribute.draw(family, points, seed)})
     except Exception:  # a case that cannot be built again here is simply not drawn
         return None
     import matplotlib
@@ -67,8 +67,7 @@ def plot_power_case(df: pd.DataFrame, path: Path, reference: str) -> Optional[tu
     """Draw the smallest weighted case of ``df`` (built by ``reference`` if it takes weights,
     else by the first weighted implementation) into ``path``; returns (path, caption), or
     None when the run has no weighted case that can be generated again here."""
-    return _draw_case(df, path, reference, "weights", MAX_DRAWN_SITES, impls.weighted(),
-                      lambda family, points, seed: datasets_gen.weights(family, points, seed=seed),
+    return _draw_case(df, path, reference, WEIGHTS, MAX_DRAWN_SITES, impls.weighted(),
                       lambda d: f"{d.hidden.size} of {d.n_sites} sites hidden")
 
 
@@ -76,6 +75,5 @@ def plot_disk_case(df: pd.DataFrame, path: Path, reference: str) -> Optional[tup
     """Draw the smallest case of disks of ``df`` (its ``radii`` column names the radius family;
     built by ``reference`` if it takes disks, else by the first implementation that does) into
     ``path``; (path, caption), or None when the run has no such case drawable here."""
-    return _draw_case(df, path, reference, "radii", MAX_DRAWN_DISKS, impls.apollonius(),
-                      lambda family, points, seed: datasets_gen.radii(family, points, seed=seed),
+    return _draw_case(df, path, reference, RADII, MAX_DRAWN_DISKS, impls.apollonius(),
                       lambda d: f"{d.hidden.size} of {d.n_sites} disks hidden")
