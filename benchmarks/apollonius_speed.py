@@ -6,7 +6,8 @@
 In one process, on the same prepared disks (``uniform`` centres, radii of ``--radii``), the
 builds alternate ``--rounds`` times and medians are compared (issue 26's goals):
 
-* ``disks``: ``fortune``'s sweep for disks (``impls.fortune.apollonius_sweep.build``);
+* ``disks``: ``fortune``'s compiled sweep for disks (``impls.fortune.build_disks``; compiled or
+  loaded from numba's cache before the first timed build);
 * ``cgal``: ``cgal-cpp`` on the same disks, its own time line (the insertion alone,
   ``time_library_s``) and its whole build (process, protocol, and vorobench computing each
   vertex exactly from its faces); goal: ``disks`` faster than the insertion at 10^5;
@@ -27,7 +28,7 @@ import numpy as np
 
 import datasets_gen
 import impls
-from impls.fortune import apollonius_sweep, build as ordinary_build
+from impls.fortune import build as ordinary_build, build_disks
 from vorobench.core.prepare import prepare_disks
 from vorobench.judge.disk_judging import compare_disks
 
@@ -45,12 +46,13 @@ def measure(n: int, family: str, rounds: int, with_cgal: bool) -> dict:
     points = datasets_gen.generate("uniform", n, seed=0)
     sites, radii, _ = prepare_disks(points, datasets_gen.radii(family, points, seed=0))
     ordinary_build(sites)                                      # numba cache loaded, untimed
+    build_disks(sites[:50], radii[:50])
     cgal = impls.get("cgal-cpp") if with_cgal else None
     runs: dict = {"disks": [], "cgal_library": [], "cgal_whole": [], "ordinary": []}
     verdict = ""
     for k in range(rounds):
         holder: dict = {}
-        runs["disks"].append(_wall(lambda: holder.update(disks=apollonius_sweep.build(sites, radii))))
+        runs["disks"].append(_wall(lambda: holder.update(disks=build_disks(sites, radii))))
         if cgal is not None:
             timings: dict = {}
             runs["cgal_whole"].append(_wall(lambda: holder.update(cgal=cgal.run(sites, radii=radii, timings=timings))))

@@ -91,13 +91,16 @@ from numpy.typing import NDArray
 from impls.base import Implementation
 from numba import njit
 
-from impls.fortune import power_sweep
+from impls.fortune import apollonius_sweep, disk_exact, disk_sweep, power_sweep
 from impls.fortune.power_exact import exact_context
 from impls.fortune.slabs import slabs
 from impls.fortune.sweep import COUNTER_NAMES, N_COUNTERS, OK, sweep
 from vorobench.core.circumcentre import power_centre
 from vorobench.core.builder import assemble
-from vorobench.core.diagram import Diagram
+from vorobench.core.diagram import Diagram, InvalidDiagramError
+from vorobench.core.half_edges import link_edges
+from vorobench.core.hidden_disks import hidden_disks
+from vorobench.core.predicates.apollonius import rational
 
 __all__ = ["build", "build_weighted", "warmup", "IMPLEMENTATION"]
 
@@ -254,18 +257,62 @@ def warmup() -> None:
     build_weighted(g, np.arange(9.0) % 2)
 
 
+class _ExactDisks:
+    """Disk i as exact rationals (x, y, r), made when first asked for."""
+
+    def __init__(self, centres: NDArray[np.float64], radii: NDArray[np.float64]) -> None:
+        self.centres, self.radii = centres, radii
+
+    def __getitem__(self, i: int) -> tuple:
+        return tuple(rational(float(v)) for v in (self.centres[i, 0], self.centres[i, 1], self.radii[i]))
+
+
 def build_disks(centres: NDArray[np.float64], radii: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     """The diagram of the disks by Fortune's sweep with each directrix raised by its disk's radius
-    (:mod:`impls.fortune.apollonius_sweep`: exact, in rationals; not yet compiled)."""
-    from impls.fortune import apollonius_sweep        # rationals: loaded for disks only
-
-    return apollonius_sweep.build(centres, radii, stats)
+    (:mod:`impls.fortune.disk_sweep`, compiled: interval filters, then the rational predicates).
+    Hidden disks never enter the sweep and get no edge."""
+    centres = np.ascontiguousarray(centres, dtype=np.float64).reshape(-1, 2)
+    radii = np.ascontiguousarray(radii, dtype=np.float64).reshape(-1)
+    if radii.shape != (centres.shape[0],):
+        raise ValueError(f"radii has shape {radii.shape}, there are {centres.shape[0]} centres")
+    n = centres.shape[0]
+    visible = np.flatnonzero(~hidden_disks(centres, radii))
+    if visible.size <= 1:
+        if stats is not None:
+            stats.update(hidden_sites=int(n - visible.size))
+        return Diagram.empty(centres, radii=radii)
+    # the sweep runs on the visible disks in event order; sites are mapped back afterwards
+    order, first_row = disk_sweep.event_order(centres[visible, 0], centres[visible, 1], radii[visible])
+    order = visible[order]
+    xs, ys, rs = (np.ascontiguousarray(a) for a in (centres[order, 0], centres[order, 1], radii[order]))
+    scale = float(max(np.abs(centres).max(), radii.max()))
+    counters = np.zeros(disk_sweep.N_COUNTERS, dtype=np.int64)
+    with disk_exact.exact_context(xs, ys, rs):
+        status, edge_sites, edge_vertices, vertices, triples, boxes = disk_sweep.sweep(xs, ys, rs, first_row, scale,
+                                                                                       counters)
+        if status != disk_sweep.OK:
+            raise RuntimeError(f"fortune (disks): {_ERRORS.get(status, 'unknown error')} (n = {n}); this is a bug")
+        edge_sites, edge_vertices, vertices = disk_sweep.merge_vertices(edge_sites, edge_vertices, vertices, triples,
+                                                                        boxes, counters)
+    edge_sites = order[edge_sites]
+    if stats is not None:
+        stats.update(dict(zip(disk_sweep.COUNTER_NAMES, counters.tolist())), hidden_sites=int(n - visible.size))
+    try:
+        vertices, origin, twin, nxt, site = link_edges(n, vertices, edge_sites, edge_vertices, sites=centres)
+    except InvalidDiagramError:
+        # a cell with several rays out to infinity, between vertices (collinear centres): its
+        # rays are linked in the order of their asymptotes, exactly
+        site, origin = edge_sites.reshape(-1), edge_vertices.reshape(-1)
+        twin = np.arange(site.size) ^ 1
+        nxt = np.array(apollonius_sweep.link_half_edges(_ExactDisks(centres, radii), site.tolist(), origin.tolist(),
+                                                        twin.tolist()), dtype=np.int64)
+    return Diagram(centres, vertices, origin, twin, nxt, site, radii=radii)
 
 
 IMPLEMENTATION = Implementation(
     name="fortune",
     description="Fortune's sweep line with exact predicates (numba): treap beach line, indexed event heap; "
-                "power diagrams by its own weighted sweep; disks by a sweep in rationals (not compiled yet)",
+                "power diagrams by its own weighted sweep; disks by its sweep with raised directrices",
     complexity="O(n log n)",
     build=build,
     build_weighted=build_weighted,

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import heapq
 import itertools
-from typing import Optional
+from typing import Optional, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -51,7 +51,7 @@ from vorobench.core.predicates.apollonius import (
     vertex,
 )
 
-__all__ = ["build"]
+__all__ = ["build", "side", "meets", "link_half_edges"]
 
 _CIRCLE, _SITE = 0, 1
 _ZERO = rational(0)
@@ -113,6 +113,48 @@ def _q(value) -> QuadraticNumber:
     return QuadraticNumber(value, _ZERO, _ZERO)
 
 
+def side(disks, L, x, a: int, b: int) -> int:
+    """Sign of x - (the breakpoint of left arc a and right arc b) when the sweep is at the
+    rational L (a site's time)."""
+    (ax, ay, ar), (bx, by, br) = disks[a][:3], disks[b][:3]
+    ha, hb = L + ar - ay, L + br - by          # distance from focus to directrix (0: a spike)
+    if ha == 0 or hb == 0:
+        spike = ax if ha == 0 else bx
+        return (x > spike) - (x < spike)
+    # g(x) = 2 ha hb (y_a(x) - y_b(x)): positive where a is the higher parabola
+    alpha = ha - hb
+    beta = 2 * (hb * ax - ha * bx)
+    gamma = ha * hb * ((L + ar + ay) - (L + br + by)) - hb * ax * ax + ha * bx * bx
+    g = (alpha * x + beta) * x + gamma
+    if alpha == 0:                                # one crossing: a above on its left
+        return -1 if g > 0 else 1 if g < 0 else 0
+    # the breakpoint is the crossing where g goes from + to -: the smaller root when the
+    # parabola of a is the wider (alpha > 0), else the larger
+    apex_side = 2 * alpha * x + beta              # sign of x - vertex of g, times sign(alpha)
+    if alpha > 0:
+        if g > 0:
+            return -1 if apex_side < 0 else 1
+        return 1 if g < 0 or apex_side > 0 else 0
+    if g > 0:
+        return -1
+    if g < 0:
+        return -1 if apex_side > 0 else 1          # left of both roots, or right of both
+    return 0 if apex_side <= 0 else -1
+
+
+def meets(disks, a: int, b: int, v: ApolloniusVertex, top: QuadraticNumber) -> bool:
+    """Whether the breakpoint of left arc a and right arc b is at v when the sweep is at
+    ``top`` (v lies on both parabolas then): the crossing where g = 2 h_a h_b (y_a - y_b)
+    goes from + to -, so g'(v_x) <= 0 (0: the parabolas touch there)."""
+    (ax, ay, ar), (bx, by, br) = disks[a], disks[b]
+    ha, hb = top + _q(ar - ay), top + _q(br - by)
+    if ha.sign() == 0 or hb.sign() == 0:
+        return True                               # a spike: its breakpoints are at its x
+    alpha = (ar - ay) - (br - by)                 # h_a - h_b: the sweep's position cancels
+    slope = v.x.scaled(2 * alpha) + (hb.scaled(ax) - ha.scaled(bx)).scaled(2)
+    return slope.sign() <= 0
+
+
 class _Sweep:
     def __init__(self, disks: list[tuple], visible: list[int]) -> None:
         self.disks = disks
@@ -128,50 +170,11 @@ class _Sweep:
             heapq.heappush(self.heap, _Event(_q(y - r), _SITE, x, next(self.seq), site=i))
 
     # ------------------------------------------------------------------ breakpoints
-    def _height(self, i: int):
-        """Distance from focus to directrix of site i's parabola at the current L (0: a spike)."""
-        x, y, r = self.disks[i]
-        return self.L + r - y
-
     def _side(self, x, a: int, b: int) -> int:
-        """Sign of x - (the breakpoint of left arc a and right arc b) at the current L."""
-        ha, hb = self._height(a), self._height(b)
-        (ax, ay, _), (bx, by, _) = self.disks[a][:3], self.disks[b][:3]
-        if ha == 0 or hb == 0:
-            spike = ax if ha == 0 else bx
-            return (x > spike) - (x < spike)
-        # g(x) = 2 ha hb (y_a(x) - y_b(x)): positive where a is the higher parabola
-        alpha = ha - hb
-        beta = 2 * (hb * ax - ha * bx)
-        gamma = ha * hb * ((self.L + self.disks[a][2] + ay) - (self.L + self.disks[b][2] + by)) \
-            - hb * ax * ax + ha * bx * bx
-        g = (alpha * x + beta) * x + gamma
-        if alpha == 0:                                # one crossing: a above on its left
-            return -1 if g > 0 else 1 if g < 0 else 0
-        # the breakpoint is the crossing where g goes from + to -: the smaller root when the
-        # parabola of a is the wider (alpha > 0), else the larger
-        apex_side = 2 * alpha * x + beta              # sign of x - vertex of g, times sign(alpha)
-        if alpha > 0:
-            if g > 0:
-                return -1 if apex_side < 0 else 1
-            return 1 if g < 0 or apex_side > 0 else 0
-        if g > 0:
-            return -1
-        if g < 0:
-            return -1 if apex_side > 0 else 1          # left of both roots, or right of both
-        return 0 if apex_side <= 0 else -1
+        return side(self.disks, self.L, x, a, b)
 
     def _meets(self, a: int, b: int, v: ApolloniusVertex, top: QuadraticNumber) -> bool:
-        """Whether the breakpoint of left arc a and right arc b is at v when the sweep is at
-        ``top`` (v lies on both parabolas then): the crossing where g = 2 h_a h_b (y_a - y_b)
-        goes from + to -, so g'(v_x) <= 0 (0: the parabolas touch there)."""
-        (ax, ay, ar), (bx, by, br) = self.disks[a], self.disks[b]
-        ha, hb = top + _q(ar - ay), top + _q(br - by)
-        if ha.sign() == 0 or hb.sign() == 0:
-            return True                               # a spike: its breakpoints are at its x
-        alpha = (ar - ay) - (br - by)                 # h_a - h_b: the sweep's position cancels
-        slope = v.x.scaled(2 * alpha) + (hb.scaled(ax) - ha.scaled(bx)).scaled(2)
-        return slope.sign() <= 0
+        return meets(self.disks, a, b, v, top)
 
     def _locate(self, x) -> tuple[int, bool]:
         """(k, on_breakpoint): the arc above x (or the breakpoint k | k + 1 that x is on)."""
@@ -303,6 +306,16 @@ def _assemble(centres: NDArray[np.float64], radii: NDArray[np.float64], disks: l
         site += [e.u, e.w]
         origin += [-1 if b is None else b, -1 if a is None else a]
         twin += [h + 1, h]
+    nxt = link_half_edges(disks, site, origin, twin)
+    return Diagram(centres, vertices, np.array(origin, dtype=np.int64), np.array(twin, dtype=np.int64),
+                   np.array(nxt, dtype=np.int64), np.array(site, dtype=np.int64), radii=radii)
+
+
+def link_half_edges(disks, site: Sequence[int], origin: Sequence[int], twin: Sequence[int]) -> list[int]:
+    """``next`` of each half-edge of a diagram of disks (``disks[i]`` the exact disk of site
+    i): the half-edge of its cell that starts where it ends; around a cell, each ray out to
+    infinity is followed by the next ray in, in counter-clockwise order of their asymptotes
+    (a cell may have several: collinear disks' strips)."""
     H = len(site)
     dest = [origin[twin[h]] for h in range(H)]
     starting: dict[tuple[int, int], int] = {}
@@ -337,8 +350,7 @@ def _assemble(centres: NDArray[np.float64], radii: NDArray[np.float64], disks: l
                 following = next(tagged[(pos + s) % len(tagged)] for s in range(1, len(tagged) + 1)
                                  if tagged[(pos + s) % len(tagged)][1] == 1)
                 nxt[h] = following[2]
-    return Diagram(centres, vertices, np.array(origin, dtype=np.int64), np.array(twin, dtype=np.int64),
-                   np.array(nxt, dtype=np.int64), np.array(site, dtype=np.int64), radii=radii)
+    return nxt
 
 
 def build(centres: ArrayLike, radii: ArrayLike, stats: Optional[dict] = None) -> Diagram:

@@ -19,7 +19,7 @@ from vorobench.core.circumcentre import circumcentre
 from vorobench.core.predicates import circle_top_relative, circle_top_to_y, orient2d_counted
 
 __all__ = [
-    "sweep", "COUNTER_NAMES", "N_COUNTERS",
+    "sweep", "arc_priority", "COUNTER_NAMES", "N_COUNTERS",
     "OK", "ERR_LOCATE", "ERR_CAPACITY", "ERR_ITERATIONS", "ERR_STATE",
 ]
 
@@ -58,7 +58,7 @@ _MIX2 = np.uint64(0x94D049BB133111EB)
 
 
 @njit(cache=True)
-def _priority(k):
+def arc_priority(k):
     # splitmix64 of the arc's serial number k: deterministic pseudo-random treap priorities
     # (so the counts in stats do not depend on the machine), 31 bits
     z = np.uint64(k) * _GOLDEN
@@ -140,7 +140,7 @@ def _run(sites, counters, arcs, arc_free, ev_i, ev_f, heap, hkey, free, edge_sit
     last = -1
     while k < n and sites[k, 1] == y0:
         serial += 1
-        x = bl.add_arc(arcs, na, k, _priority(serial))
+        x = bl.add_arc(arcs, na, k, arc_priority(serial))
         na += 1
         root = bl.insert_after(arcs, root, last, x)
         if last != -1:
@@ -253,16 +253,16 @@ def _run(sites, counters, arcs, arc_free, ev_i, ev_f, heap, hkey, free, edge_sit
             serial += 1
             if nafree > 0:
                 nafree -= 1
-                xs = bl.add_arc(arcs, arc_free[nafree], s, _priority(serial))
+                xs = bl.add_arc(arcs, arc_free[nafree], s, arc_priority(serial))
             else:
-                xs = bl.add_arc(arcs, na, s, _priority(serial))
+                xs = bl.add_arc(arcs, na, s, arc_priority(serial))
                 na += 1
             serial += 1
             if nafree > 0:
                 nafree -= 1
-                x2 = bl.add_arc(arcs, arc_free[nafree], q, _priority(serial))
+                x2 = bl.add_arc(arcs, arc_free[nafree], q, arc_priority(serial))
             else:
-                x2 = bl.add_arc(arcs, na, q, _priority(serial))
+                x2 = bl.add_arc(arcs, na, q, arc_priority(serial))
                 na += 1
             root = bl.insert_after(arcs, root, x, xs)
             root = bl.insert_after(arcs, root, xs, x2)

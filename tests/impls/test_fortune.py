@@ -233,12 +233,12 @@ def test_treap_stays_shallow_when_arcs_are_appended_in_order():
     # arcs added each after the last (the worst case of an unbalanced tree): the random
     # priorities keep the depth logarithmic
     from impls.fortune import beach_line as bl
-    from impls.fortune.sweep import _priority
+    from impls.fortune.sweep import arc_priority
     n = 30000
     arcs = bl.new_arcs(n)
     root, last = -1, -1
     for k in range(n):
-        x = bl.add_arc(arcs, k, k, _priority(k + 1))
+        x = bl.add_arc(arcs, k, k, arc_priority(k + 1))
         root = bl.insert_after(arcs, root, last, x)
         last = x
     assert bl.depth(arcs, root) < 3 * np.log2(n)
