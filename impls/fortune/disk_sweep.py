@@ -25,6 +25,7 @@ from impls.fortune import beach_line as bl
 from impls.fortune import disk_exact
 from impls.fortune.sweep import ERR_CAPACITY, ERR_ITERATIONS, ERR_LOCATE, ERR_STATE, OK, arc_priority
 from vorobench.core.predicates import interval as iv
+from vorobench.core.predicates import running_error
 from vorobench.core.predicates.apollonius_filter import NO_VERTEX, UNDECIDED, breakpoint_side, meets, vertex_box
 from vorobench.core.union_find import find
 
@@ -112,21 +113,22 @@ def _around(x):
 
 
 # ---------------------------------------------------------------------------------- decisions
-@njit(cache=True)
-def _side(arcs, xs, ys, rs, p, x, s, lo_s, hi_s, counters):
+@njit(cache=True, _nrt=False)
+def _side(arcs, xs, ys, rs, p, x, s, counters):
     """Sign of site s's x against the breakpoint of arcs p (left) and x (right), at its time."""
     a = arcs[p, bl.SITE]
     b = arcs[x, bl.SITE]
     counters[BP_CALLS] += 1
-    side = breakpoint_side(xs[s], lo_s, hi_s, xs[a], ys[a], rs[a], xs[b], ys[b], rs[b])
+    L, e_L = running_error.sub(ys[s], 0.0, rs[s], 0.0)
+    side = breakpoint_side(xs[s], L, e_L, xs[a], ys[a], rs[a], xs[b], ys[b], rs[b])
     if side == UNDECIDED:
         counters[BP_EXACT] += 1
         side = _exact_side(s, a, b)
     return side
 
 
-@njit(cache=True)
-def _locate(arcs, root, xs, ys, rs, s, lo_s, hi_s, counters):
+@njit(cache=True, _nrt=False)
+def _locate(arcs, root, xs, ys, rs, s, counters):
     """The arc above site s at its time: the last arc whose left breakpoint is left of the
     site (a site exactly on a breakpoint splits the arc on its left, as in the rational sweep).
     -1 if the search leaves the tree (an inconsistency: never expected)."""
@@ -138,18 +140,18 @@ def _locate(arcs, root, xs, ys, rs, s, lo_s, hi_s, counters):
         if steps > limit:
             return -1
         p = arcs[x, bl.PREV]
-        if p != -1 and _side(arcs, xs, ys, rs, p, x, s, lo_s, hi_s, counters) <= 0:
+        if p != -1 and _side(arcs, xs, ys, rs, p, x, s, counters) <= 0:
             x = arcs[x, bl.LEFT]
             continue
         q = arcs[x, bl.NEXT]
-        if q != -1 and _side(arcs, xs, ys, rs, x, q, s, lo_s, hi_s, counters) > 0:
+        if q != -1 and _side(arcs, xs, ys, rs, x, q, s, counters) > 0:
             x = arcs[x, bl.RIGHT]
             continue
         return x
     return -1
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _order(ev_i, ev_f, e, kind2, i2, a2, b2, c2, lo2, hi2, counters):
     """Sign of time(circle event e) - time(the event named by kind2 ...)."""
     counters[EV_CALLS] += 1
@@ -161,7 +163,7 @@ def _order(ev_i, ev_f, e, kind2, i2, a2, b2, c2, lo2, hi2, counters):
     return _exact_compare(CIRCLE_KIND, -1, ev_i[e, EV_A], ev_i[e, EV_B], ev_i[e, EV_C], kind2, i2, a2, b2, c2)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _before(ev_i, ev_f, e1, e2, counters):
     """Whether circle event e1 comes before e2: earlier, or at one time scheduled first."""
     c = _order(ev_i, ev_f, e1, CIRCLE_KIND, -1, ev_i[e2, EV_A], ev_i[e2, EV_B], ev_i[e2, EV_C],
@@ -172,7 +174,7 @@ def _before(ev_i, ev_f, e1, e2, counters):
 
 
 # ---------------------------------------------------------------------------------- the heap
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _swap(heap, where, i, j):
     a = heap[i]
     b = heap[j]
@@ -182,7 +184,7 @@ def _swap(heap, where, i, j):
     where[a] = j
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _sift_up(ev_i, ev_f, heap, where, k, counters):
     while k > 0:
         parent = (k - 1) // 2
@@ -192,7 +194,7 @@ def _sift_up(ev_i, ev_f, heap, where, k, counters):
         k = parent
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _sift_down(ev_i, ev_f, heap, where, k, size, counters):
     while True:
         first = k
@@ -205,7 +207,7 @@ def _sift_down(ev_i, ev_f, heap, where, k, size, counters):
         k = first
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _remove_at(ev_i, ev_f, heap, where, k, size, counters):
     """Take the entry at heap position k out; returns the new size."""
     size -= 1
@@ -242,11 +244,11 @@ def sweep(xs: np.ndarray, ys: np.ndarray, rs: np.ndarray, first_row: int, scale:
     triples = np.empty((vertex_cap, 3), dtype=np.int64)
     boxes = np.empty((vertex_cap, 4), dtype=np.float64)
     status, ne, nv = _run(xs, ys, rs, first_row, scale, counters, arcs, arc_free, ev_i, ev_f, heap, where, free,
-                          edge_sites, edge_vertices, vertices, triples, boxes)
+                          edge_sites, edge_vertices, vertices, triples, boxes, np.empty(2, dtype=np.int64))
     return status, edge_sites[:ne], edge_vertices[:ne], vertices[:nv], triples[:nv], boxes[:nv]
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _close(edge_sites, edge_vertices, e, left_site, v):
     # the breakpoint with left arc `left_site` that traced edge e stops at vertex v
     if edge_sites[e, 0] == left_site:
@@ -255,7 +257,7 @@ def _close(edge_sites, edge_vertices, e, left_site, v):
         edge_vertices[e, 0] = v
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _new_arc(arcs, arc_free, nafree, na, site, serial):
     """A detached arc of ``site`` in a free row (reused rows first): (row, nafree, na)."""
     if nafree > 0:
@@ -264,9 +266,13 @@ def _new_arc(arcs, arc_free, nafree, na, site, serial):
     return bl.add_arc(arcs, na, site, arc_priority(serial)), nafree, na + 1
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def _run(xs, ys, rs, first_row, scale, counters, arcs, arc_free, ev_i, ev_f, heap, where, free,
-         edge_sites, edge_vertices, vertices, triples, boxes):
+         edge_sites, edge_vertices, vertices, triples, boxes, touched):
+    """The sweep's events, in tables that :func:`sweep` allocates; returns (status, number of
+    edges, number of vertices). Compiled without reference counting (``_nrt=False``), as the
+    ordinary sweep's loop is and for its reason (:func:`impls.fortune.sweep._run`): the exact
+    stage's calls take numbers only."""
     n = xs.shape[0]
     arc_cap = arcs.shape[0]
     edge_cap = edge_sites.shape[0]
@@ -283,7 +289,6 @@ def _run(xs, ys, rs, first_row, scale, counters, arcs, arc_free, ev_i, ev_f, hea
     root = -1
     rightmost = -1
     status = OK
-    touched = np.empty(2, dtype=np.int64)
     i = 0
     iterations = 0
     max_iterations = 4 * n + 16
@@ -370,7 +375,7 @@ def _run(xs, ys, rs, first_row, scale, counters, arcs, arc_free, ev_i, ev_f, hea
                 touched[0] = arcs[xnew, bl.PREV]
                 touched[1] = -1
             else:
-                x = _locate(arcs, root, xs, ys, rs, s, now_lo, now_hi, counters)
+                x = _locate(arcs, root, xs, ys, rs, s, counters)
                 if x < 0:
                     status = ERR_LOCATE
                     break

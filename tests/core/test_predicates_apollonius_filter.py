@@ -1,4 +1,4 @@
-"""The interval filters of the sweep of disks against the rational predicates they stand in front
+"""The float filters of the sweep of disks against the rational predicates they stand in front
 of: wherever a filter decides, it decides as the exact stage does, on random disks and on disks
 snapped to a coarse lattice (ties, touching circles, equal radii); and on random disks it
 decides nearly always, or it would be no filter."""
@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from impls.fortune.apollonius_sweep import meets, side
-from vorobench.core.predicates import interval as iv
+from vorobench.core.predicates import running_error
 from vorobench.core.predicates.apollonius import rational, vertex
 from vorobench.core.predicates.apollonius_filter import NO_VERTEX, UNDECIDED, VERTEX, breakpoint_side, meets as \
     meets_filter, vertex_box
@@ -51,8 +51,8 @@ def test_a_decided_breakpoint_side_is_the_exact_one(disks):
     now = exact[2][1] - exact[2][2]                # the time of site 2's event
     if any(now < d[1] - d[2] for d in exact[:2]):
         return                                     # arcs 0 and 1 must be on the beach line then
-    lo, hi = iv.sub(disks[2][1], disks[2][1], disks[2][2], disks[2][2])
-    decided = breakpoint_side(disks[2][0], lo, hi, *disks[0], *disks[1])
+    L, e_L = running_error.sub(disks[2][1], 0.0, disks[2][2], 0.0)
+    decided = breakpoint_side(disks[2][0], L, e_L, *disks[0], *disks[1])
     if decided != UNDECIDED:
         assert decided == side(exact, now, exact[2][0], 0, 1)
 
