@@ -60,13 +60,43 @@ def event_order(xs: np.ndarray, ys: np.ndarray, rs: np.ndarray) -> tuple[np.ndar
     """The disks' order as site events, by time y - r, then x, exactly, and how many share the
     first time. The time is the exact pair (hi, lo) of Knuth's two-difference (hi the rounded
     y - r, lo its error), which sorts as the exact value does: distinct values that round to
-    one float are told apart by lo, and one value always rounds to one hi."""
+    one float are told apart by lo, and one value always rounds to one hi. Sorted by hi, then
+    each run of equal hi (rare but for lattices) by (lo, x)."""
     hi = ys - rs
     back = ys - hi
     lo = (ys - (hi + back)) + (back - rs)
-    order = np.lexsort((xs, lo, hi))
-    first = (hi[order] == hi[order[0]]) & (lo[order] == lo[order[0]])
-    return order, int(np.argmin(first)) if not first.all() else int(first.size)
+    order = np.argsort(hi, kind="stable")
+    return order, _settle_runs(order, hi, lo, xs)
+
+
+@njit(cache=True)
+def _settle_runs(order, hi, lo, xs):
+    """Sort each run of equal hi in ``order`` by (lo, x) (insertion sort: runs are short but
+    for rows of a lattice); returns the length of the first run, the first row of sites."""
+    n = order.size
+    first = n
+    i = 0
+    while i < n:
+        j = i + 1
+        while j < n and hi[order[j]] == hi[order[i]]:
+            j += 1
+        if j - i > 1:
+            for k in range(i + 1, j):
+                v = order[k]
+                m = k - 1
+                while m >= i and (lo[order[m]] > lo[v] or (lo[order[m]] == lo[v] and xs[order[m]] > xs[v])):
+                    order[m + 1] = order[m]
+                    m -= 1
+                order[m + 1] = v
+        if i == 0:
+            first = j
+            # the first row: the run's sites with the least lo
+            for k in range(1, j):
+                if lo[order[k]] != lo[order[0]]:
+                    first = k
+                    break
+        i = j
+    return first
 
 
 # ---------------------------------------------------------------------------------- exact stage
@@ -130,9 +160,11 @@ def _side(arcs, xs, ys, rs, p, x, s, counters):
 @njit(cache=True, _nrt=False)
 def _locate(arcs, root, xs, ys, rs, s, counters):
     """The arc above site s at its time: the last arc whose left breakpoint is left of the
-    site (a site exactly on a breakpoint splits the arc on its left, as in the rational sweep).
-    -1 if the search leaves the tree (an inconsistency: never expected)."""
+    site (a site exactly on a breakpoint splits the arc on its left, as in the rational sweep),
+    found with one breakpoint test per level of the treap. -1 if the search finds none (an
+    inconsistency: never expected)."""
     x = root
+    found = -1
     steps = 0
     limit = arcs.shape[0] + 1
     while x != -1:
@@ -142,13 +174,10 @@ def _locate(arcs, root, xs, ys, rs, s, counters):
         p = arcs[x, bl.PREV]
         if p != -1 and _side(arcs, xs, ys, rs, p, x, s, counters) <= 0:
             x = arcs[x, bl.LEFT]
-            continue
-        q = arcs[x, bl.NEXT]
-        if q != -1 and _side(arcs, xs, ys, rs, x, q, s, counters) > 0:
+        else:
+            found = x
             x = arcs[x, bl.RIGHT]
-            continue
-        return x
-    return -1
+    return found
 
 
 @njit(cache=True, _nrt=False)
@@ -195,27 +224,26 @@ def _sift_up(ev_i, ev_f, heap, where, k, counters):
 
 
 @njit(cache=True, _nrt=False)
-def _sift_down(ev_i, ev_f, heap, where, k, size, counters):
-    while True:
-        first = k
-        for child in (2 * k + 1, 2 * k + 2):
-            if child < size and _before(ev_i, ev_f, heap[child], heap[first], counters):
-                first = child
-        if first == k:
-            break
-        _swap(heap, where, k, first)
-        k = first
-
-
-@njit(cache=True, _nrt=False)
 def _remove_at(ev_i, ev_f, heap, where, k, size, counters):
-    """Take the entry at heap position k out; returns the new size."""
+    """Take the entry at heap position k out; returns the new size. The hole goes down to a
+    leaf along the earlier child (one comparison per level), and the last entry, moved into
+    it, settles upward: about half the comparisons of sifting it down from k."""
     size -= 1
-    if k != size:
-        _swap(heap, where, k, size)
-        _sift_down(ev_i, ev_f, heap, where, k, size, counters)
-        _sift_up(ev_i, ev_f, heap, where, k, counters)
-    where[heap[size]] = -1
+    where[heap[k]] = -1
+    if k == size:
+        return size
+    while True:
+        child = 2 * k + 1
+        if child >= size:
+            break
+        if child + 1 < size and _before(ev_i, ev_f, heap[child + 1], heap[child], counters):
+            child += 1
+        heap[k] = heap[child]
+        where[heap[k]] = k
+        k = child
+    heap[k] = heap[size]
+    where[heap[k]] = k
+    _sift_up(ev_i, ev_f, heap, where, k, counters)
     return size
 
 

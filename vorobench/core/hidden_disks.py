@@ -69,8 +69,8 @@ def hidden_disks(centres: NDArray[np.float64], radii: NDArray[np.float64]) -> ND
     if n < 2:
         return np.zeros(n, dtype=bool)
     centres, radii = _scaled(centres, radii)
-    order, boxes, reach, children = _kd_tree(centres, radii)
-    return _search(centres, radii, order, boxes, reach, children)
+    order, disks, boxes, reach, children = _kd_tree(centres, radii)
+    return _search(disks, order, boxes, reach, children)
 
 
 def _scaled(centres: NDArray[np.float64],
@@ -90,25 +90,30 @@ def _scaled(centres: NDArray[np.float64],
 
 
 def _kd_tree(centres: NDArray[np.float64], radii: NDArray[np.float64]):
-    """A balanced k-d tree over the centres: (order, boxes, reach, children). Node v holds the
-    centres ``order[start:end]`` (``children[v] = (left, right, start, end)``, left = -1 for a
-    leaf), the box of those centres ``boxes[v] = (xmin, ymin, xmax, ymax)`` and their largest
-    radius ``reach[v]``. Node 0 is the root; each split is at the median of the box's longer
-    side."""
+    """A balanced k-d tree over the centres: (order, disks, boxes, reach, children). ``disks``
+    are the rows (x, y, r) in tree order, disk ``order[t]`` at row t: the build and the search
+    read them in sequence, not scattered (at 10^6 disks in random order that was most of their
+    time). Node v holds rows ``start:end`` (``children[v] = (left, right, start, end)``, left =
+    -1 for a leaf), the box of their centres ``boxes[v] = (xmin, ymin, xmax, ymax)`` and their
+    largest radius ``reach[v]``. Node 0 is the root; each split is at the median of the box's
+    longer side."""
     n = centres.shape[0]
     capacity = 4 * (n // _LEAF + 1) + 1
     order = np.arange(n)
+    disks = np.empty((n, 3))
+    disks[:, :2] = centres
+    disks[:, 2] = radii
     boxes = np.empty((capacity, 4))
     reach = np.empty(capacity)
     children = np.full((capacity, 4), -1, dtype=np.int64)
-    count = _build(centres, radii, order, boxes, reach, children)
-    return order, boxes[:count], reach[:count], children[:count]
+    count = _build(disks, order, boxes, reach, children)
+    return order, disks, boxes[:count], reach[:count], children[:count]
 
 
 @njit(cache=True)
-def _build(centres, radii, order, boxes, reach, children):
+def _build(disks, order, boxes, reach, children):
     # the nodes of _kd_tree, depth first with an explicit stack; returns their number
-    n = centres.shape[0]
+    n = disks.shape[0]
     stack = np.empty((children.shape[0], 3), dtype=np.int64)
     stack[0, 0], stack[0, 1], stack[0, 2] = 0, 0, n
     depth = 1
@@ -120,12 +125,11 @@ def _build(centres, radii, order, boxes, reach, children):
         xmax = ymax = -np.inf
         big = 0.0
         for t in range(start, end):
-            j = order[t]
-            xmin = min(xmin, centres[j, 0])
-            xmax = max(xmax, centres[j, 0])
-            ymin = min(ymin, centres[j, 1])
-            ymax = max(ymax, centres[j, 1])
-            big = max(big, radii[j])
+            xmin = min(xmin, disks[t, 0])
+            xmax = max(xmax, disks[t, 0])
+            ymin = min(ymin, disks[t, 1])
+            ymax = max(ymax, disks[t, 1])
+            big = max(big, disks[t, 2])
         boxes[v, 0], boxes[v, 1], boxes[v, 2], boxes[v, 3] = xmin, ymin, xmax, ymax
         reach[v] = big
         children[v, 2], children[v, 3] = start, end
@@ -133,7 +137,7 @@ def _build(centres, radii, order, boxes, reach, children):
             continue
         axis = 0 if xmax - xmin >= ymax - ymin else 1
         middle = start + (end - start) // 2
-        _select(order, start, end, middle, centres, axis)
+        _select(disks, order, start, end, middle, axis)
         left, right = count, count + 1
         count += 2
         children[v, 0], children[v, 1] = left, right
@@ -143,21 +147,28 @@ def _build(centres, radii, order, boxes, reach, children):
     return count
 
 
+@njit(cache=True, inline='always')
+def _swap_rows(disks, order, i, j):
+    for c in range(3):
+        disks[i, c], disks[j, c] = disks[j, c], disks[i, c]
+    order[i], order[j] = order[j], order[i]
+
+
 @njit(cache=True)
-def _select(order, start, end, k, centres, axis):
-    # order[start:end] rearranged so that position k holds the centre of rank k - start along
-    # the axis, none after it smaller and none before it larger (Hoare's quickselect)
+def _select(disks, order, start, end, k, axis):
+    # rows start:end rearranged so that row k holds the centre of rank k - start along the
+    # axis, none after it smaller and none before it larger (Hoare's quickselect)
     lo, hi = start, end - 1
     while lo < hi:
-        pivot = centres[order[(lo + hi) // 2], axis]
+        pivot = disks[(lo + hi) // 2, axis]
         i, j = lo, hi
         while i <= j:
-            while centres[order[i], axis] < pivot:
+            while disks[i, axis] < pivot:
                 i += 1
-            while centres[order[j], axis] > pivot:
+            while disks[j, axis] > pivot:
                 j -= 1
             if i <= j:
-                order[i], order[j] = order[j], order[i]
+                _swap_rows(disks, order, i, j)
                 i += 1
                 j -= 1
         if k <= j:
@@ -203,16 +214,18 @@ def _gap(boxes, v, px, py):
 
 
 @njit(cache=True)
-def _search(centres, radii, order, boxes, reach, children):
-    """The mask of hidden disks: each disk searches the tree, depth first, nearest child first,
-    and stops at the first disk that covers it."""
-    n = centres.shape[0]
+def _search(disks, order, boxes, reach, children):
+    """The mask of hidden disks: each disk, taken in tree order (so that consecutive searches
+    walk the same nodes), searches the tree depth first, nearest child first, and stops at the
+    first disk that covers it."""
+    n = disks.shape[0]
     hidden = np.zeros(n, dtype=np.bool_)
     stack = np.empty(2 * children.shape[0] + 2, dtype=np.int64)
-    for i in range(n):
-        px = centres[i, 0]
-        py = centres[i, 1]
-        ri = radii[i]
+    for s in range(n):
+        i = order[s]
+        px = disks[s, 0]
+        py = disks[s, 1]
+        ri = disks[s, 2]
         depth = 1
         stack[0] = 0
         while depth > 0 and not hidden[i]:
@@ -236,14 +249,15 @@ def _search(centres, radii, order, boxes, reach, children):
                 continue
             for t in range(children[v, 2], children[v, 3]):
                 j = order[t]
-                if j == i or radii[j] < ri:
+                rj = disks[t, 2]
+                if j == i or rj < ri:
                     continue
-                if radii[j] == ri and centres[j, 0] == px and centres[j, 1] == py:
+                if rj == ri and disks[t, 0] == px and disks[t, 1] == py:
                     if j < i:                       # identical disks: the later one is hidden
                         hidden[i] = True
                         break
                     continue
-                if _covers(centres[j, 0], centres[j, 1], radii[j], px, py, ri):
+                if _covers(disks[t, 0], disks[t, 1], rj, px, py, ri):
                     hidden[i] = True
                     break
     return hidden
