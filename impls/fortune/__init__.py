@@ -73,6 +73,15 @@ specification). Equal weights go to the ordinary sweep (its diagram bit for bit)
 weighted_filtered / weighted_exact, probes, contacts_in_arc / contacts_at_vertex,
 never_entered, first_row, merged_vertices and hidden_sites.
 
+Disks (``build_disks``, Apollonius diagrams): the sweep with each directrix raised by its disk's
+radius (docs/apollonius.md), compiled in ``disk_sweep.py`` with float filters
+(``vorobench/core/predicates/apollonius_filter.py``) and its exact stage in ``disk_exact.py``
+(the rationals of ``apollonius_sweep.py``, the specification). Hidden disks are found first
+(``hidden_disks``) and never enter. Stats: breakpoint_tests / breakpoint_exact,
+event_comparisons / event_comparisons_exact, circle_tests / circle_tests_exact, site_events,
+circle_events, false_alarms, vertices, merged_vertices, same_point_exact, max_beach_line and
+hidden_sites.
+
 Speed notes: the sweep runs on a copy of the sites in event order (memory locality; ids are
 mapped back after the DCEL is built), removed arcs' and events' rows are reused, and the
 heap and treap kernels are inlined into the sweep (numba reference-counts arrays passed to
@@ -255,6 +264,9 @@ def warmup() -> None:
     rng = np.random.default_rng(0)
     build_weighted(rng.random((40, 2)), rng.random(40) * 0.01)
     build_weighted(g, np.arange(9.0) % 2)
+    # equal disks on a grid reach every exact stage of the sweep of disks, and merge vertices
+    build_disks(g, np.full(9, 0.25))
+    build_disks(rng.random((40, 2)), rng.random(40) * 0.05)
 
 
 class _ExactDisks:
@@ -269,7 +281,7 @@ class _ExactDisks:
 
 def build_disks(centres: NDArray[np.float64], radii: NDArray[np.float64], stats: Optional[dict] = None) -> Diagram:
     """The diagram of the disks by Fortune's sweep with each directrix raised by its disk's radius
-    (:mod:`impls.fortune.disk_sweep`, compiled: interval filters, then the rational predicates).
+    (:mod:`impls.fortune.disk_sweep`, compiled: float filters, then the rational predicates).
     Hidden disks never enter the sweep and get no edge."""
     centres = np.ascontiguousarray(centres, dtype=np.float64).reshape(-1, 2)
     radii = np.ascontiguousarray(radii, dtype=np.float64).reshape(-1)

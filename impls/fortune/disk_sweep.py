@@ -1,9 +1,14 @@
 """Fortune's sweep for disks, compiled: the sweep of :mod:`impls.fortune.apollonius_sweep`
 (each directrix raised by its disk's radius), with its beach line in the ordinary sweep's treap
 (:mod:`impls.fortune.beach_line`), circle events in an indexed binary heap, and every decision
-first made by an interval filter (:mod:`vorobench.core.predicates.apollonius_filter`); the
-filter's open cases go to the rational predicates (:mod:`impls.fortune.disk_exact`, from numba's
-object mode), so the decisions, and the diagram, are the rational sweep's.
+first made by a float filter with a running error bound
+(:mod:`vorobench.core.predicates.apollonius_filter`); the filter's open cases go to the
+rational predicates (:mod:`impls.fortune.disk_exact`, from numba's object mode), so the
+decisions, and the diagram, are the rational sweep's.
+
+Speed notes: the loop and its helpers are compiled without reference counting (as the
+ordinary sweep's); a site is located with one breakpoint test per level of the treap; a heap
+removal moves its hole to a leaf (one comparison per level) before the last entry settles.
 
 Sites are the visible disks in event order (time y - r, then x: exact, see :func:`event_order`).
 An event's time is kept as an enclosure [lo, hi]; two events whose enclosures overlap are
