@@ -11,7 +11,7 @@ import pytest
 
 import datasets_gen
 import impls
-from impls.fortune import apollonius_sweep, build_disks
+from impls.fortune import apollonius_sweep, build_disks, disk_sweep
 from vorobench.core.prepare import prepare_disks
 from vorobench.judge.disk_judging import certify_disks, compare_disks
 from vorobench.judge.outcomes import Verdict
@@ -79,3 +79,26 @@ def test_the_registry_builds_disks_with_the_compiled_sweep():
     d = impls.build("fortune", points, radii=radii, stats=stats)
     assert "circle_tests" in stats and stats["site_events"] + stats["hidden_sites"] == 60
     assert certify_disks(d).ok
+
+
+def test_site_events_come_in_the_exact_order_of_their_times():
+    """y - r of disks 0 and 1 round to one float (1.0) but differ exactly: disk 0's comes first
+    though its x is larger; disks 1 and 2 share the first exact time after it, in order of x."""
+    xs = np.array([5.0, 2.0, 1.0, 0.0])
+    ys = np.array([1.0, 1.0, 1.5, 3.0])
+    rs = np.array([2.0 ** -60, 0.0, 0.5, 0.0])
+    order, first_row = disk_sweep.event_order(xs, ys, rs)
+    assert order.tolist() == [0, 2, 1, 3] and first_row == 1
+    order, first_row = disk_sweep.event_order(xs[1:], ys[1:], rs[1:])
+    assert order.tolist() == [1, 0, 2] and first_row == 2
+
+
+def test_disks_beyond_the_filters_range_are_decided_exactly():
+    """Coordinates near 1e150 overflow the filters' squares: every decision goes to the exact
+    stage, and the diagram is still the specification's."""
+    rng = np.random.default_rng(4)
+    centres, radii = rng.random((12, 2)) * 1e150, rng.random(12) * 1e148
+    stats: dict = {}
+    compiled = build_disks(centres, radii, stats)
+    _same(compiled, apollonius_sweep.build(centres, radii))
+    assert stats["circle_tests_exact"] == stats["circle_tests"] > 0
