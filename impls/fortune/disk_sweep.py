@@ -28,7 +28,7 @@ from numba import njit, objmode
 
 from impls.fortune import beach_line as bl
 from impls.fortune import disk_exact
-from impls.fortune.sweep import ERR_CAPACITY, ERR_ITERATIONS, ERR_LOCATE, ERR_STATE, OK, arc_priority
+from impls.fortune.sweep import ERR_CAPACITY, ERR_ITERATIONS, ERR_LOCATE, ERR_STATE, OK, arc_priority, close_edge
 from vorobench.core.predicates import interval as iv
 from vorobench.core.predicates import running_error
 from vorobench.core.predicates.apollonius_filter import NO_VERTEX, UNDECIDED, breakpoint_side, meets, vertex_box
@@ -282,15 +282,6 @@ def sweep(xs: np.ndarray, ys: np.ndarray, rs: np.ndarray, first_row: int, scale:
 
 
 @njit(cache=True, _nrt=False)
-def _close(edge_sites, edge_vertices, e, left_site, v):
-    # the breakpoint with left arc `left_site` that traced edge e stops at vertex v
-    if edge_sites[e, 0] == left_site:
-        edge_vertices[e, 1] = v
-    else:
-        edge_vertices[e, 0] = v
-
-
-@njit(cache=True, _nrt=False)
 def _new_arc(arcs, arc_free, nafree, na, site, serial):
     """A detached arc of ``site`` in a free row (reused rows first): (row, nafree, na)."""
     if nafree > 0:
@@ -367,8 +358,8 @@ def _run(xs, ys, rs, first_row, scale, counters, arcs, arc_free, ev_i, ev_f, hea
             free[nfree] = e
             nfree += 1
             arcs[b, bl.EVENT] = -1
-            _close(edge_sites, edge_vertices, arcs[a, bl.EDGE], arcs[a, bl.SITE], v)
-            _close(edge_sites, edge_vertices, arcs[b, bl.EDGE], arcs[b, bl.SITE], v)
+            close_edge(edge_sites, edge_vertices, arcs[a, bl.EDGE], arcs[a, bl.SITE], v)
+            close_edge(edge_sites, edge_vertices, arcs[b, bl.EDGE], arcs[b, bl.SITE], v)
             # the new breakpoint (a, c) starts at v: the start of a's half-edge
             edge_sites[ne, 0] = arcs[a, bl.SITE]
             edge_sites[ne, 1] = arcs[c, bl.SITE]

@@ -19,7 +19,7 @@ from vorobench.core.circumcentre import circumcentre
 from vorobench.core.predicates import circle_top_relative, circle_top_to_y, orient2d_counted
 
 __all__ = [
-    "sweep", "arc_priority", "COUNTER_NAMES", "N_COUNTERS",
+    "sweep", "arc_priority", "close_edge", "COUNTER_NAMES", "N_COUNTERS",
     "OK", "ERR_LOCATE", "ERR_CAPACITY", "ERR_ITERATIONS", "ERR_STATE",
 ]
 
@@ -69,7 +69,7 @@ def arc_priority(k):
 
 
 @njit(cache=True, inline='always')
-def _close(edge_sites, edge_vertices, e, left_site, v):
+def close_edge(edge_sites, edge_vertices, e, left_site, v):
     # the breakpoint with left arc `left_site` that traced edge e stops at vertex v
     if edge_sites[e, 0] == left_site:
         edge_vertices[e, 1] = v
@@ -190,8 +190,8 @@ def _run(sites, counters, arcs, arc_free, ev_i, ev_f, heap, hkey, free, edge_sit
             counters[VERTICES] += 1
             nfree = eq.release(ev_i, free, nfree, e)
             arcs[b, bl.EVENT] = -1
-            _close(edge_sites, edge_vertices, arcs[a, bl.EDGE], arcs[a, bl.SITE], v)
-            _close(edge_sites, edge_vertices, arcs[b, bl.EDGE], arcs[b, bl.SITE], v)
+            close_edge(edge_sites, edge_vertices, arcs[a, bl.EDGE], arcs[a, bl.SITE], v)
+            close_edge(edge_sites, edge_vertices, arcs[b, bl.EDGE], arcs[b, bl.SITE], v)
             # the new breakpoint (a, c) starts at v and moves along perp(c - a): a's half-edge
             edge_sites[ne, 0] = arcs[a, bl.SITE]
             edge_sites[ne, 1] = arcs[c, bl.SITE]
