@@ -77,7 +77,7 @@ Disks (``build_disks``, Apollonius diagrams): the sweep with each directrix rais
 radius (docs/apollonius.md), compiled in ``disk_sweep.py`` with float filters
 (``vorobench/core/predicates/apollonius_filter.py``) and its exact stage in ``disk_exact.py``
 (the rationals of ``apollonius_sweep.py``, the specification). Hidden disks are found first
-(``hidden_disks``) and never enter. Stats: breakpoint_tests / breakpoint_exact,
+(``hidden_disks``) and never enter; equal radii go to the ordinary sweep. Stats: breakpoint_tests / breakpoint_exact,
 event_comparisons / event_comparisons_exact, circle_tests / circle_tests_exact, site_events,
 circle_events, false_alarms, vertices, merged_vertices, same_point_exact, max_beach_line and
 hidden_sites.
@@ -293,6 +293,15 @@ def build_disks(centres: NDArray[np.float64], radii: NDArray[np.float64], stats:
         if stats is not None:
             stats.update(hidden_sites=int(n - visible.size))
         return Diagram.empty(centres, radii=radii)
+    if np.all(radii == radii[0]):
+        # equal radii: every bisector is the centres' own, and the diagram the ordinary one
+        # (only copies of one disk are hidden); the ordinary sweep decides lattices' ties
+        # without the rationals
+        d = build(centres[visible], stats)
+        if stats is not None:
+            stats["hidden_sites"] = int(n - visible.size)
+        return Diagram(centres, d.vertices, d.origin, d.twin, d.next, visible.astype(d.site.dtype)[d.site],
+                       radii=radii)
     # the sweep runs on the visible disks in event order; sites are mapped back afterwards
     order, first_row = disk_sweep.event_order(centres[visible, 0], centres[visible, 1], radii[visible])
     order = visible[order]

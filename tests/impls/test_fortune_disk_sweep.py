@@ -45,17 +45,33 @@ def test_random_disks_need_no_exact_stage():
     assert stats["breakpoint_exact"] == stats["event_comparisons_exact"] == stats["circle_tests_exact"] == 0
 
 
-def test_a_lattice_of_equal_disks_is_decided_exactly_and_its_vertices_merged():
-    """Equal disks on a grid: every square's four disks touch one circle, which the filters
-    cannot tell from two circles; the exact stage decides, and each square's two circle
-    events make one vertex."""
+def test_a_lattice_of_disks_is_decided_exactly_and_its_vertices_merged():
+    """Equal disks on a grid but one larger corner: each other square's four disks touch one
+    circle, which the filters cannot tell from two circles; the exact stage decides, and the
+    square's two circle events make one vertex."""
     points = np.array([[x, y] for y in range(6) for x in range(6)], dtype=np.float64)
+    radii = np.full(36, 0.25)
+    radii[35] = 0.3
     stats: dict = {}
-    compiled, rational = _both(points, np.full(36, 0.25), stats)
+    compiled, rational = _both(points, radii, stats)
     _same(compiled, rational)
     assert stats["event_comparisons_exact"] > 0 and stats["circle_tests_exact"] > 0
-    assert stats["merged_vertices"] == 25 and compiled.n_vertices == 25
+    assert stats["merged_vertices"] == 24                    # one per square but the corner's
     assert certify_disks(compiled).ok
+
+
+def test_equal_radii_go_to_the_ordinary_sweep():
+    """Equal disks have the centres' diagram: the ordinary sweep's, bit for bit, with the copies
+    of a disk hidden and the site ids those of the input."""
+    rng = np.random.default_rng(6)
+    centres = rng.random((50, 2))
+    centres[7] = centres[3]                        # a copy: hidden
+    ordinary = impls.get("fortune").build(np.delete(centres, 7, axis=0))
+    disks = build_disks(centres, np.full(50, 0.01))
+    assert disks.hidden.tolist() == [7]
+    kept = np.delete(np.arange(50), 7)
+    assert np.array_equal(disks.vertices, ordinary.vertices) and np.array_equal(disks.next, ordinary.next)
+    assert np.array_equal(disks.site, kept[ordinary.site])
 
 
 def test_a_cell_with_several_rays_is_linked_by_their_asymptotes():
