@@ -1,6 +1,7 @@
-"""Fortune's sweep for disks (``impls/fortune/apollonius_sweep.py``) against the exact oracle:
-the same diagram exactly on every point layout with every radius family, equal radii giving the
-ordinary diagram, and the configurations that broke its first version."""
+"""The sweep for disks in rationals (``impls/fortune/apollonius_sweep.py``, the specification of
+the compiled sweep that ``fortune`` runs) against the exact oracle: the same diagram exactly on
+every point layout with every radius family, equal radii giving the ordinary diagram, and the
+configurations that broke its first version."""
 
 from __future__ import annotations
 
