@@ -149,12 +149,12 @@ def _around(x):
 
 # ---------------------------------------------------------------------------------- decisions
 @njit(cache=True, _nrt=False)
-def _side(arcs, xs, ys, rs, p, x, s, counters):
-    """Sign of site s's x against the breakpoint of arcs p (left) and x (right), at its time."""
+def _side(arcs, xs, ys, rs, p, x, s, L, e_L, counters):
+    """Sign of site s's x against the breakpoint of arcs p (left) and x (right), at its time L
+    (known within e_L)."""
     a = arcs[p, bl.SITE]
     b = arcs[x, bl.SITE]
     counters[BP_CALLS] += 1
-    L, e_L = running_error.sub(ys[s], 0.0, rs[s], 0.0)
     side = breakpoint_side(xs[s], L, e_L, xs[a], ys[a], rs[a], xs[b], ys[b], rs[b])
     if side == UNDECIDED:
         counters[BP_EXACT] += 1
@@ -168,6 +168,7 @@ def _locate(arcs, root, xs, ys, rs, s, counters):
     site (a site exactly on a breakpoint splits the arc on its left, as in the rational sweep),
     found with one breakpoint test per level of the treap. -1 if the search finds none (an
     inconsistency: never expected)."""
+    L, e_L = running_error.sub(ys[s], 0.0, rs[s], 0.0)       # once per site, not per test
     x = root
     found = -1
     steps = 0
@@ -177,7 +178,7 @@ def _locate(arcs, root, xs, ys, rs, s, counters):
         if steps > limit:
             return -1
         p = arcs[x, bl.PREV]
-        if p != -1 and _side(arcs, xs, ys, rs, p, x, s, counters) <= 0:
+        if p != -1 and _side(arcs, xs, ys, rs, p, x, s, L, e_L, counters) <= 0:
             x = arcs[x, bl.LEFT]
         else:
             found = x
