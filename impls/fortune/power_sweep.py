@@ -265,6 +265,30 @@ def _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, lo, mid
 
 
 @njit(cache=True, _nrt=False)
+def _breakpoints_at(G, counters, arcs, found, left_side, kind, a, b, c, xl, xh, tl, th, at):
+    """The left arcs of the breakpoints at the point of a spec, left to right, into ``at``,
+    found being the arc over the point (the point strictly left of its right breakpoint):
+    several where arcs of no width meet there. ``left_side`` is the point's side of found's
+    left breakpoint when known (0 or 1), else 2. Returns their number."""
+    m = 0
+    p = arcs[found, bl.PREV]
+    if p == -1 or left_side == 1:
+        return 0
+    cur = found
+    if left_side == 0:
+        at[0] = p
+        m, cur, p = 1, p, arcs[p, bl.PREV]
+    while p != -1 and side(G, counters, arcs[p, bl.SITE], arcs[cur, bl.SITE], kind, a, b, c, xl, xh, tl, th) == 0:
+        at[m] = p
+        m += 1
+        cur = p
+        p = arcs[p, bl.PREV]
+    for j in range(m // 2):
+        at[j], at[m - 1 - j] = at[m - 1 - j], at[j]
+    return m
+
+
+@njit(cache=True, _nrt=False)
 def _locate(G, counters, arcs, root, kind, a, b, c, xl, xh, tl, th, at):
     """The arc over the point of a spec at its time, and in ``at`` the left arcs of the
     breakpoints at that point, left to right (several where arcs of no width meet); returns
@@ -282,53 +306,46 @@ def _locate(G, counters, arcs, root, kind, a, b, c, xl, xh, tl, th, at):
             x = arcs[x, bl.RIGHT]
     if found < 0:
         return -1, 0                            # no arc: the tree is broken (a bug)
-    m = 0
-    p = arcs[found, bl.PREV]
-    cur = found
-    while p != -1 and side(G, counters, arcs[p, bl.SITE], arcs[cur, bl.SITE], kind, a, b, c, xl, xh, tl, th) == 0:
-        at[m] = p
-        m += 1
-        cur = p
-        p = arcs[p, bl.PREV]
-    for j in range(m // 2):
-        at[j], at[m - 1 - j] = at[m - 1 - j], at[j]
-    return found, m
+    return found, _breakpoints_at(G, counters, arcs, found, 2, kind, a, b, c, xl, xh, tl, th, at)
 
 
 #: The most breakpoints :func:`_walk` crosses before it gives up for a descent from the root.
 _WALK_STEPS = 6
+#: The most removed arcs :func:`_walk` follows to a live one before it gives up.
+_WALK_HOPS = 8
 
 
 @njit(cache=True, _nrt=False)
-def _walk(G, counters, arcs, gone, x, kind, a, b, c, xl, xh, tl, th):
-    """The arc strictly over the point of a spec, found by walking along the beach line from
-    arc x (a site's arc found last, near the point): what :func:`_locate` would return with no
-    breakpoint at the point, for one or two breakpoint tests per arc crossed instead of a
-    descent from the root. -1 when x is gone, the walk is long, or the point is at a
-    breakpoint (the descent then finds the breakpoints there)."""
-    if x < 0 or gone[x]:
-        return -1
-    # known_left / known_right: the point is already known strictly inside that breakpoint of x
-    known_left, known_right = False, False
+def _walk(G, counters, arcs, removed_at, x, kind, a, b, c, xl, xh, tl, th, at):
+    """What :func:`_locate` returns, found by walking along the beach line from arc x (a
+    site's arc found last, near the point) for one or two breakpoint tests per arc crossed
+    instead of a descent from the root; (-1, 0) when the walk is long. An arc gone since
+    stands for its left neighbour when it went (``removed_at``), which touched it there."""
+    hops = 0
+    while x >= 0 and removed_at[x] >= 0 and hops < _WALK_HOPS:
+        x = removed_at[x]
+        hops += 1
+    if x < 0 or removed_at[x] >= 0:
+        return -1, 0
+    # the point's side of x's left breakpoint (2: not known), and whether it is known to be
+    # strictly left of x's right breakpoint; found is the leftmost arc with the point strictly
+    # left of its right breakpoint, as the descent defines it
+    left_side, right_known = 2, False
     for _ in range(_WALK_STEPS):
         p = arcs[x, bl.PREV]
-        if not known_left and p != -1:
-            o = side(G, counters, arcs[p, bl.SITE], arcs[x, bl.SITE], kind, a, b, c, xl, xh, tl, th)
-            if o == 0:
-                return -1
-            if o < 0:
-                x, known_left, known_right = p, False, True
+        if left_side == 2 and p != -1:
+            left_side = side(G, counters, arcs[p, bl.SITE], arcs[x, bl.SITE], kind, a, b, c, xl, xh, tl, th)
+            if left_side < 0:
+                x, left_side, right_known = p, 2, True
                 continue
         q = arcs[x, bl.NEXT]
-        if known_right or q == -1:
-            return x
+        if right_known or q == -1:
+            return x, _breakpoints_at(G, counters, arcs, x, left_side, kind, a, b, c, xl, xh, tl, th, at)
         o = side(G, counters, arcs[x, bl.SITE], arcs[q, bl.SITE], kind, a, b, c, xl, xh, tl, th)
         if o < 0:
-            return x
-        if o == 0:
-            return -1
-        x, known_left, known_right = q, True, False
-    return -1
+            return x, _breakpoints_at(G, counters, arcs, x, left_side, kind, a, b, c, xl, xh, tl, th, at)
+        x, left_side = q, o
+    return -1, 0
 
 
 @njit(cache=True, _nrt=False)
@@ -539,7 +556,7 @@ def sweep(G, order, row, counters, slab, watch_rows):
     wnext = np.empty(wsite.shape[0], dtype=np.int64)
     state = np.zeros(n, dtype=np.int8)          # 0 waiting, 1 pending, 2 present, 3 hidden
     last_arc = np.full(n, -1, dtype=np.int64)   # each site's arc found last: where its next search starts
-    gone = np.zeros(arcs.shape[0], dtype=np.bool_)
+    removed_at = np.full(arcs.shape[0], -1, dtype=np.int64)
     cand = np.full((arcs.shape[0], 3), -1, dtype=np.int64)     # see _circle_candidate
     candf = np.empty((arcs.shape[0], 6), dtype=np.float64)
     at = np.empty(2 * n + 4, dtype=np.int64)
@@ -552,7 +569,7 @@ def sweep(G, order, row, counters, slab, watch_rows):
     _lowest_row(G, order, row, counters, slab, arcs, edges, last, state, S)
     while True:
         status = _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wnext, whead, slab,
-                      last, state, last_arc, gone, cand, candf, at, S, SF)
+                      last, state, last_arc, removed_at, cand, candf, at, S, SF)
         if status != _NEED_ROOM:
             break
         wsite, wnext = _grown(wsite, wnext)
@@ -593,7 +610,7 @@ def _lowest_row(G, order, row, counters, slab, arcs, edges, last, state, S):
 
 @njit(cache=True, _nrt=False)
 def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wnext, whead, slab, last, state,
-         last_arc, gone, cand, candf, at, S, SF):
+         last_arc, removed_at, cand, candf, at, S, SF):
     """The sweep's loop over events, on the arrays :func:`sweep` made: without reference
     counting, which allocates nothing. Returns the sweep's status, or ``_NEED_ROOM`` (before
     an event is taken) when the watch pool may be too small for the next one: the caller grows
@@ -635,8 +652,8 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
             state[i] = 1
             # the search starts from the arc found last for the slab's newest site, near i
             newest = last[0, slab[i]]
-            arc = _walk(G, counters, arcs, gone, last_arc[newest] if newest >= 0 else -1, SITE, i, -1, -1,
-                        G[i, 0], G[i, 0], G[i, 1], G[i, 1])
+            arc, _ = _walk(G, counters, arcs, removed_at, last_arc[newest] if newest >= 0 else -1, SITE, i, -1, -1,
+                           G[i, 0], G[i, 0], G[i, 1], G[i, 1], at)
             if arc < 0:
                 arc, _ = _locate(G, counters, arcs, S[_ROOT], SITE, i, -1, -1, G[i, 0], G[i, 0], G[i, 1], G[i, 1], at)
             if arc < 0:
@@ -675,7 +692,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                 _close(edges, arcs[k, bl.EDGE], arcs[k, bl.SITE], v)
                 arcs[left, bl.EDGE] = _new_edge(edges, S, arcs[left, bl.SITE], arcs[right, bl.SITE], v)
                 S[_ROOT] = bl.remove(arcs, S[_ROOT], k)
-                gone[k] = True
+                removed_at[k] = left
                 beach -= 1
                 # refresh(left, right): lo..hi is left, right; then left's left, right's right
                 todo = (np.int64(left), np.int64(right), np.int64(arcs[left, bl.PREV]), np.int64(arcs[right, bl.NEXT]))
@@ -691,7 +708,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                 # the box of the probe's point, kept from _lowest_point
                 xl, xh, yl, yh, tl, th = evf[e, 2], evf[e, 3], evf[e, 4], evf[e, 5], evf[e, 0], evf[e, 1]
                 # from the arc found last for i (at its activation or its last probe), near q
-                arc, nat = _walk(G, counters, arcs, gone, last_arc[i], pk, pa, pb, pc, xl, xh, tl, th), 0
+                arc, nat = _walk(G, counters, arcs, removed_at, last_arc[i], pk, pa, pb, pc, xl, xh, tl, th, at)
                 if arc < 0:
                     arc, nat = _locate(G, counters, arcs, S[_ROOT], pk, pa, pb, pc, xl, xh, tl, th, at)
                 if arc < 0:
