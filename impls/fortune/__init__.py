@@ -238,12 +238,12 @@ def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64], sta
     table = _shift_table(swept, swept_weights)
     counters = np.zeros(power_sweep.N_COUNTERS, dtype=np.int64)
     with exact_context(swept, swept_weights):
-        status, edges, specs = power_sweep.sweep(table, np.arange(n, dtype=np.int64), row, counters,
+        status, edges, specs, boxes = power_sweep.sweep(table, np.arange(n, dtype=np.int64), row, counters,
                                                      slabs(swept[:, 0]), WATCH_ROWS_PER_SITE * n + 16)
         if status != power_sweep.OK:
             raise RuntimeError(f"fortune (weighted): {_WEIGHTED_ERRORS.get(status, 'unknown error')} (n = {n}); "
                                "this is a bug")
-        edges, specs = power_sweep.merge_vertices(table, counters, edges, specs)
+        edges, specs = power_sweep.merge_vertices(table, counters, edges, specs, boxes)
     edges[:, :2] = order[edges[:, :2]]
     specs = order[specs]
     if stats is not None:

@@ -63,6 +63,9 @@ _CIRCLE, _PROBE = 0, 2
 #: its time and, if its point is on the beach line, is queued again keyed by the arc's site.
 _UNKEYED = -2
 _NO_BOX = (0.0, 0.0, 0.0, 0.0)
+#: The box of a vertex not known where it is made (an arc tied along a line closing where the
+#: event at hand is): :func:`merge_vertices` computes it
+_UNKNOWN_BOX = (np.nan, np.nan, np.nan, np.nan)
 
 # scalar state
 _ROOT, _SEQN, _NEDGE, _NVERT, _NARC, _HEAPN, _FREE, _NOWK, _NOWA, _NOWB, _NOWC, _HEREK, _HEREA, \
@@ -218,7 +221,7 @@ def _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf
         # k has just met a neighbour that ties with it along a line: it closes now, here
         arcs[k, bl.EVENT] = _push(G, counters, S, ev, evf, heap, free, _CIRCLE,
                                   S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC], SF[0], SF[1],
-                                  S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC], _NO_BOX, k, -1)
+                                  S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC], _UNKNOWN_BOX, k, -1)
         return
     if turn <= 0:
         return
@@ -254,14 +257,50 @@ def _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf
 
 
 @njit(cache=True, _nrt=False)
-def _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, lo, mid, hi):
-    """The arcs lo, (mid), hi changed neighbours: their circle events and those of the arcs on
-    either side are recomputed, in the reference's order (lo..hi, then left, then right)."""
-    todo = (np.int64(lo), np.int64(mid), np.int64(hi), np.int64(arcs[lo, bl.PREV]), np.int64(arcs[hi, bl.NEXT]))
+def _unchanged(G, counters, S, SF, arcs, cand, candf, k):
+    """Whether :func:`_circle_candidate` would leave arc k's circle event as it is (the same
+    event, or none): k's neighbours are those its last candidate was computed for, and either
+    its event is there because both breakpoints meet at the centre, or it has none, they do
+    not meet, and the centre cannot be the point of the event at hand (the only rule that
+    depends on where the sweep is). Such an arc keeps its event, unmoved in the heap."""
+    if k < 0:
+        return False
+    left, right = arcs[k, bl.PREV], arcs[k, bl.NEXT]
+    if left < 0 or right < 0 or cand[k, 0] != arcs[left, bl.SITE] or cand[k, 1] != arcs[right, bl.SITE]:
+        return False
+    if arcs[k, bl.EVENT] >= 0:
+        return cand[k, 2] == 1
+    if cand[k, 2] != 0:
+        return False
+    if S[_HEREK] != CENTRE:
+        return True
+    if S[_HEREBOX] == 0:
+        SF[2], SF[3], SF[4], SF[5], _, _ = spec_point(G, CENTRE, S[_HEREA], S[_HEREB], S[_HEREC])
+        S[_HEREBOX] = 1
+    # boxes apart: the centre is not here
+    return candf[k, 1] < SF[2] or SF[3] < candf[k, 0] or candf[k, 3] < SF[4] or SF[5] < candf[k, 2]
+
+
+@njit(cache=True, _nrt=False)
+def _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, todo):
+    """The arcs in ``todo`` changed neighbours or are next to ones that did: their circle
+    events are recomputed, in the reference's order, except those that would come out the
+    same (:func:`_unchanged`)."""
+    keep, j = 0, 0
     for k in todo:
-        _cancel(G, counters, S, ev, evf, heap, free, arcs, k)
+        if _unchanged(G, counters, S, SF, arcs, cand, candf, k):
+            keep |= 1 << j
+        j += 1
+    j = 0
     for k in todo:
-        _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, k)
+        if not keep >> j & 1:
+            _cancel(G, counters, S, ev, evf, heap, free, arcs, k)
+        j += 1
+    j = 0
+    for k in todo:
+        if not keep >> j & 1:
+            _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, k)
+        j += 1
 
 
 @njit(cache=True, _nrt=False)
@@ -366,9 +405,11 @@ def _close(edges, e, left_site, v):
 
 
 @njit(cache=True, _nrt=False)
-def _new_vertex(vspec, S, a, b, c):
+def _new_vertex(vspec, vbox, S, a, b, c, box):
+    # box: a box around the vertex's point, kept for the merge (NaN: not known)
     v = S[_NVERT]
     vspec[v, 0], vspec[v, 1], vspec[v, 2] = a, b, c
+    vbox[v, 0], vbox[v, 1], vbox[v, 2], vbox[v, 3] = box
     S[_NVERT] = v + 1
     return v
 
@@ -545,6 +586,7 @@ def sweep(G, order, row, counters, slab, watch_rows):
     free = np.arange(cap_ev - 1, -1, -1, dtype=np.int64)
     edges = np.empty((5 * n + 16, 4), dtype=np.int64)
     vspec = np.empty((3 * n + 16, 3), dtype=np.int64)
+    vbox = np.empty((vspec.shape[0], 4), dtype=np.float64)
     whead = np.full(n, -1, dtype=np.int64)
     # each slab's newest activation, at each level: level L's slab of a site is slab >> 2 L
     slabs_count = int(slab.max()) + 1 if n > 0 else 1
@@ -568,12 +610,12 @@ def sweep(G, order, row, counters, slab, watch_rows):
     S[_STATUS] = OK
     _lowest_row(G, order, row, counters, slab, arcs, edges, last, state, S)
     while True:
-        status = _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wnext, whead, slab,
+        status = _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, vbox, wsite, wnext, whead, slab,
                       last, state, last_arc, removed_at, cand, candf, at, S, SF)
         if status != _NEED_ROOM:
             break
         wsite, wnext = _grown(wsite, wnext)
-    return status, edges[:S[_NEDGE]], vspec[:S[_NVERT]]
+    return status, edges[:S[_NEDGE]], vspec[:S[_NVERT]], vbox[:S[_NVERT]]
 
 
 @njit(cache=True)
@@ -609,7 +651,7 @@ def _lowest_row(G, order, row, counters, slab, arcs, edges, last, state, S):
 
 
 @njit(cache=True, _nrt=False)
-def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wnext, whead, slab, last, state,
+def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, vbox, wsite, wnext, whead, slab, last, state,
          last_arc, removed_at, cand, candf, at, S, SF):
     """The sweep's loop over events, on the arrays :func:`sweep` made: without reference
     counting, which allocates nothing. Returns the sweep's status, or ``_NEED_ROOM`` (before
@@ -687,7 +729,8 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                 counters[CIRCLES] += 1
                 S[_HEREBOX] = 0
                 S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC] = ev[e, _PK], ev[e, _PA], ev[e, _PB], ev[e, _PC]
-                v = _new_vertex(vspec, S, ev[e, _PA], ev[e, _PB], ev[e, _PC])
+                v = _new_vertex(vspec, vbox, S, ev[e, _PA], ev[e, _PB], ev[e, _PC],
+                                (evf[e, 2], evf[e, 3], evf[e, 4], evf[e, 5]))
                 _close(edges, arcs[left, bl.EDGE], arcs[left, bl.SITE], v)
                 _close(edges, arcs[k, bl.EDGE], arcs[k, bl.SITE], v)
                 arcs[left, bl.EDGE] = _new_edge(edges, S, arcs[left, bl.SITE], arcs[right, bl.SITE], v)
@@ -695,11 +738,9 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                 removed_at[k] = left
                 beach -= 1
                 # refresh(left, right): lo..hi is left, right; then left's left, right's right
-                todo = (np.int64(left), np.int64(right), np.int64(arcs[left, bl.PREV]), np.int64(arcs[right, bl.NEXT]))
-                for q in todo:
-                    _cancel(G, counters, S, ev, evf, heap, free, arcs, q)
-                for q in todo:
-                    _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, q)
+                _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf,
+                         (np.int64(left), np.int64(right), np.int64(arcs[left, bl.PREV]),
+                          np.int64(arcs[right, bl.NEXT])))
             else:
                 # a probe of site i at the point q of its lower bound: the arc over q decides
                 i = ev[e, _OWNER]
@@ -744,7 +785,9 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                     S[_ROOT] = bl.insert_after(arcs, S[_ROOT], arc, x)
                     S[_ROOT] = bl.insert_after(arcs, S[_ROOT], x, twin)
                     beach += 2
-                    _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, arc, x, twin)
+                    _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf,
+                             (np.int64(arc), np.int64(x), np.int64(twin), np.int64(arcs[arc, bl.PREV]),
+                              np.int64(arcs[twin, bl.NEXT])))
                 else:
                     entered = False
                     for j in range(nat):
@@ -757,14 +800,16 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
                             S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC] = CENTRE, sa, i, sb
                             counters[AT_VERTEX] += 1
                             state[i] = 2
-                            v = _new_vertex(vspec, S, sa, i, sb)
+                            v = _new_vertex(vspec, vbox, S, sa, i, sb, (xl, xh, yl, yh))
                             _close(edges, arcs[la, bl.EDGE], sa, v)
                             x = _new_arc(arcs, S, i)
                             arcs[la, bl.EDGE] = _new_edge(edges, S, sa, i, v)
                             arcs[x, bl.EDGE] = _new_edge(edges, S, i, sb, v)
                             S[_ROOT] = bl.insert_after(arcs, S[_ROOT], la, x)
                             beach += 1
-                            _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, la, x, ra)
+                            _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf,
+                                     (np.int64(la), np.int64(x), np.int64(ra), np.int64(arcs[la, bl.PREV]),
+                                      np.int64(arcs[ra, bl.NEXT])))
                             entered = True
                             break
                     if not entered:
@@ -827,14 +872,15 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, wsite, wne
 
 
 @njit(cache=True)
-def merge_vertices(G, counters, edges, vspec):
+def merge_vertices(G, counters, edges, vspec, box):
     """Vertices at one exact point, joined by edges between them, become one, and the edges
-    of no length go: returns (edges with renumbered ends, the spec of each vertex kept)."""
+    of no length go: returns (edges with renumbered ends, the spec of each vertex kept).
+    ``box`` holds a box around each vertex (NaN where not known, computed here)."""
     nv = vspec.shape[0]
-    box = np.empty((nv, 4), dtype=np.float64)
     for v in range(nv):
-        xl, xh, yl, yh, _, _ = spec_point(G, CENTRE, vspec[v, 0], vspec[v, 1], vspec[v, 2])
-        box[v, 0], box[v, 1], box[v, 2], box[v, 3] = xl, xh, yl, yh
+        if np.isnan(box[v, 0]):
+            xl, xh, yl, yh, _, _ = spec_point(G, CENTRE, vspec[v, 0], vspec[v, 1], vspec[v, 2])
+            box[v, 0], box[v, 1], box[v, 2], box[v, 3] = xl, xh, yl, yh
     parent = np.arange(nv)
     for e in range(edges.shape[0]):
         a, b = edges[e, 2], edges[e, 3]
