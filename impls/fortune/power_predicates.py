@@ -74,8 +74,9 @@ def _norm2(xl, xh, yl, yh):
 #: nonnegative terms, far below it.
 _BOUND_SLACK = 1.0 + 2.0 ** -40
 #: Absolute slack for roundings that underflow (each errs by at most 2**-1075): added to each
-#: bound, weighted by the factors such an error may be multiplied by afterwards.
-_TINY = 2.0 ** -1060
+#: bound, weighted by the factors such an error may be multiplied by afterwards. A normal
+#: float, as :data:`running_error.TINY` says why.
+_TINY = rerr.TINY
 
 
 @njit(cache=True)
@@ -314,7 +315,7 @@ SIDE_APEX_ERRBOUND = 6.0 * EPSILON
 _SPREAD_SLACK = 1.0 + 2.0 ** -40
 #: Absolute slack for roundings that underflow (each errs by at most 2**-1075 and is then
 #: multiplied by at most two of the factors it is weighted by below), where relative bounds fail.
-_UNDERFLOW_SLACK = 2.0 ** -1060
+_UNDERFLOW_SLACK = rerr.TINY
 
 
 @njit(cache=True)
