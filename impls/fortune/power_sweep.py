@@ -11,7 +11,8 @@ the farthest from its partner first), then the older event. Each decision is a p
 
 The beach line is the ordinary sweep's treap (:mod:`impls.fortune.beach_line`), searched here
 with the weighted breakpoint test; events sit in an indexed binary heap (cancelled when an arc
-they involve changes); a pending site's watched sites are a linked list in one pool. Vertices
+they involve changes, with copies of their time intervals beside their ids, as the ordinary
+sweep's heap keeps its keys); a pending site's watched sites are a linked list in one pool. Vertices
 are recorded with their spec (the three sites of their power centre); vertices at one exact
 point, which the events of a co-power vertex create one per event, are merged after the sweep
 along the edges of zero length between them, and those edges dropped.
@@ -82,12 +83,13 @@ _SLAB_WATCH = 3
 
 
 @njit(cache=True, inline='always')
-def _earlier(G, counters, ev, evf, e1, e2):
+def _earlier(G, counters, ev, evf, e1, lo1, hi1, e2, lo2, hi2):
     # the heap's order: time, then kind (circle first), then for probes the farther from its
-    # partner, then the older event; disjoint time intervals decide without a call
-    if evf[e1, 1] < evf[e2, 0]:
+    # partner, then the older event; disjoint time intervals ([lo, hi], kept in the heap's
+    # own rows) decide without a call
+    if hi1 < lo2:
         return True
-    if evf[e2, 1] < evf[e1, 0]:
+    if hi2 < lo1:
         return False
     return _earlier_overlapping(G, counters, ev, evf, e1, e2)
 
@@ -114,48 +116,53 @@ def _earlier_overlapping(G, counters, ev, evf, e1, e2):
 
 
 @njit(cache=True, inline='always')
-def _settle(G, counters, ev, evf, heap, pos, top, e):
-    # put event e into the hole at pos, moving it up while it is earlier than its parent,
-    # never above slot top
+def _settle(G, counters, ev, evf, heap, hkey, pos, top, e, lo, hi):
+    # put event e (times in [lo, hi]) into the hole at pos, moving it up while it is earlier
+    # than its parent, never above slot top
     while pos > top:
         parent = (pos - 1) >> 1
-        p = heap[parent]
-        if not _earlier(G, counters, ev, evf, e, p):
+        if not _earlier(G, counters, ev, evf, e, lo, hi, heap[parent], hkey[parent, 0], hkey[parent, 1]):
             break
+        p = heap[parent]
         heap[pos] = p
+        hkey[pos, 0], hkey[pos, 1] = hkey[parent, 0], hkey[parent, 1]
         ev[p, _HPOS] = pos
         pos = parent
     heap[pos] = e
+    hkey[pos, 0], hkey[pos, 1] = lo, hi
     ev[e, _HPOS] = pos
 
 
 @njit(cache=True, _nrt=False)
-def _sift_up(G, counters, ev, evf, heap, pos):
-    _settle(G, counters, ev, evf, heap, pos, 0, heap[pos])
+def _sift_up(G, counters, ev, evf, heap, hkey, pos):
+    _settle(G, counters, ev, evf, heap, hkey, pos, 0, heap[pos], hkey[pos, 0], hkey[pos, 1])
 
 
 @njit(cache=True, _nrt=False)
-def _sift_down(G, counters, ev, evf, heap, n, pos):
+def _sift_down(G, counters, ev, evf, heap, hkey, n, pos):
     # e = heap[pos] goes into the subtree below pos (bottom-up, as the ordinary sweep's heap
     # does): the earlier child moves up into the hole until the hole is a leaf, one
     # comparison per level, then e settles up from there, never above pos
-    e = heap[pos]
+    e, lo, hi = heap[pos], hkey[pos, 0], hkey[pos, 1]
     top = pos
     while True:
         child = 2 * pos + 1
         if child >= n:
             break
-        if child + 1 < n and _earlier(G, counters, ev, evf, heap[child + 1], heap[child]):
+        if child + 1 < n and _earlier(G, counters, ev, evf, heap[child + 1], hkey[child + 1, 0], hkey[child + 1, 1],
+                                      heap[child], hkey[child, 0], hkey[child, 1]):
             child += 1
         c = heap[child]
         heap[pos] = c
+        hkey[pos, 0], hkey[pos, 1] = hkey[child, 0], hkey[child, 1]
         ev[c, _HPOS] = pos
         pos = child
-    _settle(G, counters, ev, evf, heap, pos, top, e)
+    _settle(G, counters, ev, evf, heap, hkey, pos, top, e, lo, hi)
 
 
 @njit(cache=True, _nrt=False)
-def _push(G, counters, S, ev, evf, heap, free, kind, tk, ta, tb, tc, tlo, thi, pk, pa, pb, pc, box, owner, partner):
+def _push(G, counters, S, ev, evf, heap, hkey, free, kind, tk, ta, tb, tc, tlo, thi, pk, pa, pb, pc, box, owner,
+          partner):
     e = free[S[_FREE] - 1]
     S[_FREE] -= 1
     ev[e, _KIND] = kind
@@ -168,14 +175,13 @@ def _push(G, counters, S, ev, evf, heap, free, kind, tk, ta, tb, tc, tlo, thi, p
     evf[e, 0], evf[e, 1] = tlo, thi
     evf[e, 2], evf[e, 3], evf[e, 4], evf[e, 5] = box
     n = S[_HEAPN]
-    heap[n] = e
     S[_HEAPN] = n + 1
-    _sift_up(G, counters, ev, evf, heap, n)
+    _settle(G, counters, ev, evf, heap, hkey, n, 0, e, tlo, thi)
     return e
 
 
 @njit(cache=True, _nrt=False)
-def _remove(G, counters, S, ev, evf, heap, free, e):
+def _remove(G, counters, S, ev, evf, heap, hkey, free, e):
     # take event e out of the heap and give its row back
     pos = ev[e, _HPOS]
     n = S[_HEAPN] - 1
@@ -183,25 +189,28 @@ def _remove(G, counters, S, ev, evf, heap, free, e):
     if pos != n:
         last = heap[n]
         heap[pos] = last
+        hkey[pos, 0], hkey[pos, 1] = hkey[n, 0], hkey[n, 1]
         ev[last, _HPOS] = pos
         # the last event goes up if it is earlier than the hole's parent, else down
-        if pos > 0 and _earlier(G, counters, ev, evf, last, heap[(pos - 1) >> 1]):
-            _sift_up(G, counters, ev, evf, heap, pos)
+        parent = (pos - 1) >> 1
+        if pos > 0 and _earlier(G, counters, ev, evf, last, hkey[pos, 0], hkey[pos, 1],
+                                heap[parent], hkey[parent, 0], hkey[parent, 1]):
+            _sift_up(G, counters, ev, evf, heap, hkey, pos)
         else:
-            _sift_down(G, counters, ev, evf, heap, n, pos)
+            _sift_down(G, counters, ev, evf, heap, hkey, n, pos)
     free[S[_FREE]] = e
     S[_FREE] += 1
 
 
 @njit(cache=True, _nrt=False)
-def _cancel(G, counters, S, ev, evf, heap, free, arcs, k):
+def _cancel(G, counters, S, ev, evf, heap, hkey, free, arcs, k):
     if k >= 0 and arcs[k, bl.EVENT] >= 0:
-        _remove(G, counters, S, ev, evf, heap, free, arcs[k, bl.EVENT])
+        _remove(G, counters, S, ev, evf, heap, hkey, free, arcs[k, bl.EVENT])
         arcs[k, bl.EVENT] = -1
 
 
 @njit(cache=True, _nrt=False)
-def _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, k):
+def _circle_candidate(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf, k):
     """Schedule the vanishing of arc k if its breakpoints converge (Sweep.circle_candidate).
 
     What depends only on k's three sites, the box of their power centre and whether both
@@ -219,7 +228,7 @@ def _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf
     turn = orient2d(G[sl, 0], G[sl, 1], G[sk, 0], G[sk, 1], G[sr, 0], G[sr, 1])
     if turn == 0 and S[_HEREK] >= 0 and tied(G, counters, sl, sk, sr):
         # k has just met a neighbour that ties with it along a line: it closes now, here
-        arcs[k, bl.EVENT] = _push(G, counters, S, ev, evf, heap, free, _CIRCLE,
+        arcs[k, bl.EVENT] = _push(G, counters, S, ev, evf, heap, hkey, free, _CIRCLE,
                                   S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC], SF[0], SF[1],
                                   S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC], _UNKNOWN_BOX, k, -1)
         return
@@ -252,7 +261,7 @@ def _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf
             cand[k, 2] = 1 if meet else 0
         fire = cand[k, 2] == 1
     if fire:
-        arcs[k, bl.EVENT] = _push(G, counters, S, ev, evf, heap, free, _CIRCLE, CENTRE, sl, sk, sr, tl, th,
+        arcs[k, bl.EVENT] = _push(G, counters, S, ev, evf, heap, hkey, free, _CIRCLE, CENTRE, sl, sk, sr, tl, th,
                                   CENTRE, sl, sk, sr, (xl, xh, yl, yh), k, -1)
 
 
@@ -282,7 +291,7 @@ def _unchanged(G, counters, S, SF, arcs, cand, candf, k):
 
 
 @njit(cache=True, _nrt=False)
-def _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, todo):
+def _refresh(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf, todo):
     """The arcs in ``todo`` changed neighbours or are next to ones that did: their circle
     events are recomputed, in the reference's order, except those that would come out the
     same (:func:`_unchanged`)."""
@@ -294,12 +303,12 @@ def _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, todo):
     j = 0
     for k in todo:
         if not keep >> j & 1:
-            _cancel(G, counters, S, ev, evf, heap, free, arcs, k)
+            _cancel(G, counters, S, ev, evf, heap, hkey, free, arcs, k)
         j += 1
     j = 0
     for k in todo:
         if not keep >> j & 1:
-            _circle_candidate(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf, k)
+            _circle_candidate(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf, k)
         j += 1
 
 
@@ -583,6 +592,7 @@ def sweep(G, order, row, counters, slab, watch_rows):
     ev = np.empty((cap_ev, _EV_FIELDS), dtype=np.int64)
     evf = np.empty((cap_ev, 6), dtype=np.float64)     # time interval, then the point's box
     heap = np.empty(cap_ev, dtype=np.int64)
+    hkey = np.empty((cap_ev, 2), dtype=np.float64)     # the time interval of heap[j], beside it
     free = np.arange(cap_ev - 1, -1, -1, dtype=np.int64)
     edges = np.empty((5 * n + 16, 4), dtype=np.int64)
     vspec = np.empty((3 * n + 16, 3), dtype=np.int64)
@@ -610,8 +620,8 @@ def sweep(G, order, row, counters, slab, watch_rows):
     S[_STATUS] = OK
     _lowest_row(G, order, row, counters, slab, arcs, edges, last, state, S)
     while True:
-        status = _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, vbox, wsite, wnext, whead, slab,
-                      last, state, last_arc, removed_at, cand, candf, at, S, SF)
+        status = _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox, wsite, wnext, whead,
+                      slab, last, state, last_arc, removed_at, cand, candf, at, S, SF)
         if status != _NEED_ROOM:
             break
         wsite, wnext = _grown(wsite, wnext)
@@ -651,8 +661,8 @@ def _lowest_row(G, order, row, counters, slab, arcs, edges, last, state, S):
 
 
 @njit(cache=True, _nrt=False)
-def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, vbox, wsite, wnext, whead, slab, last, state,
-         last_arc, removed_at, cand, candf, at, S, SF):
+def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox, wsite, wnext, whead, slab, last,
+         state, last_arc, removed_at, cand, candf, at, S, SF):
     """The sweep's loop over events, on the arrays :func:`sweep` made: without reference
     counting, which allocates nothing. Returns the sweep's status, or ``_NEED_ROOM`` (before
     an event is taken) when the watch pool may be too small for the next one: the caller grows
@@ -713,7 +723,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, vbox, wsit
             activated = True
         else:
             e = heap[0]
-            _remove(G, counters, S, ev, evf, heap, free, e)
+            _remove(G, counters, S, ev, evf, heap, hkey, free, e)
             S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC] = ev[e, _TK], ev[e, _TA], ev[e, _TB], ev[e, _TC]
             SF[0], SF[1] = evf[e, 0], evf[e, 1]
             schedule = -1
@@ -727,8 +737,10 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, vbox, wsit
                     S[_STATUS] = ERR_STATE
                     break
                 counters[CIRCLES] += 1
-                S[_HEREBOX] = 0
                 S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC] = ev[e, _PK], ev[e, _PA], ev[e, _PB], ev[e, _PC]
+                # here's box is the event's (unknown for an arc tied along a line: made when asked)
+                S[_HEREBOX] = 0 if np.isnan(evf[e, 2]) else 1
+                SF[2], SF[3], SF[4], SF[5] = evf[e, 2], evf[e, 3], evf[e, 4], evf[e, 5]
                 v = _new_vertex(vspec, vbox, S, ev[e, _PA], ev[e, _PB], ev[e, _PC],
                                 (evf[e, 2], evf[e, 3], evf[e, 4], evf[e, 5]))
                 _close(edges, arcs[left, bl.EDGE], arcs[left, bl.SITE], v)
@@ -738,7 +750,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, vbox, wsit
                 removed_at[k] = left
                 beach -= 1
                 # refresh(left, right): lo..hi is left, right; then left's left, right's right
-                _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf,
+                _refresh(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf,
                          (np.int64(left), np.int64(right), np.int64(arcs[left, bl.PREV]),
                           np.int64(arcs[right, bl.NEXT])))
             else:
@@ -769,7 +781,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, vbox, wsit
                 elif ev[e, _PARTNER] == _UNKEYED and S[_HEAPN] > 0 and not evf[heap[0], 0] > th:
                     # q is on the beach line, and another probe may come at this time: queued
                     # again, now ranked by the arc's site
-                    _push(G, counters, S, ev, evf, heap, free, _PROBE, ev[e, _TK], ev[e, _TA], ev[e, _TB],
+                    _push(G, counters, S, ev, evf, heap, hkey, free, _PROBE, ev[e, _TK], ev[e, _TA], ev[e, _TB],
                           ev[e, _TC], tl, th, pk, pa, pb, pc, (xl, xh, yl, yh), i, above)
                 elif nat == 0:
                     # inside the arc: it splits around i, one edge starts both ways
@@ -785,7 +797,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, vbox, wsit
                     S[_ROOT] = bl.insert_after(arcs, S[_ROOT], arc, x)
                     S[_ROOT] = bl.insert_after(arcs, S[_ROOT], x, twin)
                     beach += 2
-                    _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf,
+                    _refresh(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf,
                              (np.int64(arc), np.int64(x), np.int64(twin), np.int64(arcs[arc, bl.PREV]),
                               np.int64(arcs[twin, bl.NEXT])))
                 else:
@@ -796,8 +808,10 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, vbox, wsit
                         sa, sb = arcs[la, bl.SITE], arcs[ra, bl.SITE]
                         if orient2d(G[sa, 0], G[sa, 1], G[i, 0], G[i, 1], G[sb, 0], G[sb, 1]) < 0:
                             # at the breakpoint (a, b): a vertex; (a, b) ends, (a, i), (i, b) start
-                            S[_HEREBOX] = 0
                             S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC] = CENTRE, sa, i, sb
+                            # the vertex is the probe's point: its box is here's
+                            S[_HEREBOX] = 1
+                            SF[2], SF[3], SF[4], SF[5] = xl, xh, yl, yh
                             counters[AT_VERTEX] += 1
                             state[i] = 2
                             v = _new_vertex(vspec, vbox, S, sa, i, sb, (xl, xh, yl, yh))
@@ -807,7 +821,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, vbox, wsit
                             arcs[x, bl.EDGE] = _new_edge(edges, S, i, sb, v)
                             S[_ROOT] = bl.insert_after(arcs, S[_ROOT], la, x)
                             beach += 1
-                            _refresh(G, counters, S, SF, ev, evf, heap, free, arcs, cand, candf,
+                            _refresh(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf,
                                      (np.int64(la), np.int64(x), np.int64(ra), np.int64(arcs[la, bl.PREV]),
                                       np.int64(arcs[ra, bl.NEXT])))
                             entered = True
@@ -864,7 +878,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, free, edges, vspec, vbox, wsit
             else:
                 if partner >= 0 and state[partner] != 2:
                     partner = _UNKEYED
-                _push(G, counters, S, ev, evf, heap, free, _PROBE, bk, ba, bb, bc, blo, bhi,
+                _push(G, counters, S, ev, evf, heap, hkey, free, _PROBE, bk, ba, bb, bc, blo, bhi,
                       bk, ba, bb, bc, box, i, partner)
     if guard >= limit:
         S[_STATUS] = ERR_ITERATIONS
