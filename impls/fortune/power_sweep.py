@@ -1,10 +1,14 @@
 """Fortune's sweep for power diagrams, compiled: the probing sweep of the reference, in numba.
 
 The same events and rules as :class:`impls.fortune.power_reference.ProbingSweep` (the
-specification; docs/power.md, "The sweep for weighted sites"), in the same order, so the two
-build the same diagram: activations at y_i from the sites sorted by (y, x); probes, one per
-pending site, at the least time of T_i over the polygon Q_i where i beats its watched sites;
-circle events at power centres. Ties in time go circle, then activation, then probes (those
+specification; docs/power.md, "The sweep for weighted sites"), so the two build the same
+diagram. One difference in order: the reference queues again every event of an arc beside a
+change, where this sweep keeps an event that would come back the same (:func:`_unchanged`), with
+its age, so events tied exactly in time may be taken in another order.
+
+Activations at y_i from the sites sorted by (y, x); probes, one per pending site, at the least
+time of T_i over the polygon Q_i where i beats its watched sites; circle events at power
+centres. Ties in time go circle, then activation, then probes (those
 whose partner is not on the beach line first, to be ranked again by the arc they touch; then
 the farthest from its partner first), then the older event. Each decision is a predicate of
 :mod:`impls.fortune.power_predicates` (float and interval filters, exact stage in rationals).
