@@ -566,6 +566,22 @@ def _lowest_on_line(G, counters, wsite, wnext, whead, i, k):
 
 
 @njit(cache=True, _nrt=False)
+def _tighten(G, counters, wsite, wnext, whead, S, i, s, bk, ba, bb, bc, partner, blo, bhi, box):
+    """Site s joins pending site i's watch if the least point of its bound (the rest of the
+    arguments, as :func:`_lowest_point` returns them) is where s beats i, and the bound moves
+    onto s's line (Seidel's step); returns the bound, moved or not."""
+    if bk < 0 or s < 0 or s == i or _watched(wsite, wnext, whead, i, s):
+        return bk, ba, bb, bc, partner, blo, bhi, box
+    if power_gap(G, counters, s, i, bk, ba, bb, bc, box[0], box[1], box[2], box[3]) >= 0:
+        return bk, ba, bb, bc, partner, blo, bhi, box
+    _watch(wsite, wnext, whead, S, i, s)
+    found, bk, ba, bb, bc, partner, blo, bhi, box = _lowest_on_line(G, counters, wsite, wnext, whead, i, s)
+    if not found:
+        bk, ba, bb, bc, partner, blo, bhi, box = _lowest_point(G, counters, wsite, wnext, whead, i)
+    return bk, ba, bb, bc, partner, blo, bhi, box
+
+
+@njit(cache=True, _nrt=False)
 def _in_q(G, counters, wsite, wnext, whead, i, kind, a, b, c, xl, xh, yl, yh):
     # i has no more power than any watched site at the spec's point
     j = whead[i]
@@ -686,6 +702,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
             return _NEED_ROOM
         guard += 1
         use_heap = False
+        beside = (np.int64(-1), np.int64(-1))
         if S[_HEAPN] > 0:
             if nxt_act >= n:
                 use_heap = True
@@ -779,6 +796,9 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
                     _watch(wsite, wnext, whead, S, i, above)
                     schedule = i
                     line = above
+                    left, right = arcs[arc, bl.PREV], arcs[arc, bl.NEXT]
+                    beside = (np.int64(arcs[left, bl.SITE] if left >= 0 else -1),
+                              np.int64(arcs[right, bl.SITE] if right >= 0 else -1))
                 elif gap > 0:
                     S[_STATUS] = ERR_STATE
                     break
@@ -862,17 +882,19 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
                         near = sl >> (2 * level)
                     if near < 0 or near >= last.shape[1]:
                         continue
-                    s = last[level, near]
-                    if s < 0 or _watched(wsite, wnext, whead, i, s):
-                        continue
-                    if power_gap(G, counters, s, i, bk, ba, bb, bc, box[0], box[1], box[2], box[3]) < 0:
-                        _watch(wsite, wnext, whead, S, i, s)
-                        found, bk, ba, bb, bc, partner, blo, bhi, box = _lowest_on_line(G, counters, wsite, wnext,
-                                                                                        whead, i, s)
-                        if not found:
-                            bk, ba, bb, bc, partner, blo, bhi, box = _lowest_point(G, counters, wsite, wnext, whead, i)
+                    bk, ba, bb, bc, partner, blo, bhi, box = _tighten(G, counters, wsite, wnext, whead, S, i,
+                                                                      last[level, near], bk, ba, bb, bc, partner,
+                                                                      blo, bhi, box)
                 for level in range(last.shape[0]):
                     last[level, sl >> (2 * level)] = i
+            elif line >= 0:
+                # a probe below the beach line: the arcs beside the one over its point are the
+                # beach line around it too, and bound Q_i as that arc's site does
+                for s in beside:
+                    if bk < 0:
+                        break
+                    bk, ba, bb, bc, partner, blo, bhi, box = _tighten(G, counters, wsite, wnext, whead, S, i, s,
+                                                                      bk, ba, bb, bc, partner, blo, bhi, box)
             if bk == -2:
                 S[_STATUS] = ERR_STATE
                 break
