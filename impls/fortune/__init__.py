@@ -195,15 +195,26 @@ def _shift_table(sites: NDArray[np.float64], weights: NDArray[np.float64]) -> ND
     """The weighted sweep's site table: x, y, the shift s_i = max(w) - w_i >= 0 as an interval
     [s_lo, s_hi] (one point when the float subtraction is exact, as it is for weights of
     similar size), and w."""
-    top = weights.max()
-    s = top - weights
-    # the rounding error of top - w, exactly (Knuth's two-difference)
-    bvirt = top - s
-    tail = (top - (s + bvirt)) + (bvirt - weights)
-    exact = tail == 0
-    lo = np.where(exact, s, np.maximum(np.nextafter(s, -np.inf), 0.0))
-    hi = np.where(exact, s, np.nextafter(s, np.inf))
-    return np.column_stack([sites[:, 0], sites[:, 1], lo, hi, weights])
+    return _shift_rows(sites, weights, weights.max())
+
+
+@njit(cache=True)
+def _shift_rows(sites, weights, top):
+    # one pass (numpy's column_stack and where took about 0.1 s at 10^6 sites)
+    n = weights.shape[0]
+    table = np.empty((n, 5), dtype=np.float64)
+    for i in range(n):
+        w = weights[i]
+        s = top - w
+        # the rounding error of top - w, exactly (Knuth's two-difference)
+        bvirt = top - s
+        tail = (top - (s + bvirt)) + (bvirt - w)
+        table[i, 0], table[i, 1], table[i, 4] = sites[i, 0], sites[i, 1], w
+        if tail == 0:
+            table[i, 2], table[i, 3] = s, s
+        else:
+            table[i, 2], table[i, 3] = max(np.nextafter(s, -np.inf), 0.0), np.nextafter(s, np.inf)
+    return table
 
 
 @njit(cache=True)

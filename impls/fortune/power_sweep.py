@@ -922,6 +922,7 @@ def merge_vertices(G, counters, edges, vspec, box):
             xl, xh, yl, yh, _, _ = spec_point(G, CENTRE, vspec[v, 0], vspec[v, 1], vspec[v, 2])
             box[v, 0], box[v, 1], box[v, 2], box[v, 3] = xl, xh, yl, yh
     parent = np.arange(nv)
+    joined = 0                              # merges, and edges whose ends are one vertex
     for e in range(edges.shape[0]):
         a, b = edges[e, 2], edges[e, 3]
         if a < 0 or b < 0:
@@ -931,12 +932,16 @@ def merge_vertices(G, counters, edges, vspec, box):
         while parent[b] != b:
             b = parent[b]
         if a == b:
+            joined += 1
             continue
         if same_centre(counters, vspec[a, 0], vspec[a, 1], vspec[a, 2],
                        (box[a, 0], box[a, 1], box[a, 2], box[a, 3]),
                        vspec[b, 0], vspec[b, 1], vspec[b, 2], (box[b, 0], box[b, 1], box[b, 2], box[b, 3])):
             parent[max(a, b)] = min(a, b)
             counters[MERGED] += 1
+            joined += 1
+    if joined == 0:
+        return edges, vspec                 # nothing to merge or drop (a set in general position)
     new_id = np.full(nv, -1, dtype=np.int64)
     kept = 0
     for v in range(nv):
