@@ -111,3 +111,12 @@ def test_a_box_holds_both_ends_of_a_bound_below_an_ulp(v, ulps):
     e = ulps * math.ulp(v)
     for exact in (Fraction(v) - Fraction(e), Fraction(v) + Fraction(e)):
         assert _holds(v, e, exact), (v, e)
+
+
+def test_the_underflow_slack_bounds_an_underflow_and_is_a_normal_float():
+    # it covers a rounding that underflows (at most 2**-1075); a subnormal slack would make the
+    # bounds' products subnormal, which the processor finishes in microcode (several times the
+    # cost of the whole filter)
+    assert rerr.TINY >= 2.0 ** -1075
+    assert rerr.TINY >= np.finfo(np.float64).tiny
+    assert rerr.TINY * 1.5 >= np.finfo(np.float64).tiny
