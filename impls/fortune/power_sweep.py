@@ -781,8 +781,17 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
                 counters[PROBES] += 1
                 # the box of the probe's point, kept from _lowest_point
                 xl, xh, yl, yh, tl, th = evf[e, 2], evf[e, 3], evf[e, 4], evf[e, 5], evf[e, 0], evf[e, 1]
-                # from the arc found last for i (at its activation or its last probe), near q
-                arc, nat = _walk(G, counters, arcs, removed_at, last_arc[i], pk, pa, pb, pc, xl, xh, tl, th, at)
+                # from the arc found last for a site on the beach line that defines q (it has
+                # i's power at q, and its arc is often near q), else for i (at its activation or
+                # its last probe): in a dense cluster, i's bound moves far along the beach line
+                # from the arc i was found under
+                near = pb if pb >= 0 and state[pb] == 2 else (pc if pc >= 0 and state[pc] == 2 else -1)
+                arc, nat = -1, 0
+                if near >= 0:
+                    arc, nat = _walk(G, counters, arcs, removed_at, last_arc[near], pk, pa, pb, pc, xl, xh, tl, th,
+                                     at)
+                if arc < 0:
+                    arc, nat = _walk(G, counters, arcs, removed_at, last_arc[i], pk, pa, pb, pc, xl, xh, tl, th, at)
                 if arc < 0:
                     arc, nat = _locate(G, counters, arcs, S[_ROOT], pk, pa, pb, pc, xl, xh, tl, th, at)
                 if arc < 0:
