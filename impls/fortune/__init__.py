@@ -250,7 +250,7 @@ def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64], sta
     counters = np.zeros(power_sweep.N_COUNTERS, dtype=np.int64)
     with exact_context(swept, swept_weights):
         status, edges, specs, boxes = power_sweep.sweep(table, np.arange(n, dtype=np.int64), row, counters,
-                                                     slabs(swept[:, 0]), WATCH_ROWS_PER_SITE * n + 16)
+                                                        slabs(swept[:, 0]), WATCH_ROWS_PER_SITE * n + 16)
         if status != power_sweep.OK:
             raise RuntimeError(f"fortune (weighted): {_WEIGHTED_ERRORS.get(status, 'unknown error')} (n = {n}); "
                                "this is a bug")

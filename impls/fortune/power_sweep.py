@@ -8,9 +8,9 @@ its age, so events tied exactly in time may be taken in another order.
 
 Activations at y_i from the sites sorted by (y, x); probes, one per pending site, at the least
 time of T_i over the polygon Q_i where i beats its watched sites; circle events at power
-centres. Ties in time go circle, then activation, then probes (those
-whose partner is not on the beach line first, to be ranked again by the arc they touch; then
-the farthest from its partner first), then the older event. Each decision is a predicate of
+centres. Ties in time go circle, then activation, then probes (those whose partner is not on
+the beach line first, to be ranked again by the arc they touch; then the farthest from its
+partner first), then the older event. Each decision is a predicate of
 :mod:`impls.fortune.power_predicates` (float and interval filters, exact stage in rationals).
 
 The beach line is the ordinary sweep's treap (:mod:`impls.fortune.beach_line`), searched here
@@ -214,6 +214,14 @@ def _cancel(G, counters, S, ev, evf, heap, hkey, free, arcs, k):
 
 
 @njit(cache=True, _nrt=False)
+def _here_box(G, S, SF):
+    # the box of the point here (a power centre) into SF[2..5], computed once per event
+    if S[_HEREBOX] == 0:
+        SF[2], SF[3], SF[4], SF[5], _, _ = spec_point(G, CENTRE, S[_HEREA], S[_HEREB], S[_HEREC])
+        S[_HEREBOX] = 1
+
+
+@njit(cache=True, _nrt=False)
 def _circle_candidate(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf, k):
     """Schedule the vanishing of arc k if its breakpoints converge (Sweep.circle_candidate).
 
@@ -249,9 +257,7 @@ def _circle_candidate(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand,
         return
     fire = False
     if S[_HEREK] == CENTRE:
-        if S[_HEREBOX] == 0:
-            SF[2], SF[3], SF[4], SF[5], _, _ = spec_point(G, CENTRE, S[_HEREA], S[_HEREB], S[_HEREC])
-            S[_HEREBOX] = 1
+        _here_box(G, S, SF)
         if same_centre(counters, sl, sk, sr, (xl, xh, yl, yh), S[_HEREA], S[_HEREB], S[_HEREC],
                        (SF[2], SF[3], SF[4], SF[5])) and \
                 time_order(G, counters, CENTRE, sl, sk, sr, tl, th, S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC],
@@ -287,9 +293,7 @@ def _unchanged(G, counters, S, SF, arcs, cand, candf, k):
         return False
     if S[_HEREK] != CENTRE:
         return True
-    if S[_HEREBOX] == 0:
-        SF[2], SF[3], SF[4], SF[5], _, _ = spec_point(G, CENTRE, S[_HEREA], S[_HEREB], S[_HEREC])
-        S[_HEREBOX] = 1
+    _here_box(G, S, SF)
     # boxes apart: the centre is not here
     return candf[k, 1] < SF[2] or SF[3] < candf[k, 0] or candf[k, 3] < SF[4] or SF[5] < candf[k, 2]
 
