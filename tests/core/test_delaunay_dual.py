@@ -11,7 +11,7 @@ import vorobench
 from impls.incremental import _triangulate
 from vorobench.core.circumcentre import CANCELLATION_THRESHOLD, circumcentre
 from vorobench.core.delaunay_dual import (CENTRE_RADIUS_ERROR, CENTRE_ROUNDING_ERROR, _centres_apart, _general_dcel,
-                                         _merged_vertices, voronoi_dcel, voronoi_vertices)
+                                         _ghosts_last, _merged_vertices, voronoi_dcel, voronoi_vertices)
 from vorobench.core.predicates import INCIRCLE_CALLS, incircle, orient2d
 from vorobench.core.diagram import Diagram
 from vorobench.core.prepare import prepare
@@ -79,6 +79,43 @@ def test_the_union_find_gives_the_vertices_of_the_one_pass_check(dataset):
                        for f in (_merged_vertices, voronoi_vertices))
     for a, b in zip(direct, checked):
         assert np.array_equal(a, b)
+
+
+def _triangles(tri, ntri):
+    """The triangles as a sorted list of corner triples, each rotated to start at its least."""
+    rows = np.asarray(tri[:3 * ntri]).reshape(-1, 3)
+    turned = [tuple(np.roll(r, -int(np.argmin(r)))) for r in rows]
+    return sorted(turned)
+
+
+def _assert_neighbours_agree(tri, opp, ntri):
+    """Every half-edge's opposite points back at it and runs between the same two corners,
+    reversed."""
+    for e in range(3 * ntri):
+        f = opp[e]
+        assert opp[f] == e, f"opp is not an involution at {e}"
+        t, g = e // 3, f // 3
+        assert tri[e] == tri[3 * g + (f - 3 * g + 1) % 3] and tri[3 * t + (e - 3 * t + 1) % 3] == tri[f], \
+            f"half-edge {e} and its opposite {f} do not share their corners"
+
+
+@pytest.mark.parametrize("dataset", ["uniform", "disk", "cocircular", "corners"])
+def test_the_ghosts_move_last_and_every_neighbour_follows(dataset):
+    # convex input puts every site on the hull: ghosts everywhere, many of them neighbours of
+    # the finite triangles they trade places with
+    sites, _ = prepare(datasets_gen.generate(dataset, 300, seed=4))
+    points, ids, tri, opp, ntri, ok = _triangulate(sites, None)
+    assert ok
+    inf = points.shape[0]
+    ghost = (np.asarray(tri[:3 * ntri]).reshape(-1, 3) == inf).any(axis=1)
+    assert ghost[:ntri - ghost.sum()].any(), "no ghost to move: the test would test nothing"
+    before = _triangles(tri, ntri)
+    finite = _ghosts_last(tri, opp, ntri, inf)
+    assert finite == ntri - ghost.sum()
+    moved = (np.asarray(tri[:3 * ntri]).reshape(-1, 3) == inf).any(axis=1)
+    assert not moved[:finite].any() and moved[finite:].all()
+    assert _triangles(tri, ntri) == before
+    _assert_neighbours_agree(tri, opp, ntri)
 
 
 @settings(max_examples=40, deadline=None)
