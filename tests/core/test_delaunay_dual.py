@@ -9,9 +9,10 @@ from hypothesis import strategies as st
 import datasets_gen
 import vorobench
 from impls.incremental import _triangulate
-from vorobench.core.circumcentre import CANCELLATION_THRESHOLD, circumcentre
-from vorobench.core.delaunay_dual import (CENTRE_RADIUS_ERROR, CENTRE_ROUNDING_ERROR, _centres_apart, _general_dcel,
-                                         _ghosts_last, _merged_vertices, voronoi_dcel, voronoi_vertices)
+from vorobench.core.circumcentre import CANCELLATION_THRESHOLD, circumcentre, circumcentre_fast
+from vorobench.core.delaunay_dual import (CENTRE_RADIUS_ERROR, CENTRE_ROUNDING_ERROR, _centres_apart,
+                                         _circumcentre_of, _general_dcel, _ghosts_last, _merged_vertices,
+                                         voronoi_dcel, voronoi_vertices)
 from vorobench.core.predicates import INCIRCLE_CALLS, incircle, orient2d
 from vorobench.core.diagram import Diagram
 from vorobench.core.prepare import prepare
@@ -79,6 +80,42 @@ def test_the_union_find_gives_the_vertices_of_the_one_pass_check(dataset):
                        for f in (_merged_vertices, voronoi_vertices))
     for a, b in zip(direct, checked):
         assert np.array_equal(a, b)
+
+
+def _triangles_to_try(rng, count):
+    """Random triples: spread out, with a common offset, and nearly collinear (the formula
+    cancels and the careful paths take over)."""
+    spread = rng.random((count, 3, 2))
+    offset = rng.random((count, 3, 2)) + 1e9
+    line = rng.random((count, 1, 1)) * np.array([1.0, 0.5]) + rng.random((count, 3, 1)) * np.array([1.0, 0.5])
+    line[:, 1, 1] += 1e-13
+    return np.concatenate([spread, offset, line])
+
+
+def test_the_float_formula_has_the_same_bits_whichever_order_the_last_two_come_in():
+    rng = np.random.default_rng(5)
+    fast_ones = 0
+    for (ax, ay), (bx, by), (cx, cy) in _triangles_to_try(rng, 300):
+        one, other = circumcentre_fast(ax, ay, bx, by, cx, cy), circumcentre_fast(ax, ay, cx, cy, bx, by)
+        assert one == other
+        fast_ones += one[0]
+    assert 0 < fast_ones < 900, "both the formula and the careful paths should be reached"
+
+
+def test_the_centre_of_a_triangle_is_the_one_of_its_corners_in_increasing_site_id():
+    # the dual finds the corner of least id and leaves the other two in their order: the bits
+    # must be those of the full sort, in every rotation and reflection of the corners
+    rng = np.random.default_rng(6)
+    triples = _triangles_to_try(rng, 300)
+    pts = triples.reshape(-1, 2)
+    ids = rng.permutation(pts.shape[0]).astype(np.int64)
+    for t in range(triples.shape[0]):
+        corners = [3 * t, 3 * t + 1, 3 * t + 2]
+        i, j, k = sorted(corners, key=lambda v: ids[v])
+        expected = circumcentre(pts[i, 0], pts[i, 1], pts[j, 0], pts[j, 1], pts[k, 0], pts[k, 1])
+        for a, b, c in ((0, 1, 2), (1, 2, 0), (2, 0, 1), (0, 2, 1), (2, 1, 0), (1, 0, 2)):
+            got = _circumcentre_of(pts, ids, corners[a], corners[b], corners[c])
+            assert got == expected, (t, (a, b, c))
 
 
 def _triangles(tri, ntri):

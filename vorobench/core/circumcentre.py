@@ -21,7 +21,7 @@ from vorobench.core.predicates import (
     orient2d_expansion,
 )
 
-__all__ = ["circumcentre", "power_centre", "CANCELLATION_THRESHOLD"]
+__all__ = ["circumcentre", "circumcentre_fast", "power_centre", "CANCELLATION_THRESHOLD"]
 
 #: When a determinant or numerator keeps less than this fraction of the size of its terms,
 #: cancellation has eaten too many digits: it is recomputed exactly (expansion arithmetic).
@@ -57,16 +57,12 @@ def _exact_offsets(ax, ay, bx, by, cx, cy):
     return _exact_power_offsets(ax, ay, 0.0, bx, by, 0.0, cx, cy, 0.0)
 
 
-@njit(cache=True)
-def circumcentre(ax: float, ay: float, bx: float, by: float, cx: float, cy: float):
-    """Centre (x, y) of the circle through a, b, c (not collinear).
-
-    Computed relative to ``a``, which keeps large common offsets (1e9) out of the products;
-    if the determinant or either numerator is dominated by cancellation (nearly collinear
-    triples, whose centres lie far away; slivers), they are recomputed in double-double with
-    certified error bounds (no allocation), or exactly from the original coordinates when
-    even those bounds are too wide, and the quotient is rounded once.
-    """
+@njit(cache=True, inline='always')
+def circumcentre_fast(ax: float, ay: float, bx: float, by: float, cx: float, cy: float):
+    """(ok, x, y): :func:`circumcentre`'s float formula, ok False where cancellation leaves it
+    to the careful paths. Its bits do not depend on the order of b and c: swapping them swaps
+    the two products of the determinant and of each numerator, which negates all three exactly,
+    and the quotient with them."""
     bx_ = bx - ax
     by_ = by - ay
     cx_ = cx - ax
@@ -85,12 +81,28 @@ def circumcentre(ax: float, ay: float, bx: float, by: float, cx: float, cy: floa
     if (abs(det) <= CANCELLATION_THRESHOLD * (abs(d1) + abs(d2))
             or abs(num_x) <= CANCELLATION_THRESHOLD * (abs(x1) + abs(x2))
             or abs(num_y) <= CANCELLATION_THRESHOLD * (abs(y1) + abs(y2))):
-        ok, ux, uy = circumcentre_offsets_dd(ax, ay, bx, by, cx, cy)
-        if not ok:
-            ux, uy = _exact_offsets(ax, ay, bx, by, cx, cy)
-        return ax + ux, ay + uy
+        return False, 0.0, 0.0
     inv = 0.5 / det
-    return ax + num_x * inv, ay + num_y * inv
+    return True, ax + num_x * inv, ay + num_y * inv
+
+
+@njit(cache=True)
+def circumcentre(ax: float, ay: float, bx: float, by: float, cx: float, cy: float):
+    """Centre (x, y) of the circle through a, b, c (not collinear).
+
+    Computed relative to ``a``, which keeps large common offsets (1e9) out of the products;
+    if the determinant or either numerator is dominated by cancellation (nearly collinear
+    triples, whose centres lie far away; slivers), they are recomputed in double-double with
+    certified error bounds (no allocation), or exactly from the original coordinates when
+    even those bounds are too wide, and the quotient is rounded once.
+    """
+    ok, x, y = circumcentre_fast(ax, ay, bx, by, cx, cy)
+    if ok:
+        return x, y
+    ok, ux, uy = circumcentre_offsets_dd(ax, ay, bx, by, cx, cy)
+    if not ok:
+        ux, uy = _exact_offsets(ax, ay, bx, by, cx, cy)
+    return ax + ux, ay + uy
 
 
 @njit(cache=True)
