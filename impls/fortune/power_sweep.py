@@ -74,13 +74,12 @@ _UNKNOWN_BOX = (np.nan, np.nan, np.nan, np.nan)
 
 # scalar state
 _ROOT, _SEQN, _NEDGE, _NVERT, _NARC, _HEAPN, _FREE, _NOWK, _NOWA, _NOWB, _NOWC, _HEREK, _HEREA, \
-    _HEREB, _HEREC, _WUSED, _STATUS, _NARCS, _HEREBOX, _NXTACT, _GUARD, _BEACH = range(22)
-_S_FIELDS = 22
+    _HEREB, _HEREC, _WUSED, _STATUS, _NARCS, _NXTACT, _GUARD, _BEACH = range(21)
+_S_FIELDS = 21
 #: :func:`_run`'s answer when the watch pool must grow before the next event
 _NEED_ROOM = -1
-# float state: the interval of the time now (0, 1), the box of the point here (2..5) once
-# computed (S[_HEREBOX] = 1)
-_SF_FIELDS = 6
+# float state: the interval of the time now
+_SF_FIELDS = 2
 #: An activation looks at the newest site of this many slabs (its own and one on each side),
 #: then at the newest of its own slab at each coarser level (slabs four times as wide)
 _SLAB_WATCH = 3
@@ -214,21 +213,14 @@ def _cancel(G, counters, S, ev, evf, heap, hkey, free, arcs, k):
 
 
 @njit(cache=True, _nrt=False)
-def _here_box(G, S, SF):
-    # the box of the point here (a power centre) into SF[2..5], computed once per event
-    if S[_HEREBOX] == 0:
-        SF[2], SF[3], SF[4], SF[5], _, _ = spec_point(G, CENTRE, S[_HEREA], S[_HEREB], S[_HEREC])
-        S[_HEREBOX] = 1
-
-
-@njit(cache=True, _nrt=False)
 def _circle_candidate(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf, k):
     """Schedule the vanishing of arc k if its breakpoints converge (Sweep.circle_candidate).
 
-    What depends only on k's three sites, the box of their power centre and whether both
-    breakpoints pass through it, is kept in row k of ``cand`` (left site, right site, verdict)
-    and ``candf`` (the box): an arc whose neighbours' sites are unchanged is asked again at
-    every refresh around it, and its answer only depends on now and here."""
+    Converging breakpoints meet at the power centre of the three sites, never earlier than now
+    (docs/power.md, "Why the turn is enough"), so the turn decides, as in the ordinary sweep,
+    and the event depends on k's three sites alone: the box and time of their power centre
+    are kept in row k of ``cand`` (left site, right site) and ``candf``, for an arc whose
+    neighbours' sites are unchanged when a refresh asks again."""
     if k < 0:
         return
     left, right = arcs[k, bl.PREV], arcs[k, bl.NEXT]
@@ -250,52 +242,21 @@ def _circle_candidate(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand,
         xl, xh, yl, yh, tl, th = candf[k, 0], candf[k, 1], candf[k, 2], candf[k, 3], candf[k, 4], candf[k, 5]
     else:
         xl, xh, yl, yh, tl, th = spec_point(G, CENTRE, sl, sk, sr)
-        cand[k, 0], cand[k, 1], cand[k, 2] = sl, sr, -1
+        cand[k, 0], cand[k, 1] = sl, sr
         candf[k, 0], candf[k, 1], candf[k, 2], candf[k, 3], candf[k, 4], candf[k, 5] = xl, xh, yl, yh, tl, th
-    if time_order(G, counters, CENTRE, sl, sk, sr, tl, th, S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC],
-                  SF[0], SF[1]) < 0:
-        return
-    fire = False
-    if S[_HEREK] == CENTRE:
-        _here_box(G, S, SF)
-        if same_centre(counters, sl, sk, sr, (xl, xh, yl, yh), S[_HEREA], S[_HEREB], S[_HEREC],
-                       (SF[2], SF[3], SF[4], SF[5])) and \
-                time_order(G, counters, CENTRE, sl, sk, sr, tl, th, S[_NOWK], S[_NOWA], S[_NOWB], S[_NOWC],
-                           SF[0], SF[1]) == 0:
-            fire = True         # no width at the point of the event at hand, neighbours closing on it
-    if not fire:
-        if cand[k, 2] < 0:
-            # both breakpoints pass through the centre: they meet there
-            meet = side(G, counters, sl, sk, CENTRE, sl, sk, sr, xl, xh, tl, th) == 0 and \
-                side(G, counters, sk, sr, CENTRE, sl, sk, sr, xl, xh, tl, th) == 0
-            cand[k, 2] = 1 if meet else 0
-        fire = cand[k, 2] == 1
-    if fire:
-        arcs[k, bl.EVENT] = _push(G, counters, S, ev, evf, heap, hkey, free, _CIRCLE, CENTRE, sl, sk, sr, tl, th,
-                                  CENTRE, sl, sk, sr, (xl, xh, yl, yh), k, -1)
+    arcs[k, bl.EVENT] = _push(G, counters, S, ev, evf, heap, hkey, free, _CIRCLE, CENTRE, sl, sk, sr, tl, th,
+                              CENTRE, sl, sk, sr, (xl, xh, yl, yh), k, -1)
 
 
-@njit(cache=True, _nrt=False)
-def _unchanged(G, counters, S, SF, arcs, cand, candf, k):
-    """Whether :func:`_circle_candidate` would leave arc k's circle event as it is (the same
-    event, or none): k's neighbours are those its last candidate was computed for, and either
-    its event is there because both breakpoints meet at the centre, or it has none, they do
-    not meet, and the centre cannot be the point of the event at hand (the only rule that
-    depends on where the sweep is). Such an arc keeps its event, unmoved in the heap."""
-    if k < 0:
+@njit(cache=True, _nrt=False, inline='always')
+def _unchanged(arcs, cand, k):
+    """Whether :func:`_circle_candidate` would give arc k the event it has: k's neighbours'
+    sites are those its event was computed for. Such an arc keeps its event, unmoved in the
+    heap."""
+    if k < 0 or arcs[k, bl.EVENT] < 0:
         return False
     left, right = arcs[k, bl.PREV], arcs[k, bl.NEXT]
-    if left < 0 or right < 0 or cand[k, 0] != arcs[left, bl.SITE] or cand[k, 1] != arcs[right, bl.SITE]:
-        return False
-    if arcs[k, bl.EVENT] >= 0:
-        return cand[k, 2] == 1
-    if cand[k, 2] != 0:
-        return False
-    if S[_HEREK] != CENTRE:
-        return True
-    _here_box(G, S, SF)
-    # boxes apart: the centre is not here
-    return candf[k, 1] < SF[2] or SF[3] < candf[k, 0] or candf[k, 3] < SF[4] or SF[5] < candf[k, 2]
+    return left >= 0 and right >= 0 and cand[k, 0] == arcs[left, bl.SITE] and cand[k, 1] == arcs[right, bl.SITE]
 
 
 @njit(cache=True, _nrt=False)
@@ -305,7 +266,7 @@ def _refresh(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf, t
     same (:func:`_unchanged`)."""
     keep, j = 0, 0
     for k in todo:
-        if _unchanged(G, counters, S, SF, arcs, cand, candf, k):
+        if _unchanged(arcs, cand, k):
             keep |= 1 << j
         j += 1
     j = 0
@@ -633,7 +594,7 @@ def sweep(G, order, row, counters, slab, watch_rows):
     state = np.zeros(n, dtype=np.int8)          # 0 waiting, 1 pending, 2 present, 3 hidden
     last_arc = np.full(n, -1, dtype=np.int64)   # each site's arc found last: where its next search starts
     removed_at = np.full(arcs.shape[0], -1, dtype=np.int64)
-    cand = np.full((arcs.shape[0], 3), -1, dtype=np.int64)     # see _circle_candidate
+    cand = np.full((arcs.shape[0], 2), -1, dtype=np.int64)     # see _circle_candidate
     candf = np.empty((arcs.shape[0], 6), dtype=np.float64)
     at = np.empty(2 * n + 4, dtype=np.int64)
     S = np.zeros(_S_FIELDS, dtype=np.int64)
@@ -763,9 +724,6 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
                     break
                 counters[CIRCLES] += 1
                 S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC] = ev[e, _PK], ev[e, _PA], ev[e, _PB], ev[e, _PC]
-                # here's box is the event's (unknown for an arc tied along a line: made when asked)
-                S[_HEREBOX] = 0 if np.isnan(evf[e, 2]) else 1
-                SF[2], SF[3], SF[4], SF[5] = evf[e, 2], evf[e, 3], evf[e, 4], evf[e, 5]
                 v = _new_vertex(vspec, vbox, S, ev[e, _PA], ev[e, _PB], ev[e, _PC],
                                 (evf[e, 2], evf[e, 3], evf[e, 4], evf[e, 5]))
                 _close(edges, arcs[left, bl.EDGE], arcs[left, bl.SITE], v)
@@ -846,9 +804,6 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
                         if orient2d(G[sa, 0], G[sa, 1], G[i, 0], G[i, 1], G[sb, 0], G[sb, 1]) < 0:
                             # at the breakpoint (a, b): a vertex; (a, b) ends, (a, i), (i, b) start
                             S[_HEREK], S[_HEREA], S[_HEREB], S[_HEREC] = CENTRE, sa, i, sb
-                            # the vertex is the probe's point: its box is here's
-                            S[_HEREBOX] = 1
-                            SF[2], SF[3], SF[4], SF[5] = xl, xh, yl, yh
                             counters[AT_VERTEX] += 1
                             state[i] = 2
                             v = _new_vertex(vspec, vbox, S, sa, i, sb, (xl, xh, yl, yh))
