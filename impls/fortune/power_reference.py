@@ -43,7 +43,7 @@ from typing import Optional
 import numpy as np
 from numpy.typing import NDArray
 
-from impls.fortune.slabs import slabs
+from impls.fortune.slabs import OWN_DEPTH, SIDE_DEPTH, slabs
 from vorobench.core.builder import assemble
 from vorobench.core.diagram import Diagram
 
@@ -601,8 +601,12 @@ class ProbingSweep(Sweep):
         while max(self.slab, default=0) >> (2 * self.levels) > 0:
             self.levels += 1
         self.last_in_slab: dict[tuple[int, int], int] = {}
+        self.before_in_slab: dict[int, int] = {}    # the site activated before each in its slab (level 0)
 
     def _activated(self, i: int) -> None:
+        below = self.last_in_slab.get((0, self.slab[i]))
+        if below is not None:
+            self.before_in_slab[i] = below
         for level in range(self.levels):
             self.last_in_slab[level, self.slab[i] >> (2 * level)] = i
 
@@ -634,12 +638,30 @@ class ProbingSweep(Sweep):
         # the sites activated last in i's slab and the two beside it are near i (most of them
         # pending, below it), and so are the last of its coarser slabs where i is sparser than
         # its slab's densest part: each that the bound breaks joins S_i, so the first bound is
-        # near i's cell, not far below a dense cluster whose sites have not entered yet
+        # near i's cell, not far below a dense cluster whose sites have not entered yet. If
+        # any of them moves the bound (i is in a dense part), so may the sites activated before
+        # the newest, in i's slab and in the two beside it: in a dense cluster, the sites that
+        # close the lowest corner of i's cell
         low = self.lowest_point(i)
-        nearby = [(0, self.slab[i] + d) for d in (-1, 0, 1)]
-        nearby += [(level, self.slab[i] >> (2 * level)) for level in range(1, self.levels)]
-        for near in nearby:
-            s = self.last_in_slab.get(near)
+        nearby = [self.last_in_slab.get((0, self.slab[i] + d)) for d in (-1, 0, 1)]
+        nearby += [self.last_in_slab.get((level, self.slab[i] >> (2 * level))) for level in range(1, self.levels)]
+        watched = len(watch)
+        low = self._tightened(i, watch, low, nearby)
+        if len(watch) > watched:
+            deeper = []
+            for d, depth in ((-1, SIDE_DEPTH), (0, OWN_DEPTH), (1, SIDE_DEPTH)):
+                s = self.last_in_slab.get((0, self.slab[i] + d))
+                for _ in range(depth):
+                    s = self.before_in_slab.get(s)
+                    deeper.append(s)
+            self._tightened(i, watch, low, deeper)
+        self._activated(i)
+        self.schedule_probe(i)
+
+    def _tightened(self, i: int, watch: list[int], low, nearby: list) -> object:
+        """Each site of ``nearby`` (None: none) that i's bound ``low`` breaks joins its watch
+        list, and the bound moves; returns the bound."""
+        for s in nearby:
             if low is None:
                 break
             if s is None or s in watch:
@@ -648,8 +670,7 @@ class ProbingSweep(Sweep):
             if self.power_gap(s, i, cx, cy, h) < 0:
                 watch.insert(0, s)
                 low = self.lowest_point(i)
-        self._activated(i)
-        self.schedule_probe(i)
+        return low
 
     def locate(self, cx: tuple, t0: Fraction, h: Fraction) -> tuple[int, list[int]]:
         """The arc over x = cx0 + cx1 sqrt(h) at time t0 + sqrt(h), and the breakpoints at x

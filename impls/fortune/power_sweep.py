@@ -37,6 +37,7 @@ import numpy as np
 from numba import njit
 
 from impls.fortune import beach_line as bl
+from impls.fortune.slabs import OWN_DEPTH, SIDE_DEPTH
 from impls.fortune.power_predicates import (CENTRE, CONTACT, SITE, farther, keeps_middle, line_inside,
                                             power_gap, same_centre, side, spec_point, tied, time_order)
 from vorobench.core.predicates import orient2d
@@ -83,6 +84,8 @@ _SF_FIELDS = 2
 #: An activation looks at the newest site of this many slabs (its own and one on each side),
 #: then at the newest of its own slab at each coarser level (slabs four times as wide)
 _SLAB_WATCH = 3
+#: The most sites an activation adds to a watch list
+_ACTIVATION_WATCH = 2 + _SLAB_WATCH + OWN_DEPTH + 2 * SIDE_DEPTH
 
 
 @njit(cache=True, inline='always')
@@ -589,7 +592,8 @@ def sweep(G, order, row, counters, slab, watch_rows):
     while (slabs_count - 1) >> (2 * levels) > 0:
         levels += 1
     last = np.full((levels, slabs_count), -1, dtype=np.int64)
-    wsite = np.empty(max(watch_rows, 2 + _SLAB_WATCH + levels), dtype=np.int64)
+    before = np.full(n, -1, dtype=np.int64)     # the site activated before each in its slab (level 0)
+    wsite = np.empty(max(watch_rows, _ACTIVATION_WATCH + levels), dtype=np.int64)
     wnext = np.empty(wsite.shape[0], dtype=np.int64)
     state = np.zeros(n, dtype=np.int8)          # 0 waiting, 1 pending, 2 present, 3 hidden
     last_arc = np.full(n, -1, dtype=np.int64)   # each site's arc found last: where its next search starts
@@ -603,10 +607,10 @@ def sweep(G, order, row, counters, slab, watch_rows):
     S[_ROOT] = -1
     S[_HEREK] = -1
     S[_STATUS] = OK
-    _lowest_row(G, order, row, counters, slab, arcs, edges, last, state, S)
+    _lowest_row(G, order, row, counters, slab, arcs, edges, last, before, state, S)
     while True:
         status = _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox, wsite, wnext, whead,
-                      slab, last, state, last_arc, removed_at, cand, candf, at, S, SF)
+                      slab, last, before, state, last_arc, removed_at, cand, candf, at, S, SF)
         if status != _NEED_ROOM:
             break
         wsite, wnext = _grown(wsite, wnext)
@@ -614,7 +618,7 @@ def sweep(G, order, row, counters, slab, watch_rows):
 
 
 @njit(cache=True)
-def _lowest_row(G, order, row, counters, slab, arcs, edges, last, state, S):
+def _lowest_row(G, order, row, counters, slab, arcs, edges, last, before, state, S):
     """The beach line of the lowest row, the upper envelope of the lines 2 x_i X - x_i^2 - s_i
     (slopes increasing along the row); the others there are hidden for good."""
     hull = np.empty(row, dtype=np.int64)
@@ -629,6 +633,7 @@ def _lowest_row(G, order, row, counters, slab, arcs, edges, last, state, S):
     levels = last.shape[0]
     for r in range(row):
         state[order[r]] = 3
+        before[order[r]] = last[0, slab[order[r]]]
         for level in range(levels):
             last[level, slab[order[r]] >> (2 * level)] = order[r]
     for h in range(m):
@@ -647,7 +652,7 @@ def _lowest_row(G, order, row, counters, slab, arcs, edges, last, state, S):
 
 @njit(cache=True, _nrt=False)
 def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox, wsite, wnext, whead, slab, last,
-         state, last_arc, removed_at, cand, candf, at, S, SF):
+         before, state, last_arc, removed_at, cand, candf, at, S, SF):
     """The sweep's loop over events, on the arrays :func:`sweep` made: without reference
     counting, which allocates nothing. Returns the sweep's status, or ``_NEED_ROOM`` (before
     an event is taken) when the watch pool may be too small for the next one: the caller grows
@@ -660,7 +665,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
     # new site to a pending site's watch, so at most n per site; a repeat stops the sweep)
     limit = 4 * n + n * n + 1000
     while guard < limit:
-        if S[_WUSED] + 2 + _SLAB_WATCH + last.shape[0] > wsite.shape[0]:
+        if S[_WUSED] + _ACTIVATION_WATCH + last.shape[0] > wsite.shape[0]:
             # an event watches at most two more sites, and an activation the slabs' sites too:
             # room first, the event after
             S[_NXTACT], S[_GUARD], S[_BEACH] = nxt_act, guard, beach
@@ -840,6 +845,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
                 # newest of each coarser slab is looked at too. Each that the bound breaks joins
                 # S_i, and the bound moves onto its line (Seidel's step, as after a probe).
                 sl = slab[i]
+                watched = S[_WUSED]
                 for d in range(_SLAB_WATCH + last.shape[0] - 1):
                     if bk < 0:
                         break
@@ -853,6 +859,20 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
                     bk, ba, bb, bc, partner, blo, bhi, box = _tighten(G, counters, wsite, wnext, whead, S, i,
                                                                       last[level, near], bk, ba, bb, bc, partner,
                                                                       blo, bhi, box)
+                # if any of them moved the bound (i is in a dense part: on a uniform set, about
+                # one site in ten), the ones activated before the newest, in i's slab and beside it
+                for d in range(3 if S[_WUSED] > watched else 0):
+                    near = sl + d - 1
+                    if near < 0 or near >= last.shape[1]:
+                        continue
+                    s = last[0, near]
+                    for _ in range(OWN_DEPTH if d == 1 else SIDE_DEPTH):
+                        if bk < 0 or s < 0:
+                            break
+                        s = before[s]
+                        bk, ba, bb, bc, partner, blo, bhi, box = _tighten(G, counters, wsite, wnext, whead, S, i, s,
+                                                                          bk, ba, bb, bc, partner, blo, bhi, box)
+                before[i] = last[0, sl]
                 for level in range(last.shape[0]):
                     last[level, sl >> (2 * level)] = i
             elif line >= 0:
