@@ -594,6 +594,9 @@ class ProbingSweep(Sweep):
         # vertical slabs of about sqrt(n) sites (level 0; level L's slab is slab >> 2 L, four
         # times as wide as level L - 1's), and the site activated last in each
         order = sorted(range(self.n), key=lambda i: (self.y[i], self.x[i]))
+        self.rank = [0] * self.n                    # each site's place in the order of activations
+        for r, i in enumerate(order):
+            self.rank[i] = r
         self.slab = [0] * self.n
         for i, slab in zip(order, slabs(np.asarray(sites, dtype=np.float64).reshape(-1, 2)[order, 0])):
             self.slab[i] = int(slab)
@@ -636,17 +639,20 @@ class ProbingSweep(Sweep):
             watch.insert(0, self.arcs[self.beach[0]].site)
         self.watch[i] = watch
         # the sites activated last in i's slab and the two beside it are near i (most of them
-        # pending, below it), and so are the last of its coarser slabs where i is sparser than
-        # its slab's densest part: each that the bound breaks joins S_i, so the first bound is
-        # near i's cell, not far below a dense cluster whose sites have not entered yet. If
-        # any of them moves the bound (i is in a dense part), so may the sites activated before
-        # the newest, in i's slab and in the two beside it: in a dense cluster, the sites that
-        # close the lowest corner of i's cell
+        # pending, below it): each that the bound breaks joins S_i, so the first bound is near
+        # i's cell, not far below a dense cluster whose sites have not entered yet. So are the
+        # last of its coarser slabs where i is sparser than its slab's densest part (its slab's
+        # newest came more than twice n / slabs activations before i), or in a dense part (the
+        # bound moved). Where it moved, so may the sites activated before the newest, in i's
+        # slab and in the two beside it: in a dense cluster, the sites that close the lowest
+        # corner of i's cell
         low = self.lowest_point(i)
-        nearby = [self.last_in_slab.get((0, self.slab[i] + d)) for d in (-1, 0, 1)]
-        nearby += [self.last_in_slab.get((level, self.slab[i] >> (2 * level))) for level in range(1, self.levels)]
         watched = len(watch)
-        low = self._tightened(i, watch, low, nearby)
+        low = self._tightened(i, watch, low, [self.last_in_slab.get((0, self.slab[i] + d)) for d in (-1, 0, 1)])
+        own = self.last_in_slab.get((0, self.slab[i]))
+        if len(watch) > watched or own is None or self.rank[i] - self.rank[own] > 2 * self.n // (max(self.slab) + 1):
+            coarser = [self.last_in_slab.get((level, self.slab[i] >> (2 * level))) for level in range(1, self.levels)]
+            low = self._tightened(i, watch, low, coarser)
         if len(watch) > watched:
             deeper = []
             for d, depth in ((-1, SIDE_DEPTH), (0, OWN_DEPTH), (1, SIDE_DEPTH)):

@@ -840,27 +840,33 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
                 # the sites activated last in i's slab and the two beside it are near i, most of
                 # them pending: their constraints bound Q_i close to i's cell at once, where the
                 # beach line alone (far below a dense cluster, whose sites enter late) would take
-                # a probe per cell on the way up. Where i is sparser than the slab's densest part
-                # (above or below a cluster) the newest in its slab may be far below it, so the
-                # newest of each coarser slab is looked at too. Each that the bound breaks joins
-                # S_i, and the bound moves onto its line (Seidel's step, as after a probe).
+                # a probe per cell on the way up. Each that the bound breaks joins S_i, and the
+                # bound moves onto its line (Seidel's step, as after a probe).
                 sl = slab[i]
                 watched = S[_WUSED]
-                for d in range(_SLAB_WATCH + last.shape[0] - 1):
-                    if bk < 0:
-                        break
-                    if d < _SLAB_WATCH:
-                        level, near = 0, sl - _SLAB_WATCH // 2 + d
-                    else:
-                        level = d - _SLAB_WATCH + 1
-                        near = sl >> (2 * level)
-                    if near < 0 or near >= last.shape[1]:
+                for d in range(_SLAB_WATCH):
+                    near = sl - _SLAB_WATCH // 2 + d
+                    if bk < 0 or near < 0 or near >= last.shape[1]:
                         continue
                     bk, ba, bb, bc, partner, blo, bhi, box = _tighten(G, counters, wsite, wnext, whead, S, i,
-                                                                      last[level, near], bk, ba, bb, bc, partner,
+                                                                      last[0, near], bk, ba, bb, bc, partner,
                                                                       blo, bhi, box)
-                # if any of them moved the bound (i is in a dense part: on a uniform set, about
-                # one site in ten), the ones activated before the newest, in i's slab and beside it
+                moved = S[_WUSED] > watched
+                # Where i is sparser than its slab's densest part (above or below a cluster),
+                # the newest in its slab may be far below it: a slab gets an activation every
+                # n / slabs on average, and i's came more than twice that after the last. Then,
+                # and where they moved the bound (i is in a dense part), the newest of each
+                # coarser slab (four times as wide each level) is looked at too
+                own = last[0, sl]
+                if moved or own < 0 or i - own > 2 * n // last.shape[1]:
+                    for level in range(1, last.shape[0]):
+                        if bk < 0:
+                            break
+                        bk, ba, bb, bc, partner, blo, bhi, box = _tighten(G, counters, wsite, wnext, whead, S, i,
+                                                                          last[level, sl >> (2 * level)], bk, ba,
+                                                                          bb, bc, partner, blo, bhi, box)
+                # where any of them moved the bound (on a uniform set, about one activation in
+                # five), the ones activated before the newest, in i's slab and beside it
                 for d in range(3 if S[_WUSED] > watched else 0):
                     near = sl + d - 1
                     if near < 0 or near >= last.shape[1]:
