@@ -255,12 +255,13 @@ def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64], sta
             raise RuntimeError(f"fortune (weighted): {_WEIGHTED_ERRORS.get(status, 'unknown error')} (n = {n}); "
                                "this is a bug")
         edges, specs = power_sweep.merge_vertices(table, counters, edges, specs, boxes)
-    edges[:, :2] = order[edges[:, :2]]
-    specs = order[specs]
     if stats is not None:
         stats.update(dict(zip(power_sweep.COUNTER_NAMES, counters.tolist())))
-    vertices = _vertex_points(sites, weights, specs)
-    diagram = assemble(sites, vertices, edges[:, :2], edges[:, 2:], weights=weights)
+    # vertices and cells are made in event order too, where a vertex's sites are near each
+    # other in memory, and the sites mapped back last (as the ordinary sweep does)
+    vertices = _vertex_points(swept, swept_weights, specs)
+    d = assemble(swept, vertices, edges[:, :2], edges[:, 2:], weights=swept_weights)
+    diagram = Diagram(sites, d.vertices, d.origin, d.twin, d.next, order.astype(d.site.dtype)[d.site], weights=weights)
     if stats is not None:
         stats["hidden_sites"] = int(diagram.hidden.size)
     return diagram
