@@ -37,9 +37,9 @@ import numpy as np
 from numba import njit
 
 from impls.fortune import beach_line as bl
-from impls.fortune.slabs import OWN_DEPTH, SIDE_DEPTH
 from impls.fortune.power_predicates import (CENTRE, CONTACT, SITE, farther, keeps_middle, line_inside,
                                             power_gap, same_centre, side, spec_point, tied, time_order)
+from impls.fortune.slabs import OWN_DEPTH, SIDE_DEPTH
 from vorobench.core.predicates import orient2d
 
 __all__ = ["sweep", "COUNTER_NAMES", "N_COUNTERS", "OK", "ERR_STATE", "ERR_ITERATIONS"]
