@@ -600,6 +600,9 @@ class ProbingSweep(Sweep):
         self.slab = [0] * self.n
         for i, slab in zip(order, slabs(np.asarray(sites, dtype=np.float64).reshape(-1, 2)[order, 0])):
             self.slab[i] = int(slab)
+        # a slab gets an activation every n / slabs on average; a site whose slab's last came
+        # more than twice that before it is sparser than its slab's densest part
+        self.sparse_gap = 2 * self.n // (max(self.slab, default=0) + 1)
         self.levels = 1
         while max(self.slab, default=0) >> (2 * self.levels) > 0:
             self.levels += 1
@@ -650,7 +653,7 @@ class ProbingSweep(Sweep):
         watched = len(watch)
         low = self._tightened(i, watch, low, [self.last_in_slab.get((0, self.slab[i] + d)) for d in (-1, 0, 1)])
         own = self.last_in_slab.get((0, self.slab[i]))
-        if len(watch) > watched or own is None or self.rank[i] - self.rank[own] > 2 * self.n // (max(self.slab) + 1):
+        if len(watch) > watched or own is None or self.rank[i] - self.rank[own] > self.sparse_gap:
             coarser = [self.last_in_slab.get((level, self.slab[i] >> (2 * level))) for level in range(1, self.levels)]
             low = self._tightened(i, watch, low, coarser)
         if len(watch) > watched:

@@ -664,6 +664,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
     # activations (n), circle events (one per arc removed, at most 2n) and probes (each adds a
     # new site to a pending site's watch, so at most n per site; a repeat stops the sweep)
     limit = 4 * n + n * n + 1000
+    sparse_gap = 2 * n // last.shape[1]         # twice the activations per slab: see the looks below
     while guard < limit:
         if S[_WUSED] + _ACTIVATION_WATCH + last.shape[0] > wsite.shape[0]:
             # an event watches at most two more sites, and an activation the slabs' sites too:
@@ -858,7 +859,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
                 # and where they moved the bound (i is in a dense part), the newest of each
                 # coarser slab (four times as wide each level) is looked at too
                 own = last[0, sl]
-                if moved or own < 0 or i - own > 2 * n // last.shape[1]:
+                if moved or own < 0 or i - own > sparse_gap:
                     for level in range(1, last.shape[0]):
                         if bk < 0:
                             break

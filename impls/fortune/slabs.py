@@ -12,11 +12,11 @@ import numpy as np
 
 __all__ = ["slabs", "OWN_DEPTH", "SIDE_DEPTH"]
 
-#: Besides the newest site of its slab and of the two beside it, a site's first bound looks at
-#: this many sites activated before the newest in its own slab, and in each beside it: in a
-#: dense cluster, where wavefronts are nearly flat and a site enters at the lowest corner of
-#: its cell, they are the sites that close that corner (probes per site at 10^6 on ``kuzmin``
-#: 3.71 -> 1.82, on ``clusters`` 3.64 -> 1.96; uniform 1.09 -> 1.04)
+#: Where the newest sites of its slab and of the two beside it move a site's first bound (it is
+#: in a dense part), it also looks at this many sites activated before the newest in its own
+#: slab, and in each beside it: in a dense cluster, where wavefronts are nearly flat and a site
+#: enters at the lowest corner of its cell, they are the sites that close that corner (probes
+#: per site at 10^6 on ``kuzmin`` 3.71 -> 1.82, on ``clusters`` 3.64 -> 2.09; uniform 1.09 -> 1.08)
 OWN_DEPTH, SIDE_DEPTH = 2, 1
 
 
