@@ -225,14 +225,14 @@ def _cancel(G, counters, S, ev, evf, heap, hkey, free, arcs, k):
 
 
 @njit(cache=True, _nrt=False, inline='always')
-def _circle_candidate(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf, k):
+def _circle_candidate(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, k):
     """Schedule the vanishing of arc k if its breakpoints converge (Sweep.circle_candidate).
 
     Converging breakpoints meet at the power centre of the three sites, never earlier than now
     (docs/power.md, "Why the turn is enough"), so the turn decides, as in the ordinary sweep,
-    and the event depends on k's three sites alone: the box and time of their power centre
-    are kept in row k of ``cand`` (left site, right site) and ``candf``, for an arc whose
-    neighbours' sites are unchanged when a refresh asks again."""
+    and the event depends on k's three sites alone: row k of ``cand`` keeps the sites (left,
+    right) its event was computed for, so that a refresh keeps the event of an arc whose
+    neighbours' sites are unchanged (:func:`_unchanged`)."""
     if k < 0:
         return
     left, right = arcs[k, bl.PREV], arcs[k, bl.NEXT]
@@ -250,12 +250,8 @@ def _circle_candidate(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand,
         return
     if turn <= 0:
         return
-    if cand[k, 0] == sl and cand[k, 1] == sr:
-        xl, xh, yl, yh, tl, th = candf[k, 0], candf[k, 1], candf[k, 2], candf[k, 3], candf[k, 4], candf[k, 5]
-    else:
-        xl, xh, yl, yh, tl, th = spec_point(G, CENTRE, sl, sk, sr)
-        cand[k, 0], cand[k, 1] = sl, sr
-        candf[k, 0], candf[k, 1], candf[k, 2], candf[k, 3], candf[k, 4], candf[k, 5] = xl, xh, yl, yh, tl, th
+    xl, xh, yl, yh, tl, th = spec_point(G, CENTRE, sl, sk, sr)
+    cand[k, 0], cand[k, 1] = sl, sr
     arcs[k, bl.EVENT] = _push(G, counters, S, ev, evf, heap, hkey, free, _CIRCLE, CENTRE, sl, sk, sr, tl, th,
                               CENTRE, sl, sk, sr, (xl, xh, yl, yh), k, -1)
 
@@ -272,7 +268,7 @@ def _unchanged(arcs, cand, k):
 
 
 @njit(cache=True, _nrt=False)
-def _refresh(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf, todo):
+def _refresh(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, todo):
     """The arcs in ``todo`` (five; -1 for none) changed neighbours or are next to ones that
     did: their circle events are recomputed, in the reference's order, except those that
     would come out the same (:func:`_unchanged`)."""
@@ -289,7 +285,7 @@ def _refresh(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf, t
     j = 0
     for k in todo:
         if not keep >> j & 1:
-            _circle_candidate(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf, k)
+            _circle_candidate(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, k)
         j += 1
 
 
@@ -608,7 +604,6 @@ def sweep(G, order, row, counters, slab, watch_rows):
     last_arc = np.full(n, -1, dtype=np.int64)   # each site's arc found last: where its next search starts
     removed_at = np.full(arcs.shape[0], -1, dtype=np.int64)
     cand = np.full((arcs.shape[0], 2), -1, dtype=np.int64)     # see _circle_candidate
-    candf = np.empty((arcs.shape[0], 6), dtype=np.float64)
     at = np.empty(2 * n + 4, dtype=np.int64)
     S = np.zeros(_S_FIELDS, dtype=np.int64)
     SF = np.zeros(_SF_FIELDS, dtype=np.float64)
@@ -619,7 +614,7 @@ def sweep(G, order, row, counters, slab, watch_rows):
     _lowest_row(G, order, row, counters, slab, arcs, edges, last, before, state, S)
     while True:
         status = _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox, wsite, wnext, whead,
-                      slab, last, before, state, last_arc, removed_at, cand, candf, at, S, SF)
+                      slab, last, before, state, last_arc, removed_at, cand, at, S, SF)
         if status != _NEED_ROOM:
             break
         wsite, wnext = _grown(wsite, wnext)
@@ -661,7 +656,7 @@ def _lowest_row(G, order, row, counters, slab, arcs, edges, last, before, state,
 
 @njit(cache=True, _nrt=False)
 def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox, wsite, wnext, whead, slab, last,
-         before, state, last_arc, removed_at, cand, candf, at, S, SF):
+         before, state, last_arc, removed_at, cand, at, S, SF):
     """The sweep's loop over events, on the arrays :func:`sweep` made: without reference
     counting, which allocates nothing. Returns the sweep's status, or ``_NEED_ROOM`` (before
     an event is taken) when the watch pool may be too small for the next one: the caller grows
@@ -757,7 +752,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
                 removed_at[k] = left
                 beach -= 1
                 # refresh(left, right): lo..hi is left, right; then left's left, right's right
-                _refresh(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf,
+                _refresh(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand,
                          (np.int64(left), np.int64(right), np.int64(arcs[left, bl.PREV]),
                           np.int64(arcs[right, bl.NEXT]), np.int64(-1)))
             else:
@@ -816,7 +811,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
                     S[_ROOT] = bl.insert_after(arcs, S[_ROOT], arc, x)
                     S[_ROOT] = bl.insert_after(arcs, S[_ROOT], x, twin)
                     beach += 2
-                    _refresh(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf,
+                    _refresh(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand,
                              (np.int64(arc), np.int64(x), np.int64(twin), np.int64(arcs[arc, bl.PREV]),
                               np.int64(arcs[twin, bl.NEXT])))
                 else:
@@ -837,7 +832,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
                             arcs[x, bl.EDGE] = _new_edge(edges, S, i, sb, v)
                             S[_ROOT] = bl.insert_after(arcs, S[_ROOT], la, x)
                             beach += 1
-                            _refresh(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand, candf,
+                            _refresh(G, counters, S, SF, ev, evf, heap, hkey, free, arcs, cand,
                                      (np.int64(la), np.int64(x), np.int64(ra), np.int64(arcs[la, bl.PREV]),
                                       np.int64(arcs[ra, bl.NEXT])))
                             entered = True
