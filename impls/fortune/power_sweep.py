@@ -84,8 +84,8 @@ _UNKNOWN_BOX = (np.nan, np.nan, np.nan, np.nan)
 
 # scalar state
 _ROOT, _SEQN, _NEDGE, _NVERT, _NARC, _HEAPN, _FREE, _NOWK, _NOWA, _NOWB, _NOWC, _HEREK, _HEREA, \
-    _HEREB, _HEREC, _WUSED, _STATUS, _NARCS, _NXTACT, _GUARD, _BEACH = range(21)
-_S_FIELDS = 21
+    _HEREB, _HEREC, _WUSED, _STATUS, _NARCS, _NXTACT, _GUARD, _BEACH, _EVROWS = range(22)
+_S_FIELDS = 22
 #: :func:`_run`'s answer when the watch pool must grow before the next event
 _NEED_ROOM = -1
 # float state: the interval of the time now
@@ -178,8 +178,13 @@ def _sift_down(G, counters, ev, evf, heap, hkey, n, pos):
 @njit(cache=True, _nrt=False, inline='always')
 def _push(G, counters, S, ev, evf, heap, hkey, free, kind, tk, ta, tb, tc, tlo, thi, pk, pa, pb, pc, box, owner,
           partner):
-    e = free[S[_FREE] - 1]
-    S[_FREE] -= 1
+    # the row released last, else the next never used (only rows in use are touched)
+    if S[_FREE] > 0:
+        e = free[S[_FREE] - 1]
+        S[_FREE] -= 1
+    else:
+        e = S[_EVROWS]
+        S[_EVROWS] += 1
     ev[e, _KIND] = kind
     ev[e, _TK], ev[e, _TA], ev[e, _TB], ev[e, _TC] = tk, ta, tb, tc
     ev[e, _PK], ev[e, _PA], ev[e, _PB], ev[e, _PC] = pk, pa, pb, pc
@@ -587,7 +592,7 @@ def sweep(G, order, row, counters, slab, watch_rows):
     evf = np.empty((cap_ev, 6), dtype=np.float64)     # time interval, then the point's box
     heap = np.empty(cap_ev, dtype=np.int64)
     hkey = np.empty((cap_ev, 2), dtype=np.float64)     # the time interval of heap[j], beside it
-    free = np.arange(cap_ev - 1, -1, -1, dtype=np.int64)
+    free = np.empty(cap_ev, dtype=np.int64)     # released event rows, a stack
     edges = np.empty((5 * n + 16, 4), dtype=np.int64)
     vspec = np.empty((3 * n + 16, 3), dtype=np.int64)
     vbox = np.empty((vspec.shape[0], 4), dtype=np.float64)
@@ -603,12 +608,11 @@ def sweep(G, order, row, counters, slab, watch_rows):
     wnext = np.empty(wsite.shape[0], dtype=np.int64)
     state = np.zeros(n, dtype=np.int8)          # 0 waiting, 1 pending, 2 present, 3 hidden
     last_arc = np.full(n, -1, dtype=np.int64)   # each site's arc found last: where its next search starts
-    removed_at = np.full(arcs.shape[0], -1, dtype=np.int64)
-    cand = np.full((arcs.shape[0], 2), -1, dtype=np.int64)     # see _circle_candidate
+    removed_at = np.full(arcs.shape[0], -1, dtype=np.int32)
+    cand = np.full((arcs.shape[0], 2), -1, dtype=np.int32)     # see _circle_candidate
     at = np.empty(2 * n + 4, dtype=np.int64)
     S = np.zeros(_S_FIELDS, dtype=np.int64)
     SF = np.zeros(_SF_FIELDS, dtype=np.float64)
-    S[_FREE] = cap_ev
     S[_ROOT] = -1
     S[_HEREK] = -1
     S[_STATUS] = OK
