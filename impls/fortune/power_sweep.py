@@ -51,7 +51,7 @@ from impls.fortune.power_predicates import (CENTRE, CONTACT, FILTERED, SITE, far
 from impls.fortune.slabs import OWN_DEPTH, SIDE_DEPTH
 from vorobench.core.predicates import orient2d
 
-__all__ = ["sweep", "COUNTER_NAMES", "N_COUNTERS", "OK", "ERR_STATE", "ERR_ITERATIONS"]
+__all__ = ["sweep", "merge_vertices", "COUNTER_NAMES", "N_COUNTERS", "OK", "ERR_STATE", "ERR_ITERATIONS", "MAX_SITES"]
 
 # counters: 0-1 in power_predicates (filtered, exact), then the sweep's own
 ACTIVATIONS, CIRCLES, PROBES, IN_ARC, AT_VERTEX, NEVER_ENTERED, MAX_BEACH, MERGED, FIRST_ROW = range(2, 11)
@@ -66,6 +66,13 @@ COUNTER_NAMES = ("weighted_filtered", "weighted_exact", "site_events", "circle_e
 OK = 0
 ERR_STATE = 1           # a probe's bound above the beach line or watched twice, or a lost neighbour
 ERR_ITERATIONS = 2
+
+#: Ids of sites, arcs, events, edges and vertices are int32, as in the ordinary sweep: half the
+#: memory of int64 (at 10^6 sites the sweep writes about 400 MB of tables). At most this many
+#: sites, so that every table's rows fit; an event pushes at most six, so a loop of at most
+#: :data:`_MAX_EVENTS` events keeps the events' sequence numbers in int32 too.
+MAX_SITES = 2 ** 31 // 32
+_MAX_EVENTS = (2 ** 31 - 1) // 6
 
 # event rows: kind, time spec (k, a, b, c), point spec (k, a, b, c), sequence number, owner
 # (the arc of a circle event, the site of a probe), partner (probes), position in the heap
@@ -419,8 +426,8 @@ def _new_arc(arcs, S, site):
 @njit(cache=True)
 def _grown(wsite, wnext):
     """The watch pool, twice as large (its rows kept)."""
-    grown_site = np.empty(2 * wsite.shape[0], dtype=np.int64)
-    grown_next = np.empty(2 * wsite.shape[0], dtype=np.int64)
+    grown_site = np.empty(2 * wsite.shape[0], dtype=np.int32)
+    grown_next = np.empty(2 * wsite.shape[0], dtype=np.int32)
     grown_site[:wsite.shape[0]] = wsite
     grown_next[:wsite.shape[0]] = wnext
     return grown_site, grown_next
@@ -457,7 +464,7 @@ def _lowest_point(G, counters, wsite, wnext, whead, i):
     box = _NO_BOX
     j = whead[i]
     while j != -1:
-        sj = wsite[j]
+        sj = np.int64(wsite[j])
         if G[sj, 1] < G[i, 1]:
             xl, xh, yl, yh, tl, th = spec_point(G, CONTACT, i, sj, -1)
             if best_k < 0 or time_order(G, counters, CONTACT, i, sj, -1, tl, th, best_k, best_a, best_b, best_c,
@@ -470,7 +477,7 @@ def _lowest_point(G, counters, wsite, wnext, whead, i):
     while ja != -1:
         jb = wnext[ja]
         while jb != -1:
-            sa, sb = wsite[ja], wsite[jb]
+            sa, sb = np.int64(wsite[ja]), np.int64(wsite[jb])
             if orient2d(G[i, 0], G[i, 1], G[sa, 0], G[sa, 1], G[sb, 0], G[sb, 1]) != 0:
                 xl, xh, yl, yh, tl, th = spec_point(G, CENTRE, i, sa, sb)
                 if best_k < 0 or time_order(G, counters, CENTRE, i, sa, sb, tl, th, best_k, best_a, best_b,
@@ -496,7 +503,7 @@ def _lowest_on_line(G, counters, wsite, wnext, whead, i, k):
     lo_time = hi_time = (0.0, 0.0)      # and the intervals of their times
     j = wnext[whead[i]]     # k heads the list; the rest, newest first, are the tightest first
     while j != -1:
-        sj = wsite[j]
+        sj = np.int64(wsite[j])
         j = wnext[j]
         if sj == k:
             # k was watched already, so the old least point was inside k's constraint and
@@ -553,7 +560,7 @@ def _tighten(G, counters, wsite, wnext, whead, S, i, s, bk, ba, bb, bc, partner,
     if power_gap(G, counters, s, i, bk, ba, bb, bc, box[0], box[1], box[2], box[3]) >= 0:
         return bk, ba, bb, bc, partner, blo, bhi, box
     _watch(wsite, wnext, whead, S, i, s)
-    found, bk, ba, bb, bc, partner, blo, bhi, box = _lowest_on_line(G, counters, wsite, wnext, whead, i, s)
+    found, bk, ba, bb, bc, partner, blo, bhi, box = _lowest_on_line(G, counters, wsite, wnext, whead, i, np.int64(s))
     if not found:
         bk, ba, bb, bc, partner, blo, bhi, box = _lowest_point(G, counters, wsite, wnext, whead, i)
     return bk, ba, bb, bc, partner, blo, bhi, box
@@ -578,39 +585,42 @@ def sweep(G, order, row, counters, slab, watch_rows):
     at coarser levels. ``watch_rows`` is the first size of the pool of watch-list rows, which
     grows (doubling) as needed.
 
-    Returns (status, edges (a, b, start, end), vertex specs (a, b, c)); vertices at one point
-    are merged and edges of no length dropped.
+    Returns (status, edges (a, b, start, end), vertex specs (a, b, c), a box around each
+    vertex), ids in int32; :func:`merge_vertices` then merges vertices at one point and drops
+    the edges of no length.
 
     The tables are numpy's: numpy asks for transparent huge pages, numba's allocator does not
     (see :func:`vorobench.core.delaunay_dual.voronoi_dcel`), and at 10^6 sites these are hundreds of
     megabytes written once each."""
     n = G.shape[0]
+    if n > MAX_SITES:
+        raise ValueError(f"the weighted sweep takes at most {MAX_SITES} sites (its ids are int32); got {n}")
     # numpy's too (bl.new_arcs, compiled, took about 15,000 page faults more at 10^6)
     arcs = np.empty((2 * n + 4, bl.ARC_FIELDS), dtype=np.int32)
     cap_ev = 3 * n + 16
-    ev = np.empty((cap_ev, _EV_FIELDS), dtype=np.int64)
+    ev = np.empty((cap_ev, _EV_FIELDS), dtype=np.int32)
     evf = np.empty((cap_ev, 6), dtype=np.float64)     # time interval, then the point's box
-    heap = np.empty(cap_ev, dtype=np.int64)
+    heap = np.empty(cap_ev, dtype=np.int32)
     hkey = np.empty((cap_ev, 2), dtype=np.float64)     # the time interval of heap[j], beside it
-    free = np.empty(cap_ev, dtype=np.int64)     # released event rows, a stack
-    edges = np.empty((5 * n + 16, 4), dtype=np.int64)
-    vspec = np.empty((3 * n + 16, 3), dtype=np.int64)
+    free = np.empty(cap_ev, dtype=np.int32)     # released event rows, a stack
+    edges = np.empty((5 * n + 16, 4), dtype=np.int32)
+    vspec = np.empty((3 * n + 16, 3), dtype=np.int32)
     vbox = np.empty((vspec.shape[0], 4), dtype=np.float64)
-    whead = np.full(n, -1, dtype=np.int64)
+    whead = np.full(n, -1, dtype=np.int32)
     # each slab's newest activation, at each level: level L's slab of a site is slab >> 2 L
     slabs_count = int(slab.max()) + 1 if n > 0 else 1
     levels = 1
     while (slabs_count - 1) >> (2 * levels) > 0:
         levels += 1
-    last = np.full((levels, slabs_count), -1, dtype=np.int64)
-    before = np.full(n, -1, dtype=np.int64)     # the site activated before each in its slab (level 0)
-    wsite = np.empty(max(watch_rows, _ACTIVATION_WATCH + levels), dtype=np.int64)
-    wnext = np.empty(wsite.shape[0], dtype=np.int64)
+    last = np.full((levels, slabs_count), -1, dtype=np.int32)
+    before = np.full(n, -1, dtype=np.int32)     # the site activated before each in its slab (level 0)
+    wsite = np.empty(max(watch_rows, _ACTIVATION_WATCH + levels), dtype=np.int32)
+    wnext = np.empty(wsite.shape[0], dtype=np.int32)
     state = np.zeros(n, dtype=np.int8)          # 0 waiting, 1 pending, 2 present, 3 hidden
-    last_arc = np.full(n, -1, dtype=np.int64)   # each site's arc found last: where its next search starts
+    last_arc = np.full(n, -1, dtype=np.int32)   # each site's arc found last: where its next search starts
     removed_at = np.full(arcs.shape[0], -1, dtype=np.int32)
     cand = np.full((arcs.shape[0], 2), -1, dtype=np.int32)     # see _circle_candidate
-    at = np.empty(2 * n + 4, dtype=np.int64)
+    at = np.empty(2 * n + 4, dtype=np.int32)
     S = np.zeros(_S_FIELDS, dtype=np.int64)
     SF = np.zeros(_SF_FIELDS, dtype=np.float64)
     S[_ROOT] = -1
@@ -672,7 +682,7 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
 
     # activations (n), circle events (one per arc removed, at most 2n) and probes (each adds a
     # new site to a pending site's watch, so at most n per site; a repeat stops the sweep)
-    limit = 4 * n + n * n + 1000
+    limit = min(4 * n + n * n + 1000, _MAX_EVENTS)
     sparse_gap = 2 * n // last.shape[1]         # twice the activations per slab: see the looks below
     while guard < limit:
         if S[_WUSED] + _ACTIVATION_WATCH + last.shape[0] > wsite.shape[0]:
@@ -924,6 +934,21 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
     return S[_STATUS]
 
 
+@njit(cache=True, _nrt=False)
+def _first_joinable(counters, edges, box):
+    # the first edge whose two ends are one vertex or have boxes that meet (edges.shape[0] if
+    # none); each edge before it with two ends counts as one filtered decision
+    for e in range(edges.shape[0]):
+        a, b = edges[e, 2], edges[e, 3]
+        if a < 0 or b < 0:
+            continue
+        if a == b or not (box[a, 1] < box[b, 0] or box[b, 1] < box[a, 0] or box[a, 3] < box[b, 2]
+                          or box[b, 3] < box[a, 2]):
+            return e
+        counters[FILTERED] += 1
+    return edges.shape[0]
+
+
 @njit(cache=True)
 def merge_vertices(G, counters, edges, vspec, box):
     """Vertices at one exact point, joined by edges between them, become one, and the edges
@@ -934,9 +959,14 @@ def merge_vertices(G, counters, edges, vspec, box):
         if np.isnan(box[v, 0]):
             xl, xh, yl, yh, _, _ = spec_point(G, CENTRE, vspec[v, 0], vspec[v, 1], vspec[v, 2])
             box[v, 0], box[v, 1], box[v, 2], box[v, 3] = xl, xh, yl, yh
+    # until the first edge whose ends may be one point, no vertex is merged: those edges are
+    # only counted (as same_centre would count its filtered test), with no union-find
+    first = _first_joinable(counters, edges, box)
+    if first == edges.shape[0]:
+        return edges, vspec                 # nothing to merge or drop (a set in general position)
     parent = np.arange(nv)
     joined = 0                              # merges, and edges whose ends are one vertex
-    for e in range(edges.shape[0]):
+    for e in range(first, edges.shape[0]):
         a, b = edges[e, 2], edges[e, 3]
         if a < 0 or b < 0:
             continue
@@ -954,7 +984,7 @@ def merge_vertices(G, counters, edges, vspec, box):
             counters[MERGED] += 1
             joined += 1
     if joined == 0:
-        return edges, vspec                 # nothing to merge or drop (a set in general position)
+        return edges, vspec
     new_id = np.full(nv, -1, dtype=np.int64)
     kept = 0
     for v in range(nv):
@@ -966,7 +996,7 @@ def merge_vertices(G, counters, edges, vspec, box):
             kept += 1
         else:
             new_id[v] = new_id[r]           # r < v: already numbered
-    specs = np.empty((kept, 3), dtype=np.int64)
+    specs = np.empty((kept, 3), dtype=np.int32)
     for v in range(nv):
         specs[new_id[v]] = vspec[v]
     out = np.empty_like(edges)

@@ -9,6 +9,7 @@ spacing away, and bounds the site's cell at once.
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 __all__ = ["slabs", "OWN_DEPTH", "SIDE_DEPTH"]
 
@@ -29,4 +30,45 @@ def slabs(x: np.ndarray) -> np.ndarray:
     count = max(1, int(np.sqrt(n)))
     sample = x[::max(1, n // 65536)]
     cuts = np.quantile(sample, np.arange(1, count) / count)
-    return np.searchsorted(cuts, x, side="right").astype(np.int64)
+    out = np.empty(n, dtype=np.int64)
+    _count_at_most(np.ascontiguousarray(cuts, dtype=np.float64), np.ascontiguousarray(x, dtype=np.float64), out)
+    return out
+
+
+@njit(cache=True)
+def _count_at_most(cuts, x, out):
+    # out[j] = the number of cuts <= x[j] (numpy's searchsorted "right", which took 0.1 s at
+    # 10**6 sites taken in y order: a mispredicted branch per step). A uniform grid of cells
+    # over the cuts' range says between which two counts the answer lies; those are checked
+    # (a rounding of the cell may be off by one) and the range searched.
+    m = cuts.shape[0]
+    if m == 0:
+        out[:] = 0
+        return
+    low = cuts[0]
+    cells = 4 * m
+    width = (cuts[m - 1] - low) / cells
+    below = np.empty(cells + 2, dtype=np.int64)   # below[g]: the cuts < the start of cell g
+    c = 0
+    for g in range(cells + 2):
+        start = low + g * width
+        while c < m and cuts[c] < start:
+            c += 1
+        below[g] = c
+    for j in range(x.shape[0]):
+        v = x[j]
+        lo, hi = 0, m
+        if width > 0 and v >= low:
+            q = (v - low) / width
+            g = cells if q >= cells else int(q)
+            lo, hi = below[g], below[g + 1]
+            if (lo > 0 and cuts[lo - 1] > v) or (hi < m and cuts[hi] <= v):
+                lo, hi = 0, m
+        # the least k in [lo, hi] with cuts[k] > v (m if none)
+        while lo < hi:
+            mid = (lo + hi) >> 1
+            if cuts[mid] <= v:
+                lo = mid + 1
+            else:
+                hi = mid
+        out[j] = lo

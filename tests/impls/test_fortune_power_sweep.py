@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 import datasets_gen
 import impls
 from impls import fortune
-from impls.fortune import power_exact, power_predicates, power_reference
+from impls.fortune import power_exact, power_predicates, power_reference, power_sweep
 from impls.fortune.power_exact import CENTRE, CONTACT, SITE, exact_context
 from vorobench.core.prepare import prepare_weighted
 from vorobench.judge.comparison import Verdict, compare
@@ -267,6 +267,14 @@ def test_the_watch_pool_grows_mid_sweep_and_the_diagram_stays_exact(monkeypatch)
     d = fortune.build_weighted(sites, weights, stats)
     assert stats["site_events"] > 2 ** 6 * 16          # each watches a site: six doublings at least
     assert compare(d, impls.get("incremental").build_weighted(sites, weights)).verdict == Verdict.EXACT
+
+
+def test_more_sites_than_int32_ids_allow_is_a_clear_error(monkeypatch):
+    # the sweep's ids are int32: above MAX_SITES it refuses before it allocates anything
+    monkeypatch.setattr(power_sweep, "MAX_SITES", 3)
+    sites, weights = _case("uniform", "radii", 4)
+    with pytest.raises(ValueError, match="at most 3 sites"):
+        fortune.build_weighted(sites, weights)
 
 
 def test_the_exact_points_kept_are_bounded_and_change_no_answer(monkeypatch):
