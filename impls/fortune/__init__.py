@@ -257,6 +257,9 @@ def build_weighted(sites: NDArray[np.float64], weights: NDArray[np.float64], sta
     with exact_context(swept, swept_weights):
         status, edges, specs, boxes = power_sweep.sweep(table, np.arange(n, dtype=np.int64), row, counters,
                                                         slabs(swept[:, 0]), WATCH_ROWS_PER_SITE * n + 16)
+        if status == power_sweep.ERR_CAPACITY:
+            raise RuntimeError(f"fortune (weighted): more events or rows of watch lists than the sweep's int32 ids "
+                               f"can number (n = {n})")
         if status != power_sweep.OK:
             raise RuntimeError(f"fortune (weighted): {_WEIGHTED_ERRORS.get(status, 'unknown error')} (n = {n}); "
                                "this is a bug")

@@ -51,7 +51,8 @@ from impls.fortune.power_predicates import (CENTRE, CONTACT, FILTERED, SITE, far
 from impls.fortune.slabs import OWN_DEPTH, SIDE_DEPTH
 from vorobench.core.predicates import orient2d
 
-__all__ = ["sweep", "merge_vertices", "COUNTER_NAMES", "N_COUNTERS", "OK", "ERR_STATE", "ERR_ITERATIONS", "MAX_SITES"]
+__all__ = ["sweep", "merge_vertices", "COUNTER_NAMES", "N_COUNTERS", "OK", "ERR_STATE", "ERR_ITERATIONS",
+           "ERR_CAPACITY", "MAX_SITES"]
 
 # counters: 0-1 in power_predicates (filtered, exact), then the sweep's own
 ACTIVATIONS, CIRCLES, PROBES, IN_ARC, AT_VERTEX, NEVER_ENTERED, MAX_BEACH, MERGED, FIRST_ROW = range(2, 11)
@@ -66,13 +67,18 @@ COUNTER_NAMES = ("weighted_filtered", "weighted_exact", "site_events", "circle_e
 OK = 0
 ERR_STATE = 1           # a probe's bound above the beach line or watched twice, or a lost neighbour
 ERR_ITERATIONS = 2
+ERR_CAPACITY = 3        # more events, or rows of watch lists, than int32 ids can number
 
 #: Ids of sites, arcs, events, edges and vertices are int32, as in the ordinary sweep: half the
 #: memory of int64 (at 10^6 sites the sweep writes about 400 MB of tables). At most this many
-#: sites, so that every table's rows fit; an event pushes at most six, so a loop of at most
-#: :data:`_MAX_EVENTS` events keeps the events' sequence numbers in int32 too.
-MAX_SITES = 2 ** 31 // 32
-_MAX_EVENTS = (2 ** 31 - 1) // 6
+#: sites, so that every table's rows fit (edges, the largest, 5 n + 16). The events' sequence
+#: numbers and the watch pool's rows grow with the work, not with n: the loop stops with
+#: ERR_CAPACITY before either passes :data:`_MAX_ID` (an event pushes at most six events).
+MAX_SITES = (2 ** 31 - 17) // 5
+_MAX_ID = 2 ** 31 - 1
+#: The most rows the watch pool may grow to (read by :func:`sweep`, in Python: a test can
+#: lower it, where a global of compiled code would be frozen into numba's cache)
+MAX_WATCH_ROWS = _MAX_ID
 
 # event rows: kind, time spec (k, a, b, c), point spec (k, a, b, c), sequence number, owner
 # (the arc of a circle event, the site of a probe), partner (probes), position in the heap
@@ -632,6 +638,9 @@ def sweep(G, order, row, counters, slab, watch_rows):
                       slab, last, before, state, last_arc, removed_at, cand, at, S, SF)
         if status != _NEED_ROOM:
             break
+        if 2 * wsite.shape[0] > MAX_WATCH_ROWS:
+            status = ERR_CAPACITY
+            break
         wsite, wnext = _grown(wsite, wnext)
     return status, edges[:S[_NEDGE]], vspec[:S[_NVERT]], vbox[:S[_NVERT]]
 
@@ -682,9 +691,12 @@ def _run(G, order, counters, arcs, ev, evf, heap, hkey, free, edges, vspec, vbox
 
     # activations (n), circle events (one per arc removed, at most 2n) and probes (each adds a
     # new site to a pending site's watch, so at most n per site; a repeat stops the sweep)
-    limit = min(4 * n + n * n + 1000, _MAX_EVENTS)
+    limit = 4 * n + n * n + 1000
     sparse_gap = 2 * n // last.shape[1]         # twice the activations per slab: see the looks below
     while guard < limit:
+        if S[_SEQN] > _MAX_ID - 6:
+            S[_STATUS] = ERR_CAPACITY
+            break
         if S[_WUSED] + _ACTIVATION_WATCH + last.shape[0] > wsite.shape[0]:
             # an event watches at most two more sites, and an activation the slabs' sites too:
             # room first, the event after

@@ -60,7 +60,9 @@ def _count_at_most(cuts, x, out):
         lo, hi = 0, m
         if width > 0 and v >= low:
             q = (v - low) / width
-            g = cells if q >= cells else int(q)
+            # NaN (cuts and v both spanning more than the largest float) goes to the last
+            # cell too, where the check below sends it to the full search
+            g = int(q) if q < cells else cells
             lo, hi = below[g], below[g + 1]
             if (lo > 0 and cuts[lo - 1] > v) or (hi < m and cuts[hi] <= v):
                 lo, hi = 0, m

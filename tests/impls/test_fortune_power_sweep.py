@@ -277,6 +277,16 @@ def test_more_sites_than_int32_ids_allow_is_a_clear_error(monkeypatch):
         fortune.build_weighted(sites, weights)
 
 
+def test_a_watch_pool_beyond_int32_ids_is_a_clear_error(monkeypatch):
+    # the pool of watch-list rows doubles as it fills; past the largest int32 id it must stop
+    # the build with an error saying so, not wrap its row numbers around
+    monkeypatch.setattr(fortune, "WATCH_ROWS_PER_SITE", 0)
+    monkeypatch.setattr(power_sweep, "MAX_WATCH_ROWS", 64)
+    sites, weights = _case("uniform", "radii", 200)
+    with pytest.raises(RuntimeError, match="int32 ids"):
+        fortune.build_weighted(sites, weights)
+
+
 def test_the_exact_points_kept_are_bounded_and_change_no_answer(monkeypatch):
     # the exact stage keeps the points of the specs it was asked about: a small bound must
     # clear them, never hand back another spec's point, and a build must come out the same
